@@ -1,0 +1,168 @@
+// The extraction driver: runs the pipeline stages in the order of the paper and times them.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <string>
+
+namespace qex {
+namespace {
+
+class StageTimer {
+public:
+    explicit StageTimer(Report& r) : report_(r), last_(std::chrono::steady_clock::now()) {}
+    void done(const char* stage) {
+        const auto now = std::chrono::steady_clock::now();
+        report_.stage_seconds.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+        last_ = now;
+    }
+
+private:
+    Report& report_;
+    std::chrono::steady_clock::time_point last_;
+};
+
+detail::TriMesh make_mesh(const Input& in) {
+    detail::TriMesh m;
+    m.num_vertices = static_cast<int>(in.positions.size());
+    m.tri = in.triangles;
+    m.uv = in.uvs;
+    m.corner_pos.resize(3 * in.triangles.size());
+    for (std::size_t f = 0; f < in.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) m.corner_pos[3 * f + k] = in.positions[in.triangles[f][k]];
+    m.input_triangle.resize(in.triangles.size());
+    std::iota(m.input_triangle.begin(), m.input_triangle.end(), 0);
+    m.input_vertex.resize(in.positions.size());
+    std::iota(m.input_vertex.begin(), m.input_vertex.end(), 0);
+    return m;
+}
+
+/// Sorts vertices by position and faces by their smallest vertex, so input order does not matter.
+/// Returns, per old face index, its new index.
+std::vector<int> canonicalize(QuadMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<int> order(nv);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        if (mesh.positions[a] != mesh.positions[b]) return mesh.positions[a] < mesh.positions[b];
+        return a < b;
+    });
+    std::vector<int> rank(nv);
+    for (std::size_t i = 0; i < nv; ++i) rank[order[i]] = static_cast<int>(i);
+    QuadMesh out;
+    for (int i : order) {
+        out.positions.push_back(mesh.positions[i]);
+        out.provenance.push_back(mesh.provenance[i]);
+    }
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        auto& face = mesh.faces[f];
+        auto& uv = mesh.face_uvs[f];
+        for (int& v : face) v = rank[v];
+        const auto first = std::min_element(face.begin(), face.end()) - face.begin();
+        std::rotate(face.begin(), face.begin() + first, face.end());
+        std::rotate(uv.begin(), uv.begin() + first, uv.end());
+        // Local UVs relative to the first corner: independent of the chart the walk started in.
+        const auto o = uv.empty() ? std::array<std::int64_t, 2>{0, 0} : uv[0];
+        for (auto& x : uv) x = {x[0] - o[0], x[1] - o[1]};
+    }
+    std::vector<int> forder(mesh.faces.size());
+    std::iota(forder.begin(), forder.end(), 0);
+    std::sort(forder.begin(), forder.end(), [&](int a, int b) { return mesh.faces[a] < mesh.faces[b]; });
+    std::vector<int> new_index(mesh.faces.size());
+    for (int f : forder) {
+        new_index[f] = static_cast<int>(out.faces.size());
+        out.faces.push_back(std::move(mesh.faces[f]));
+        out.face_uvs.push_back(std::move(mesh.face_uvs[f]));
+    }
+    mesh = std::move(out);
+    return new_index;
+}
+
+} // namespace
+
+Error validate(const Input& input) {
+    if (Error e = detail::validate_input_values(input); e.code != ErrorCode::None) return e;
+    detail::TriMesh m = make_mesh(input);
+    return detail::build_topology(m, "input");
+}
+
+Result extract(const Input& input, const Options& options) {
+    Result result;
+    Report& report = result.report;
+    StageTimer timer(report);
+    report.input_vertices = static_cast<std::int64_t>(input.positions.size());
+    report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
+
+    if ((result.error = detail::validate_input_values(input)).code != ErrorCode::None) return result;
+    detail::TriMesh m = make_mesh(input);
+    if ((result.error = detail::build_topology(m, "input")).code != ErrorCode::None) return result;
+    timer.done("validate");
+
+    // Preprocessing (Section 3): collapse, transitions, sanitization, collapse again.
+    std::int64_t collapsed = 0;
+    if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return result;
+    report.collapsed_edges += collapsed;
+    for (int round = 0;; ++round) {
+        detail::compute_transitions(m);
+        detail::count_valences(m);
+        if ((result.error = detail::sanitize(m, input.valences, input.feature_edges, report)).code != ErrorCode::None)
+            return result;
+        if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return result;
+        report.collapsed_edges += collapsed;
+        if (collapsed == 0 || round == 8) break;
+    }
+    detail::count_valences(m); // on the sanitized map, for lost-edge detection
+    if (!input.valences.empty())
+        for (int v = 0; v < m.num_vertices; ++v) m.valence[v] = input.valences[m.input_vertex[v]];
+    for (int f = 0; f < m.num_faces(); ++f) {
+        report.flipped_triangles += m.face_sign[f] < 0;
+        report.degenerate_triangles += m.face_sign[f] == 0;
+    }
+    {
+        double area2 = 0.0;
+        for (int f = 0; f < m.num_faces(); ++f) {
+            const auto &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+            area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        }
+        report.signed_uv_area = 0.5 * area2;
+    }
+    timer.done("sanitize");
+
+    // Geometry extraction (Section 4).
+    detail::QState q;
+    if ((result.error = detail::generate_qvertices(m, options, q)).code != ErrorCode::None) return result;
+    for (const auto& v : q.qvertices) {
+        report.qvertices_on_vertices += v.kind == QVertexKind::Vertex;
+        report.qvertices_on_edges += v.kind == QVertexKind::Edge;
+        report.qvertices_in_faces += v.kind == QVertexKind::Face;
+    }
+    timer.done("generate_qvertices");
+    detail::enumerate_ports(m, q);
+    report.ports = static_cast<std::int64_t>(q.ports.size());
+    for (std::size_t i = 0; i < q.qvertices.size(); ++i)
+        if (q.qvertices[i].num_ports == 0)
+            report.defects.push_back({DefectKind::PortlessQVertex,
+                                      "the q-vertex at grid point (" + std::to_string(q.qvertices[i].grid[0]) + ", " +
+                                          std::to_string(q.qvertices[i].grid[1]) +
+                                          ") lies only on degenerate triangles and has no q-port",
+                                      m.input_triangle[q.qvertices[i].chart], -1,
+                                      {q.qvertices[i].grid[0], q.qvertices[i].grid[1]}});
+    timer.done("enumerate_ports");
+
+    // Connectivity extraction (Section 5).
+    detail::trace_ports(m, options, q, report);
+    timer.done("trace_ports");
+    auto faces = detail::extract_faces(m, q, report);
+    timer.done("extract_faces");
+    detail::merge_and_simplify(m, q, std::move(faces), options, result.mesh, report);
+    if (options.canonical_order) {
+        const std::vector<int> new_index = canonicalize(result.mesh);
+        for (Defect& d : report.defects)
+            if (d.output_face >= 0) d.output_face = new_index[d.output_face];
+    }
+    timer.done("merge_vertices");
+    return result;
+}
+
+} // namespace qex

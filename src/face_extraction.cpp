@@ -1,0 +1,80 @@
+// Face extraction (Algorithm 6): follow a connection, turn left by taking the next port clockwise,
+// repeat until the walk closes; local UVs accumulate the transitions along the way.
+#include "pipeline.h"
+
+#include <string>
+
+namespace qex::detail {
+
+GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int b, bool& ok) {
+    ok = true;
+    const Port &pa = q.ports[a], &pb = q.ports[b];
+    const QVertex& v = q.qvertices[pa.qvertex];
+    if (v.kind == QVertexKind::Face) return {};
+    if (pa.corner == pb.corner && b > a) return {};
+    // Step clockwise corner by corner (for an edge-q-vertex the two corners alternate).
+    GridAutomorphism g;
+    int c = pa.corner;
+    const int limit = v.kind == QVertexKind::Vertex ? m.fan_size[v.element] : 2;
+    for (int step = 0; step < limit; ++step) {
+        const int next = v.kind == QVertexKind::Vertex ? m.cw(c) : m.opp[c];
+        if (next < 0) { ok = false; return g; }
+        g = m.transition[c].after(g);
+        c = next;
+        if (c == pb.corner) return g;
+    }
+    ok = false;
+    return g;
+}
+
+std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& report) {
+    const int np = static_cast<int>(q.ports.size());
+    std::vector<char> visited(np, 0);
+    std::vector<QFace> faces;
+    QFace face;
+    for (int start = 0; start < np; ++start) {
+        if (visited[start] || q.connections[start].to < 0) continue;
+        face.qv.clear();
+        face.uv.clear();
+        face.chart = TriMesh::face(q.ports[start].corner);
+        GridAutomorphism gbar; // chart of the start port -> chart of the current port
+        int cur = start;
+        bool closed = false, boundary = false, open = false;
+        for (int guard = 0; guard < 4 * np + 8; ++guard) {
+            visited[cur] = 1;
+            const Port& port = q.ports[cur];
+            face.qv.push_back(port.qvertex);
+            face.uv.push_back(gbar.inverse()(port.grid));
+            const Connection& c = q.connections[cur];
+            const int arrive = c.to;
+            const QVertex& v = q.qvertices[q.ports[arrive].qvertex];
+            const int next = v.first_port + (arrive - v.first_port + 1) % v.num_ports;
+            bool ok = true;
+            const GridAutomorphism fan = fan_transition_cw(m, q, arrive, next, ok);
+            if (!ok) { boundary = true; break; }
+            gbar = fan.after(c.g.after(gbar));
+            if (q.connections[next].to < 0) {
+                (q.dangling[next] ? boundary : open) = true;
+                break;
+            }
+            cur = next;
+            if (cur == start) { closed = true; break; }
+            if (visited[cur]) { open = true; break; }
+        }
+        ++report.faces_traced;
+        if (closed) {
+            faces.push_back(face);
+        } else if (boundary) {
+            ++report.boundary_faces_discarded;
+        } else {
+            ++report.open_face_walks;
+            report.defects.push_back({DefectKind::OpenFaceWalk,
+                                      "a face walk starting at grid point (" + std::to_string(face.uv[0][0]) + ", " +
+                                          std::to_string(face.uv[0][1]) + ") did not close",
+                                      m.input_triangle[face.chart], -1, {face.uv[0][0], face.uv[0][1]}});
+        }
+    }
+    return faces;
+}
+
+} // namespace qex::detail

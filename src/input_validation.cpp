@@ -1,0 +1,89 @@
+// Validation of raw input values: sizes, indices, finiteness, magnitudes, isolated vertices.
+#include "pipeline.h"
+
+#include <cmath>
+#include <string>
+
+namespace qex::detail {
+namespace {
+constexpr double kMaxCoordinate = 4503599627370496.0; // 2^52: beyond it integer translations are not exact
+
+Error make(ErrorCode c, std::string msg, std::int64_t element) { return Error{c, std::move(msg), element}; }
+
+const char* axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
+} // namespace
+
+Error validate_input_values(const Input& in) {
+    const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
+    const std::int64_t nf = static_cast<std::int64_t>(in.triangles.size());
+    if (nf == 0) return make(ErrorCode::EmptyMesh, "the mesh has no triangles", -1);
+    if (nv >= (std::int64_t{1} << 30) || nf >= (std::int64_t{1} << 29))
+        return make(ErrorCode::MapTooLarge, "the mesh has too many elements for 32-bit indices", -1);
+    if (in.uvs.size() != 3 * in.triangles.size())
+        return make(ErrorCode::UvCountMismatch,
+                    "expected " + std::to_string(3 * nf) + " corner UVs (3 per triangle), got " +
+                        std::to_string(in.uvs.size()),
+                    -1);
+    for (std::int64_t v = 0; v < nv; ++v)
+        for (int k = 0; k < 3; ++k) {
+            const double x = in.positions[v][k];
+            if (!std::isfinite(x))
+                return make(ErrorCode::NonFiniteValue,
+                            "vertex " + std::to_string(v) + " has a non-finite " + axis_name(k) + " coordinate", v);
+            if (std::abs(x) >= kMaxCoordinate)
+                return make(ErrorCode::CoordinateTooLarge,
+                            "vertex " + std::to_string(v) + " has |" + axis_name(k) + "| >= 2^52", v);
+        }
+    for (std::int64_t c = 0; c < 3 * nf; ++c)
+        for (int k = 0; k < 2; ++k) {
+            const double x = in.uvs[c][k];
+            if (!std::isfinite(x))
+                return make(ErrorCode::NonFiniteValue,
+                            "triangle " + std::to_string(c / 3) + " corner " + std::to_string(c % 3) +
+                                " has a non-finite UV",
+                            c / 3);
+            if (std::abs(x) >= kMaxCoordinate)
+                return make(ErrorCode::CoordinateTooLarge,
+                            "triangle " + std::to_string(c / 3) + " corner " + std::to_string(c % 3) +
+                                " has a UV coordinate with magnitude >= 2^52",
+                            c / 3);
+        }
+    std::vector<char> used(static_cast<std::size_t>(nv), 0);
+    for (std::int64_t f = 0; f < nf; ++f) {
+        const auto& t = in.triangles[f];
+        for (int k = 0; k < 3; ++k) {
+            if (t[k] < 0 || t[k] >= nv)
+                return make(ErrorCode::IndexOutOfRange,
+                            "triangle " + std::to_string(f) + " refers to vertex " + std::to_string(t[k]) +
+                                " but there are " + std::to_string(nv) + " vertices",
+                            f);
+            used[t[k]] = 1;
+        }
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+            return make(ErrorCode::DegenerateTriangle,
+                        "triangle " + std::to_string(f) + " uses vertex " +
+                            std::to_string(t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]) + " twice",
+                        f);
+    }
+    for (std::int64_t v = 0; v < nv; ++v)
+        if (!used[v])
+            return make(ErrorCode::IsolatedVertex, "vertex " + std::to_string(v) + " is used by no triangle", v);
+    if (!in.valences.empty() && static_cast<std::int64_t>(in.valences.size()) != nv)
+        return make(ErrorCode::ValenceCountMismatch,
+                    "expected " + std::to_string(nv) + " valences, got " + std::to_string(in.valences.size()), -1);
+    for (std::size_t i = 0; i < in.valences.size(); ++i)
+        if (in.valences[i] < 0 || in.valences[i] > 1000)
+            return make(ErrorCode::ValenceCountMismatch,
+                        "vertex " + std::to_string(i) + " has an implausible valence " +
+                            std::to_string(in.valences[i]),
+                        static_cast<std::int64_t>(i));
+    for (std::size_t i = 0; i < in.feature_edges.size(); ++i) {
+        const auto& e = in.feature_edges[i];
+        if (e[0] < 0 || e[0] >= nv || e[1] < 0 || e[1] >= nv || e[0] == e[1])
+            return make(ErrorCode::BadFeatureEdge,
+                        "feature edge " + std::to_string(i) + " has invalid vertices", static_cast<std::int64_t>(i));
+    }
+    return {};
+}
+
+} // namespace qex::detail

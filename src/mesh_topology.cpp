@@ -1,0 +1,80 @@
+// Half-edge connectivity of the corner-based triangle mesh, with manifold and orientation checks.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <string>
+
+namespace qex::detail {
+
+Error build_topology(TriMesh& m, const char* what) {
+    const int nf = m.num_faces();
+    const int nh = 3 * nf;
+    // Sort half-edges by undirected edge key; pairs become opposites.
+    std::vector<std::pair<std::uint64_t, int>> keys(nh);
+    for (int h = 0; h < nh; ++h) {
+        const auto a = static_cast<std::uint64_t>(m.origin(h)), b = static_cast<std::uint64_t>(m.target(h));
+        keys[h] = {std::min(a, b) << 32 | std::max(a, b), h};
+    }
+    std::sort(keys.begin(), keys.end());
+    m.opp.assign(nh, -1);
+    for (int i = 0; i < nh;) {
+        int j = i;
+        while (j < nh && keys[j].first == keys[i].first) ++j;
+        const int h = keys[i].second;
+        const std::string edge = "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
+                                 std::to_string(m.input_vertex[m.target(h)]) + ")";
+        if (j - i > 2)
+            return {ErrorCode::NonManifoldEdge,
+                    edge + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
+                    m.input_triangle[TriMesh::face(h)]};
+        if (j - i == 2) {
+            const int o = keys[i + 1].second;
+            if (m.origin(h) == m.origin(o))
+                return {ErrorCode::InconsistentOrientation,
+                        edge + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
+                            std::to_string(m.input_triangle[TriMesh::face(o)]) +
+                            " traverse it in the same direction (" + what + ")",
+                        m.input_triangle[TriMesh::face(o)]};
+            m.opp[h] = o;
+            m.opp[o] = h;
+        }
+        i = j;
+    }
+    // Fans: the start of a boundary vertex's fan is its most counter-clockwise corner.
+    const int nv = m.num_vertices;
+    m.fan_start.assign(nv, -1);
+    m.fan_size.assign(nv, 0);
+    m.on_boundary.assign(nv, 0);
+    for (int h = 0; h < nh; ++h) {
+        const int v = m.origin(h);
+        ++m.fan_size[v];
+        if (m.opp[TriMesh::prev(h)] < 0) {
+            if (m.on_boundary[v])
+                return {ErrorCode::NonManifoldVertex,
+                        "vertex " + std::to_string(m.input_vertex[v]) +
+                            " has several boundary fans (" + what + ")",
+                        m.input_vertex[v]};
+            m.on_boundary[v] = 1;
+            m.fan_start[v] = h;
+        } else if (m.fan_start[v] < 0) {
+            m.fan_start[v] = h;
+        }
+    }
+    for (int v = 0; v < nv; ++v) {
+        if (m.fan_start[v] < 0) continue; // unreferenced after a collapse; not part of the mesh
+        int count = 0;
+        for (int h = m.fan_start[v]; h >= 0;) {
+            ++count;
+            h = m.cw(h);
+            if (h == m.fan_start[v] || count > m.fan_size[v]) break;
+        }
+        if (count != m.fan_size[v])
+            return {ErrorCode::NonManifoldVertex,
+                    "the triangles around vertex " + std::to_string(m.input_vertex[v]) +
+                        " do not form a single fan (" + what + ")",
+                    m.input_vertex[v]};
+    }
+    return {};
+}
+
+} // namespace qex::detail

@@ -1,0 +1,296 @@
+// OBJ and VVAL files: a single-pass reader over the whole buffer (fast_float for numbers) that
+// reports the line of every problem, and a writer that renames a finished temporary file into place.
+#include "qex/qex.h"
+
+#include <fast_float/fast_float.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace qex {
+namespace {
+
+struct Cursor {
+    const char* p;
+    const char* end;
+    std::int64_t line = 1;
+
+    void skip_blanks() { while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p; }
+    bool at_eol() { skip_blanks(); return p >= end || *p == '\n' || *p == '#'; }
+    void skip_line() {
+        const void* nl = std::memchr(p, '\n', static_cast<std::size_t>(end - p));
+        p = nl ? static_cast<const char*>(nl) + 1 : end;
+        ++line;
+    }
+    bool read_double(double& x) {
+        skip_blanks();
+        const char* start = p;
+        if (p < end && *p == '+') ++p; // fast_float does not take a leading '+'
+        auto r = fast_float::from_chars(p, end, x);
+        if (r.ec != std::errc() || r.ptr == p) { p = start; return false; }
+        p = r.ptr;
+        return p >= end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '#';
+    }
+    bool read_int(std::int64_t& x) {
+        const char* start = p;
+        bool neg = false;
+        if (p < end && (*p == '-' || *p == '+')) neg = *p++ == '-';
+        std::int64_t v = 0;
+        const char* digits = p;
+        while (p < end && *p >= '0' && *p <= '9') {
+            if (v > (std::int64_t{1} << 40)) { p = start; return false; }
+            v = v * 10 + (*p++ - '0');
+        }
+        if (p == digits) { p = start; return false; }
+        x = neg ? -v : v;
+        return true;
+    }
+};
+
+IoError err(IoError::Code c, std::int64_t line, const std::string& msg) {
+    return {c, "line " + std::to_string(line) + ": " + msg, line};
+}
+
+/// Resolves a 1-based (or negative, relative) OBJ index against `count` elements.
+bool resolve(std::int64_t idx, std::size_t count, int& out) {
+    const auto n = static_cast<std::int64_t>(count);
+    if (idx > 0 && idx <= n) { out = static_cast<int>(idx - 1); return true; }
+    if (idx < 0 && -idx <= n) { out = static_cast<int>(n + idx); return true; }
+    return false;
+}
+
+bool read_file(const std::string& path, std::string& data) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) return false;
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    data = ss.str();
+    return !f.bad();
+}
+
+} // namespace
+
+IoError parse_obj(const char* data, std::size_t size, Input& out) {
+    out = Input{};
+    std::vector<std::array<double, 2>> vts;
+    struct FaceCorner { std::int64_t v, t; std::int64_t line; };
+    std::vector<std::array<FaceCorner, 3>> faces;
+    Cursor c{data, data + size};
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p >= c.end) break;
+        const char ch = *c.p;
+        if (ch == '\n') { ++c.p; ++c.line; continue; }
+        if (ch == '#') { c.skip_line(); continue; }
+        const char* kw = c.p;
+        while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
+        const std::string key(kw, c.p);
+        if (key == "v") {
+            std::array<double, 3> p{};
+            for (double& x : p)
+                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
+            double w;
+            if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'v' record");
+            for (double x : p)
+                if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite vertex coordinate");
+            out.positions.push_back(p);
+        } else if (key == "vt") {
+            std::array<double, 2> t{};
+            for (double& x : t)
+                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 2 numbers after 'vt'");
+            double w;
+            if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'vt' record");
+            for (double x : t)
+                if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite texture coordinate");
+            vts.push_back(t);
+        } else if (key == "f") {
+            std::array<FaceCorner, 3> f{};
+            int n = 0;
+            while (!c.at_eol()) {
+                FaceCorner fc{0, 0, c.line};
+                if (!c.read_int(fc.v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+                if (c.p >= c.end || *c.p != '/')
+                    return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
+                ++c.p;
+                if (!c.read_int(fc.t))
+                    return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
+                if (c.p < c.end && *c.p == '/') { // normal index, ignored
+                    ++c.p;
+                    std::int64_t nidx;
+                    if (!c.read_int(nidx)) return err(IoError::Code::Syntax, c.line, "malformed normal index");
+                }
+                if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
+                    return err(IoError::Code::Syntax, c.line, "malformed face corner");
+                if (n == 3) return err(IoError::Code::NonTriangle, c.line, "face with more than 3 corners (only triangles are accepted)");
+                f[n++] = fc;
+            }
+            if (n != 3)
+                return err(IoError::Code::NonTriangle, c.line, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
+            // OBJ allows relative indices: resolve against the counts seen so far.
+            for (auto& fc : f) {
+                int vi, ti;
+                if (!resolve(fc.v, out.positions.size(), vi))
+                    return err(IoError::Code::IndexOutOfRange, c.line, "vertex index " + std::to_string(fc.v) + " out of range");
+                if (!resolve(fc.t, vts.size(), ti))
+                    return err(IoError::Code::IndexOutOfRange, c.line, "texture index " + std::to_string(fc.t) + " out of range");
+                fc.v = vi;
+                fc.t = ti;
+            }
+            faces.push_back(f);
+        } else if (key == "vn" || key == "vp" || key == "o" || key == "g" || key == "s" || key == "usemtl" ||
+                   key == "mtllib" || key == "l") {
+            c.skip_line(); // records without meaning for the map
+            continue;
+        } else {
+            return err(IoError::Code::Syntax, c.line, "unknown record '" + key.substr(0, 32) + "'");
+        }
+        if (!c.at_eol()) return err(IoError::Code::Syntax, c.line, "trailing characters");
+        if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
+        if (c.p < c.end) { ++c.p; ++c.line; }
+    }
+    out.triangles.reserve(faces.size());
+    out.uvs.reserve(3 * faces.size());
+    for (const auto& f : faces) {
+        out.triangles.push_back({static_cast<int>(f[0].v), static_cast<int>(f[1].v), static_cast<int>(f[2].v)});
+        for (const auto& fc : f) out.uvs.push_back(vts[static_cast<std::size_t>(fc.t)]);
+    }
+    return {};
+}
+
+IoError read_obj(const std::string& path, Input& out) {
+    std::string data;
+    if (!read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    return parse_obj(data.data(), data.size(), out);
+}
+
+IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {
+    valences.clear();
+    Cursor c{data, data + size};
+    // Line 1: the JSON header.
+    const char* nl = static_cast<const char*>(std::memchr(data, '\n', size));
+    const std::string header(data, nl ? nl : data + size);
+    if (header.find("\"VVAL\"") == std::string::npos)
+        return err(IoError::Code::VvalSyntax, 1, "expected the header {\"file_format\":\"VVAL\",\"version\":1}");
+    c.skip_line();
+    std::int64_t count = -1;
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p < c.end && *c.p == '\n') { ++c.p; ++c.line; continue; }
+        if (c.p >= c.end) break;
+        std::int64_t x;
+        if (!c.read_int(x)) return err(IoError::Code::VvalSyntax, c.line, "expected an integer");
+        if (count < 0) {
+            if (x < 0 || x > (std::int64_t{1} << 30)) return err(IoError::Code::VvalSyntax, c.line, "implausible vertex count");
+            count = x;
+            valences.reserve(static_cast<std::size_t>(std::min<std::int64_t>(count, 1 << 24)));
+        } else {
+            if (x < 0 || x > 1000) return err(IoError::Code::VvalSyntax, c.line, "implausible valence");
+            valences.push_back(static_cast<int>(x));
+        }
+        if (!c.at_eol()) return err(IoError::Code::VvalSyntax, c.line, "trailing characters");
+    }
+    if (count < 0) return err(IoError::Code::VvalSyntax, c.line, "missing vertex count");
+    if (static_cast<std::int64_t>(valences.size()) != count)
+        return err(IoError::Code::VvalSyntax, c.line,
+                   "expected " + std::to_string(count) + " valences, found " + std::to_string(valences.size()));
+    return {};
+}
+
+IoError read_vval(const std::string& path, std::vector<int>& valences) {
+    std::string data;
+    if (!read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    return parse_vval(data.data(), data.size(), valences);
+}
+
+IoError write_obj(const std::string& path, const QuadMesh& mesh) {
+    const std::string tmp = path + ".tmp";
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) return {IoError::Code::CannotWrite, "cannot write '" + tmp + "'", 0};
+    std::string buf;
+    buf.reserve(1 << 16);
+    char line[160];
+    auto flush = [&](bool force) {
+        if (buf.size() > (1 << 15) || force) {
+            std::fwrite(buf.data(), 1, buf.size(), f);
+            buf.clear();
+        }
+    };
+    buf += "# qex quad mesh: " + std::to_string(mesh.positions.size()) + " vertices, " +
+           std::to_string(mesh.faces.size()) + " faces\n";
+    for (const auto& p : mesh.positions) {
+        buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p[0], p[1], p[2])));
+        flush(false);
+    }
+    const bool uvs = mesh.face_uvs.size() == mesh.faces.size();
+    for (std::size_t i = 0; uvs && i < mesh.faces.size(); ++i)
+        for (const auto& t : mesh.face_uvs[i]) {
+            buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, "vt %lld %lld\n",
+                                                                    static_cast<long long>(t[0]), static_cast<long long>(t[1]))));
+            flush(false);
+        }
+    std::size_t t = 1;
+    for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+        buf += 'f';
+        for (std::size_t k = 0; k < mesh.faces[i].size(); ++k) {
+            if (uvs && k < mesh.face_uvs[i].size())
+                buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, " %d/%zu", mesh.faces[i][k] + 1, t++)));
+            else
+                buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, " %d", mesh.faces[i][k] + 1)));
+        }
+        buf += '\n';
+        flush(false);
+    }
+    flush(true);
+    const bool ok = std::ferror(f) == 0;
+    if (std::fclose(f) != 0 || !ok) {
+        std::remove(tmp.c_str());
+        return {IoError::Code::CannotWrite, "error while writing '" + tmp + "'", 0};
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        return {IoError::Code::CannotWrite, "cannot rename '" + tmp + "' to '" + path + "'", 0};
+    }
+    return {};
+}
+
+IoError read_polygon_obj(const std::string& path, QuadMesh& out) {
+    out = QuadMesh{};
+    std::string data;
+    if (!read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    Cursor c{data.data(), data.data() + data.size()};
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p >= c.end) break;
+        if (*c.p == '\n') { ++c.p; ++c.line; continue; }
+        if (*c.p == '#') { c.skip_line(); continue; }
+        const char* kw = c.p;
+        while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
+        const std::string key(kw, c.p);
+        if (key == "v") {
+            std::array<double, 3> p{};
+            for (double& x : p)
+                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
+            out.positions.push_back(p);
+        } else if (key == "f") {
+            std::vector<int> face;
+            while (!c.at_eol()) {
+                std::int64_t v;
+                if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+                int vi;
+                if (!resolve(v, out.positions.size(), vi))
+                    return err(IoError::Code::IndexOutOfRange, c.line, "vertex index out of range");
+                face.push_back(vi);
+                while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n') ++c.p;
+            }
+            out.faces.push_back(std::move(face));
+        }
+        c.skip_line();
+    }
+    return {};
+}
+
+} // namespace qex

@@ -1,0 +1,143 @@
+// Internal data of the extraction pipeline and the stages that fill it, in the order they run.
+// Each stage lives in its own file, named for what it does.
+#pragma once
+
+#include "grid_automorphism.h"
+#include "predicates.h"
+#include "qex/qex.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace qex::detail {
+
+// ============================================================================ triangle mesh
+
+/// Corner-based triangle mesh. Corner h = 3f + k is vertex tri[f][k] in triangle f, and also the
+/// half-edge from that vertex to tri[f][(k+1)%3].
+struct TriMesh {
+    int num_vertices = 0;
+    std::vector<std::array<int, 3>> tri;
+    std::vector<Point2> uv;                        ///< per corner, in the chart of its triangle
+    std::vector<std::array<double, 3>> corner_pos; ///< per corner: original 3D position (survives collapses)
+    std::vector<int> input_triangle;               ///< per triangle: index in the input
+    std::vector<int> input_vertex;                 ///< per vertex: a representative input vertex
+
+    // connectivity (build_topology)
+    std::vector<int> opp;           ///< per half-edge: opposite half-edge, -1 on the boundary
+    std::vector<int> fan_start;     ///< per vertex: first corner of its fan in clockwise order
+    std::vector<int> fan_size;      ///< per vertex: number of corners
+    std::vector<char> on_boundary;  ///< per vertex
+
+    // map (transitions, sanitization, valences)
+    std::vector<GridAutomorphism> transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
+    std::vector<signed char> face_sign;       ///< per triangle: sign of its UV area (exact)
+    std::vector<int> valence;                 ///< per vertex: valence (Algorithm 8 or given)
+    std::vector<int> winding_valence;         ///< per vertex: signed angle sum / (pi/2), rounded
+    std::vector<char> singular;               ///< per vertex
+
+    int num_faces() const { return static_cast<int>(tri.size()); }
+    static int face(int h) { return h / 3; }
+    static int next(int h) { return h - h % 3 + (h % 3 + 1) % 3; }
+    static int prev(int h) { return h - h % 3 + (h % 3 + 2) % 3; }
+    int origin(int h) const { return tri[h / 3][h % 3]; }
+    int target(int h) const { return origin(next(h)); }
+    /// Next corner clockwise around the origin of h (across the edge h), or -1 at the boundary.
+    int cw(int h) const { return opp[h] < 0 ? -1 : next(opp[h]); }
+    /// Next corner counter-clockwise around the origin of h (across the edge prev(h)), or -1.
+    int ccw(int h) const { return opp[prev(h)]; }
+};
+
+// ============================================================================ stages
+
+/// Checks indices, finiteness, magnitudes and isolated vertices of the raw input.
+Error validate_input_values(const Input& in);
+
+/// Builds opposite half-edges and clockwise vertex fans; rejects non-manifold or misoriented meshes.
+/// `what` names the stage in messages ("input" or "after collapsing UV-degenerate edges").
+Error build_topology(TriMesh& m, const char* what);
+
+/// Collapses edges of zero length in the parameter domain, keeping 3D positions in the corners.
+/// Returns the number collapsed in `collapsed`.
+Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed);
+
+/// Extracts and rounds a transition function per interior half-edge (Section 3.1).
+void compute_transitions(TriMesh& m);
+
+/// Valence counting robust to fold-overs (Algorithm 8); interior vertices only (boundary: 0).
+void count_valences(TriMesh& m);
+
+/// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
+/// snapping (Section 3.2). `given_valences` may be empty.
+Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
+               const std::vector<std::array<int, 2>>& feature_edges, Report& report);
+
+// ============================================================================ q-vertices and q-ports
+
+struct QVertex {
+    QVertexKind kind;
+    int element;       ///< vertex id (Vertex), canonical half-edge (Edge), triangle (Face)
+    int chart;         ///< triangle whose chart `grid` is expressed in
+    IPoint grid;       ///< integer parameter position in that chart
+    std::array<double, 3> position;
+    std::array<double, 3> barycentric; ///< in triangle `chart` (corner order)
+    int first_port = 0, num_ports = 0;
+};
+
+/// An outgoing unconnected q-edge: q-vertex, triangle it points into, direction (R90^dir (1,0) in
+/// that triangle's chart) and the q-vertex's grid point in that chart.
+struct Port {
+    int qvertex;
+    int corner;   ///< corner of the triangle at the q-vertex's fan position (Vertex); triangle*3 otherwise
+    int dir;
+    IPoint grid;
+};
+
+/// A traced iso-line from one port to another; `g` maps the chart of the source port's triangle
+/// to the chart of the target port's triangle.
+struct Connection {
+    int to = -1;          ///< target port, -1 if dangling (boundary) or failed
+    GridAutomorphism g;
+};
+
+struct QState {
+    std::vector<QVertex> qvertices;
+    std::vector<int> vertex_qvertex;   ///< per mesh vertex: its vertex-q-vertex or -1
+    std::vector<int> edge_first, edge_count; ///< per canonical half-edge: range in edge_qvertices
+    std::vector<int> face_first, face_count; ///< per triangle: range of its face-q-vertices
+    std::vector<Port> ports;
+    std::vector<Connection> connections;     ///< per port
+    std::vector<char> dangling;              ///< per port: trace left the surface through a boundary
+};
+
+/// Generates vertex-, edge- and face-q-vertices (Algorithm 3).
+Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q);
+
+/// Enumerates q-ports of every q-vertex in clockwise order on the surface (Algorithm 4).
+void enumerate_ports(const TriMesh& m, QState& q);
+
+/// Traces every port's iso-line to its opposite port (Algorithm 5).
+void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report);
+
+// ============================================================================ faces
+
+struct QFace {
+    std::vector<int> qv;       ///< q-vertices
+    std::vector<IPoint> uv;    ///< local UVs in the chart of the first port's triangle
+    int chart = -1;            ///< that triangle
+};
+
+/// Walks the faces of the q-port graph, accumulating local UVs (Algorithm 6).
+std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& report);
+
+/// Transition from the chart of port a's triangle to that of port b (same q-vertex), stepping
+/// clockwise around the q-vertex; `ok` is false if the step would cross the mesh boundary.
+GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int b, bool& ok);
+
+/// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
+/// fills the output mesh.
+void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> faces,
+                        const Options& opt, QuadMesh& out, Report& report);
+
+} // namespace qex::detail

@@ -1,0 +1,60 @@
+// Exact predicates, the only translation unit of the core that includes CGAL.
+#include "predicates.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+
+namespace qex::detail {
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using KPoint = Kernel::Point_2;
+
+KPoint k(const Point2& p) { return KPoint(p[0], p[1]); }
+
+// Points are compared coordinate-wise in doubles: comparisons of doubles are exact.
+bool between(double x, double lo, double hi) { return std::min(lo, hi) <= x && x <= std::max(lo, hi); }
+} // namespace
+
+Orientation orient2d(const Point2& a, const Point2& b, const Point2& c) {
+    switch (CGAL::orientation(k(a), k(b), k(c))) {
+        case CGAL::LEFT_TURN: return Orientation::Positive;
+        case CGAL::RIGHT_TURN: return Orientation::Negative;
+        default: return Orientation::Collinear;
+    }
+}
+
+bool on_segment(const Point2& x, const Point2& p, const Point2& q) {
+    return orient2d(p, q, x) == Orientation::Collinear && between(x[0], p[0], q[0]) &&
+           between(x[1], p[1], q[1]);
+}
+
+bool in_closed_triangle(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+    const int s = sign(orient2d(a, b, c));
+    if (s == 0) return on_segment(x, a, b) || on_segment(x, b, c) || on_segment(x, c, a);
+    const int s0 = sign(orient2d(a, b, x)), s1 = sign(orient2d(b, c, x)), s2 = sign(orient2d(c, a, x));
+    return s0 * s >= 0 && s1 * s >= 0 && s2 * s >= 0;
+}
+
+bool segment_hits_half_open(const Point2& p, const Point2& q, const Point2& a, const Point2& b) {
+    const int op = sign(orient2d(a, b, p)), oq = sign(orient2d(a, b, q));
+    if (op * oq > 0) return false;
+    if (op == 0 && oq == 0) {
+        // Collinear: compare along the dominant axis of (a, b); the overlap must hold a point != a.
+        const int ax = std::abs(b[0] - a[0]) >= std::abs(b[1] - a[1]) ? 0 : 1;
+        const double dir = b[ax] > a[ax] ? 1.0 : -1.0;
+        // Parametrise by t = dir * (x - a[ax]); segment (a, b] is t in (0, |b - a|].
+        const double t0 = dir * (p[ax] - a[ax]), t1 = dir * (q[ax] - a[ax]);
+        const double lo = std::max(std::min(t0, t1), 0.0);
+        const double hi = std::min(std::max(t0, t1), dir * (b[ax] - a[ax]));
+        if (lo > hi) return false;
+        return hi > 0.0; // overlap [lo, hi] contains a point other than a (t = 0)
+    }
+    const int oa = sign(orient2d(p, q, a)), ob = sign(orient2d(p, q, b));
+    if (oa * ob > 0) return false;
+    // The unique intersection point is a itself exactly when a lies on the line of [p, q].
+    if (oa == 0) return false;
+    return true;
+}
+
+} // namespace qex::detail

@@ -1,0 +1,85 @@
+// Q-port enumeration (Algorithm 4): the outgoing integer iso-lines of every q-vertex, listed in
+// clockwise order on the surface. In a regular triangle clockwise on the surface is clockwise in
+// the chart; in a flipped one it is counter-clockwise. Each iso-line along a mesh edge belongs to
+// the corner for which that edge is the clockwise bound ("v-edge"), unless that corner's
+// neighbour is missing (boundary) or degenerate.
+#include "pipeline.h"
+
+namespace qex::detail {
+namespace {
+
+enum class Where { Outside, Inside, AlongV, AlongW };
+
+Where classify(const Point2& u, const Point2& v, const Point2& w, int s, int d) {
+    const IPoint e = unit_dir(d);
+    const Point2 x{u[0] + static_cast<double>(e[0]), u[1] + static_cast<double>(e[1])};
+    const int ov = sign(orient2d(u, v, x)), ow = sign(orient2d(u, x, w));
+    if (ov == s && ow == s) return Where::Inside;
+    if (ov == 0 && (v[0] - u[0]) * e[0] + (v[1] - u[1]) * e[1] > 0) return Where::AlongV;
+    if (ow == 0 && (w[0] - u[0]) * e[0] + (w[1] - u[1]) * e[1] > 0) return Where::AlongW;
+    return Where::Outside;
+}
+
+/// Appends the ports of one corner at u (edges to v and w, orientation s), from the w-side to the v-side.
+void corner_ports(std::vector<Port>& ports, int qv, int corner, const IPoint& grid, const Point2& v,
+                  const Point2& w, int s, bool take_w) {
+    if (s == 0) return;
+    const Point2 u = to_point(grid);
+    Where where[4];
+    int outside = -1;
+    for (int d = 0; d < 4; ++d) {
+        where[d] = classify(u, v, w, s, d);
+        if (where[d] == Where::Outside && outside < 0) outside = d;
+    }
+    if (outside < 0) return; // impossible for a non-degenerate corner (its angle is below 180 degrees)
+    for (int i = 1; i < 4; ++i) {
+        const int d = (outside - s * i + 8) & 3; // clockwise on the surface
+        if (where[d] == Where::Inside || where[d] == Where::AlongV || (take_w && where[d] == Where::AlongW))
+            ports.push_back({qv, corner, d, grid});
+    }
+}
+
+} // namespace
+
+void enumerate_ports(const TriMesh& m, QState& q) {
+    q.ports.clear();
+    for (int i = 0; i < static_cast<int>(q.qvertices.size()); ++i) {
+        QVertex& qv = q.qvertices[i];
+        qv.first_port = static_cast<int>(q.ports.size());
+        switch (qv.kind) {
+            case QVertexKind::Vertex: {
+                const int v = qv.element;
+                IPoint grid = qv.grid; // in the chart of the fan's first corner, propagated clockwise
+                for (int c = m.fan_start[v], n = 0; c >= 0 && n < m.fan_size[v]; ++n) {
+                    const int ccw = m.ccw(c);
+                    const bool take_w = ccw < 0 || m.face_sign[TriMesh::face(ccw)] == 0;
+                    corner_ports(q.ports, i, c, grid, m.uv[TriMesh::next(c)], m.uv[TriMesh::prev(c)],
+                                 m.face_sign[TriMesh::face(c)], take_w);
+                    grid = m.transition[c](grid);
+                    c = m.cw(c);
+                    if (c == m.fan_start[v]) break;
+                }
+                break;
+            }
+            case QVertexKind::Edge: {
+                const int h = qv.element, o = m.opp[h];
+                const int sh = m.face_sign[TriMesh::face(h)];
+                const int so = o >= 0 ? m.face_sign[TriMesh::face(o)] : 0;
+                // In face(h) the edge runs a -> b: v-edge towards b, w-edge towards a.
+                corner_ports(q.ports, i, h, qv.grid, m.uv[TriMesh::next(h)], m.uv[h], sh, o < 0 || so == 0);
+                if (o >= 0)
+                    corner_ports(q.ports, i, o, m.transition[h](qv.grid), m.uv[TriMesh::next(o)], m.uv[o], so,
+                                 sh == 0);
+                break;
+            }
+            case QVertexKind::Face: {
+                const int f = qv.element, s = m.face_sign[f];
+                for (int k = 0; k < 4; ++k) q.ports.push_back({i, 3 * f, s > 0 ? 3 - k : k, qv.grid});
+                break;
+            }
+        }
+        qv.num_ports = static_cast<int>(q.ports.size()) - qv.first_port;
+    }
+}
+
+} // namespace qex::detail

@@ -1,0 +1,186 @@
+// Q-port tracing (Algorithm 5): each port's iso-line is followed across triangles, transitions and
+// orientation flips until it reaches the next integer grid point, where the opposite port is
+// found. All decisions are exact orientation tests on the sanitized map.
+#include "pipeline.h"
+
+#include <string>
+
+namespace qex::detail {
+namespace {
+
+int vertices_on_segment(const TriMesh& m, int h, const Point2& a, const Point2& b) {
+    return static_cast<int>(on_segment(m.uv[h], a, b)) + static_cast<int>(on_segment(m.uv[TriMesh::next(h)], a, b));
+}
+
+/// The edge of face f (other than `entry`) through which segment (a, b] leaves it (PICKNEXTEDGE).
+int pick_next_edge(const TriMesh& m, int f, int entry, const Point2& a, const Point2& b) {
+    int best = -1, best_on = 3;
+    for (int k = 0; k < 3; ++k) {
+        const int h = 3 * f + k;
+        if (h == entry || !segment_hits_half_open(m.uv[h], m.uv[TriMesh::next(h)], a, b)) continue;
+        const int on = vertices_on_segment(m, h, a, b);
+        if (on < best_on) { best = h; best_on = on; }
+    }
+    return best;
+}
+
+/// The q-vertex at grid point b in the closed triangle f, or -1.
+int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
+    const Point2 pb = to_point(b);
+    for (int k = 0; k < 3; ++k)
+        if (m.uv[3 * f + k] == pb) return q.vertex_qvertex[m.tri[f][k]];
+    for (int k = 0; k < 3; ++k) {
+        const int h = 3 * f + k;
+        if (!on_segment(pb, m.uv[h], m.uv[TriMesh::next(h)])) continue;
+        const int o = m.opp[h];
+        const int canon = (o >= 0 && o < h) ? o : h;
+        const IPoint bc = canon == h ? b : m.transition[h](b);
+        for (int i = q.edge_first[canon]; i < q.edge_first[canon] + q.edge_count[canon]; ++i)
+            if (q.qvertices[i].grid == bc) return i;
+        return -1;
+    }
+    for (int i = q.face_first[f]; i < q.face_first[f] + q.face_count[f]; ++i)
+        if (q.qvertices[i].grid == b) return i;
+    return -1;
+}
+
+int port_at(const QState& q, int qv, int corner, int dir) {
+    const QVertex& v = q.qvertices[qv];
+    for (int p = v.first_port; p < v.first_port + v.num_ports; ++p)
+        if (q.ports[p].corner == corner && q.ports[p].dir == dir) return p;
+    return -1;
+}
+
+/// The port of q-vertex qv that points in direction dir of face f's chart; `to_port` receives the
+/// transition from f's chart to the port's chart. Searches the fan outwards from f.
+int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, GridAutomorphism& to_port) {
+    const QVertex& v = q.qvertices[qv];
+    to_port = GridAutomorphism{};
+    switch (v.kind) {
+        case QVertexKind::Face: return port_at(q, qv, 3 * f, dir);
+        case QVertexKind::Edge: {
+            const int h = v.element, o = m.opp[h];
+            const int here = TriMesh::face(h) == f ? h : o, there = here == h ? o : h;
+            if (const int p = port_at(q, qv, here, dir); p >= 0) return p;
+            if (there < 0) return -1;
+            to_port = m.transition[here];
+            return port_at(q, qv, there, to_port.rotate_dir(dir));
+        }
+        case QVertexKind::Vertex: {
+            int start = -1;
+            for (int k = 0; k < 3; ++k)
+                if (m.tri[f][k] == v.element) start = 3 * f + k;
+            if (start < 0) return -1;
+            if (const int p = port_at(q, qv, start, dir); p >= 0) return p;
+            // Walk clockwise and counter-clockwise in lockstep; the nearest corner wins.
+            int cw = start, ccw = start;
+            GridAutomorphism gcw, gccw;
+            const int n = m.fan_size[v.element];
+            for (int step = 1; step < n && (cw >= 0 || ccw >= 0); ++step) {
+                if (cw >= 0) {
+                    gcw = m.transition[cw].after(gcw);
+                    cw = m.cw(cw);
+                    if (cw >= 0)
+                        if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) { to_port = gcw; return p; }
+                }
+                if (ccw >= 0) {
+                    const int prev = TriMesh::prev(ccw);
+                    if (m.opp[prev] >= 0) {
+                        gccw = m.transition[prev].after(gccw);
+                        ccw = m.opp[prev];
+                        if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) { to_port = gccw; return p; }
+                    } else {
+                        ccw = -1;
+                    }
+                }
+            }
+            return -1;
+        }
+    }
+    return -1;
+}
+
+void add_defect(Report& r, DefectKind kind, std::string msg, std::int64_t element, const IPoint& grid) {
+    r.defects.push_back({kind, std::move(msg), element, -1, {grid[0], grid[1]}});
+}
+
+} // namespace
+
+void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report) {
+    const int np = static_cast<int>(q.ports.size());
+    q.connections.assign(np, Connection{});
+    q.dangling.assign(np, 0);
+    for (int p = 0; p < np; ++p) {
+        if (q.connections[p].to >= 0 || q.dangling[p]) continue;
+        const Port& port = q.ports[p];
+        ++report.traces;
+        int f = TriMesh::face(port.corner);
+        int entry = -1;
+        int s = m.face_sign[f];
+        int dir = port.dir;
+        IPoint a = port.grid;
+        IPoint b{a[0] + unit_dir(dir)[0], a[1] + unit_dir(dir)[1]};
+        GridAutomorphism g;
+        bool arrived = false, boundary = false;
+        for (std::int64_t step = 0; step < opt.max_trace_steps; ++step) {
+            const Point2 pa = to_point(a), pb = to_point(b);
+            if (in_closed_triangle(pb, m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) { arrived = true; break; }
+            const int h = pick_next_edge(m, f, entry, pa, pb);
+            if (h < 0) break;
+            const int o = m.opp[h];
+            if (o < 0) { boundary = true; break; }
+            const GridAutomorphism& t = m.transition[h];
+            g = t.after(g);
+            a = t(a);
+            b = t(b);
+            dir = t.rotate_dir(dir);
+            f = TriMesh::face(o);
+            entry = o;
+            const int s2 = m.face_sign[f];
+            if (s2 != 0 && s2 != s) { // orientation flip: the iso-line runs backwards in this chart
+                std::swap(a, b);
+                dir = (dir + 2) & 3;
+                s = s2;
+                ++report.orientation_flips_crossed;
+            }
+        }
+        const std::int64_t where = m.input_triangle[f];
+        if (boundary) {
+            q.dangling[p] = 1;
+            ++report.traces_into_boundary;
+            continue;
+        }
+        if (!arrived) {
+            ++report.traces_failed;
+            add_defect(report, DefectKind::TraceFailed,
+                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
+                           std::to_string(port.grid[1]) + ") could not be followed",
+                       where, port.grid);
+            continue;
+        }
+        const int target = qvertex_at(m, q, f, b);
+        GridAutomorphism to_port;
+        const int p2 = target < 0 ? -1 : matching_port(m, q, target, f, (dir + 2) & 3, to_port);
+        if (p2 < 0) {
+            add_defect(report, DefectKind::UnmatchedPort,
+                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
+                           std::to_string(port.grid[1]) + ") arrived at (" + std::to_string(b[0]) + ", " +
+                           std::to_string(b[1]) + ") where no q-port points back",
+                       where, b);
+            continue;
+        }
+        if (p2 == p || q.connections[p2].to >= 0 || q.dangling[p2]) {
+            add_defect(report, DefectKind::PortConflict,
+                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
+                           std::to_string(port.grid[1]) + ") arrived at a q-port that is already connected",
+                       where, b);
+            continue;
+        }
+        const GridAutomorphism total = to_port.after(g);
+        q.connections[p] = {p2, total};
+        q.connections[p2] = {p, total.inverse()};
+        ++report.traces_connected;
+    }
+}
+
+} // namespace qex::detail

@@ -1,0 +1,134 @@
+// Q-vertex generation (Algorithm 3): every integer grid point of the sanitized map becomes a
+// q-vertex on the mesh vertex, edge or triangle it lies on, decided by exact predicates.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace qex::detail {
+namespace {
+
+bool is_integer_point(const Point2& p) { return std::floor(p[0]) == p[0] && std::floor(p[1]) == p[1]; }
+
+std::array<double, 3> lerp3(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                            const std::array<double, 3>& c, const std::array<double, 3>& w) {
+    return {w[0] * a[0] + w[1] * b[0] + w[2] * c[0], w[0] * a[1] + w[1] * b[1] + w[2] * c[1],
+            w[0] * a[2] + w[1] * b[2] + w[2] * c[2]};
+}
+
+/// Barycentric coordinates of x in (a, b, c); only used for embedding, not for decisions.
+std::array<double, 3> barycentric(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+    const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if (det == 0.0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    const double wb = ((x[0] - a[0]) * (c[1] - a[1]) - (x[1] - a[1]) * (c[0] - a[0])) / det;
+    const double wc = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
+    return {1.0 - wb - wc, wb, wc};
+}
+
+/// Parameter of x on segment [a, b] (for embedding only).
+double segment_param(const Point2& x, const Point2& a, const Point2& b) {
+    const int ax = std::abs(b[0] - a[0]) >= std::abs(b[1] - a[1]) ? 0 : 1;
+    return (x[ax] - a[ax]) / (b[ax] - a[ax]);
+}
+
+} // namespace
+
+Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
+    const int nf = m.num_faces();
+    q.qvertices.clear();
+    auto over_budget = [&]() { return static_cast<std::int64_t>(q.qvertices.size()) > opt.max_qvertices; };
+    auto too_large = [&](std::int64_t element) {
+        return Error{ErrorCode::MapTooLarge,
+                     "the map has more than " + std::to_string(opt.max_qvertices) +
+                         " integer grid points (Options::max_qvertices)",
+                     element};
+    };
+    // Cheap bound first, so an absurd map is rejected before any loop runs long.
+    double bound = 0.0;
+    for (int f = 0; f < nf; ++f) {
+        const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        const double w = std::max({a[0], b[0], c[0]}) - std::min({a[0], b[0], c[0]}) + 1.0;
+        const double h = std::max({a[1], b[1], c[1]}) - std::min({a[1], b[1], c[1]}) + 1.0;
+        bound += w * h;
+    }
+    if (bound > 4.0 * static_cast<double>(opt.max_qvertices) + 1e6) return too_large(-1);
+
+    // Vertex-q-vertices.
+    q.vertex_qvertex.assign(m.num_vertices, -1);
+    for (int v = 0; v < m.num_vertices; ++v) {
+        const int c = m.fan_start[v];
+        if (c < 0 || !is_integer_point(m.uv[c])) continue;
+        q.vertex_qvertex[v] = static_cast<int>(q.qvertices.size());
+        std::array<double, 3> w{0, 0, 0};
+        w[c % 3] = 1.0;
+        q.qvertices.push_back({QVertexKind::Vertex, v, TriMesh::face(c),
+                               {static_cast<std::int64_t>(m.uv[c][0]), static_cast<std::int64_t>(m.uv[c][1])},
+                               m.corner_pos[c], w});
+    }
+    // Edge-q-vertices: on each edge, in the chart of its smaller half-edge.
+    q.edge_first.assign(3 * nf, 0);
+    q.edge_count.assign(3 * nf, 0);
+    for (int h = 0; h < 3 * nf; ++h) {
+        if (m.opp[h] >= 0 && m.opp[h] < h) continue;
+        q.edge_first[h] = static_cast<int>(q.qvertices.size());
+        q.edge_count[h] = 0;
+        const Point2& a = m.uv[h];
+        const Point2& b = m.uv[TriMesh::next(h)];
+        if (a == b) continue; // cannot happen after collapsing; keeps the division below safe
+        const int ax = std::abs(b[0] - a[0]) >= std::abs(b[1] - a[1]) ? 0 : 1; // walk the longer axis
+        const double lo = std::ceil(std::min(a[ax], b[ax])), hi = std::floor(std::max(a[ax], b[ax]));
+        for (double x = lo; x <= hi; x += 1.0) {
+            // The other coordinate of the line at x; if the line hits an integer point there it is
+            // within rounding of the computed value. Candidates are confirmed exactly.
+            const double t = (x - a[ax]) / (b[ax] - a[ax]);
+            const double y = a[1 - ax] + t * (b[1 - ax] - a[1 - ax]);
+            const double yr = std::nearbyint(y);
+            for (double cand : {yr - 1.0, yr, yr + 1.0}) {
+                Point2 p;
+                p[ax] = x;
+                p[1 - ax] = cand;
+                if (p == a || p == b || !on_segment(p, a, b)) continue;
+                const double s = segment_param(p, a, b);
+                const int f = TriMesh::face(h), k = h % 3;
+                std::array<double, 3> w{0, 0, 0};
+                w[k] = 1.0 - s;
+                w[(k + 1) % 3] = s;
+                q.qvertices.push_back({QVertexKind::Edge, h, f,
+                                       {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
+                                       lerp3(m.corner_pos[3 * f], m.corner_pos[3 * f + 1], m.corner_pos[3 * f + 2], w),
+                                       w});
+            }
+        }
+        q.edge_count[h] = static_cast<int>(q.qvertices.size()) - q.edge_first[h];
+        if (over_budget()) return too_large(m.input_triangle[TriMesh::face(h)]);
+    }
+    // Face-q-vertices: strictly inside a non-degenerate triangle.
+    q.face_first.assign(nf, 0);
+    q.face_count.assign(nf, 0);
+    for (int f = 0; f < nf; ++f) {
+        q.face_first[f] = static_cast<int>(q.qvertices.size());
+        const int s = m.face_sign[f];
+        if (s != 0) {
+            const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+            const double x0 = std::ceil(std::min({a[0], b[0], c[0]})), x1 = std::floor(std::max({a[0], b[0], c[0]}));
+            const double y0 = std::ceil(std::min({a[1], b[1], c[1]})), y1 = std::floor(std::max({a[1], b[1], c[1]}));
+            for (double x = x0; x <= x1; x += 1.0)
+                for (double y = y0; y <= y1; y += 1.0) {
+                    const Point2 p{x, y};
+                    if (sign(orient2d(a, b, p)) != s || sign(orient2d(b, c, p)) != s || sign(orient2d(c, a, p)) != s)
+                        continue;
+                    const auto w = barycentric(p, a, b, c);
+                    q.qvertices.push_back({QVertexKind::Face, f, f,
+                                           {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
+                                           lerp3(m.corner_pos[3 * f], m.corner_pos[3 * f + 1], m.corner_pos[3 * f + 2], w),
+                                           w});
+                }
+        }
+        q.face_count[f] = static_cast<int>(q.qvertices.size()) - q.face_first[f];
+        if (over_budget()) return too_large(m.input_triangle[f]);
+    }
+    return {};
+}
+
+} // namespace qex::detail

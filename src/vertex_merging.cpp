@@ -1,0 +1,198 @@
+// Recovery of lost q-edges (Section 5.5), vertex merging (Algorithm 7) and face simplification.
+// Fold-overs make the face walks visit clones of one q-vertex; within a face the clones share
+// local UVs. Merging them leaves quads plus 2-gons and 1-gons (collapsed), and, where a singularity
+// lost ports, faces that pass a vertex twice: those are split at it.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+namespace qex::detail {
+namespace {
+
+struct Corner {
+    int v;
+    IPoint uv;
+};
+using Loop = std::vector<Corner>;
+
+int find(std::vector<int>& parent, int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/// Splits a closed walk at positions i < j into walk[i..j] and walk[j..end] + walk[0..i].
+void split(const Loop& loop, std::size_t i, std::size_t j, Loop& first, Loop& second) {
+    first.assign(loop.begin() + static_cast<std::ptrdiff_t>(i), loop.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+    second.assign(loop.begin() + static_cast<std::ptrdiff_t>(j), loop.end());
+    second.insert(second.end(), loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+}
+
+/// Removes repeated consecutive vertices and spikes (x y x); splits walks visiting a vertex twice.
+void simplify(Loop loop, std::vector<Loop>& out) {
+    std::vector<Loop> work{std::move(loop)};
+    while (!work.empty()) {
+        Loop l = std::move(work.back());
+        work.pop_back();
+        bool changed = true;
+        while (changed && l.size() > 1) {
+            changed = false;
+            for (std::size_t i = 0; i < l.size() && l.size() > 1; ++i) {
+                const std::size_t n = l.size(), j = (i + 1) % n;
+                if (l[i].v == l[j].v) { l.erase(l.begin() + static_cast<std::ptrdiff_t>(j)); changed = true; break; }
+                if (n > 2 && l[i].v == l[(i + 2) % n].v) { // spike i -> j -> i: drop j and the return
+                    const std::size_t k = (i + 2) % n;
+                    std::size_t hi = std::max(j, k), lo = std::min(j, k);
+                    l.erase(l.begin() + static_cast<std::ptrdiff_t>(hi));
+                    l.erase(l.begin() + static_cast<std::ptrdiff_t>(lo));
+                    changed = true;
+                    break;
+                }
+            }
+        }
+        bool was_split = false;
+        for (std::size_t i = 0; i < l.size() && !was_split; ++i)
+            for (std::size_t j = i + 1; j < l.size() && !was_split; ++j)
+                if (l[i].v == l[j].v) {
+                    Loop a, b;
+                    split(l, i, j, a, b);
+                    a.pop_back(); // the closing copy of the shared vertex
+                    b.pop_back();
+                    work.push_back(std::move(a));
+                    work.push_back(std::move(b));
+                    was_split = true;
+                }
+        if (!was_split) out.push_back(std::move(l));
+    }
+}
+
+} // namespace
+
+void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> faces, const Options& opt,
+                        QuadMesh& out, Report& report) {
+    const int nq = static_cast<int>(q.qvertices.size());
+    // Expected valence of each q-vertex, to find those that lost ports (Section 5.5).
+    auto missing_ports = [&](int i) {
+        const QVertex& v = q.qvertices[i];
+        int expected = 4;
+        if (v.kind == QVertexKind::Vertex) {
+            if (m.on_boundary[v.element]) return false;
+            if (m.singular[v.element]) expected = m.valence[v.element];
+        } else if (v.kind == QVertexKind::Edge && m.opp[v.element] < 0) {
+            return false;
+        }
+        return v.num_ports < expected;
+    };
+
+    // 1. Recover lost q-edges: split faces between a q-vertex with missing ports and a vertex
+    //    sharing its local UVs.
+    std::vector<Loop> loops;
+    {
+        std::vector<Loop> work;
+        work.reserve(faces.size());
+        for (const QFace& f : faces) {
+            Loop l(f.qv.size());
+            for (std::size_t i = 0; i < f.qv.size(); ++i) l[i] = {f.qv[i], f.uv[i]};
+            work.push_back(std::move(l));
+        }
+        while (!work.empty()) {
+            Loop l = std::move(work.back());
+            work.pop_back();
+            bool was_split = false;
+            if (opt.recover_lost_edges && l.size() > 4)
+                for (std::size_t i = 0; i < l.size() && !was_split; ++i) {
+                    if (!missing_ports(l[i].v)) continue;
+                    for (std::size_t j = 0; j < l.size() && !was_split; ++j) {
+                        const std::size_t n = l.size();
+                        if (j == i || j == (i + 1) % n || i == (j + 1) % n || !(l[j].uv == l[i].uv)) continue;
+                        Loop a, b;
+                        split(l, std::min(i, j), std::max(i, j), a, b);
+                        work.push_back(std::move(a));
+                        work.push_back(std::move(b));
+                        ++report.recovered_edges;
+                        was_split = true;
+                    }
+                }
+            if (!was_split) loops.push_back(std::move(l));
+        }
+    }
+
+    // 2. Merge q-vertices sharing local UVs within a face (Algorithm 7).
+    std::vector<int> parent(nq);
+    std::iota(parent.begin(), parent.end(), 0);
+    if (opt.merge_vertices)
+        for (const Loop& l : loops)
+            for (std::size_t i = 0; i < l.size(); ++i)
+                for (std::size_t j = i + 1; j < l.size(); ++j)
+                    if (l[i].uv == l[j].uv && l[i].v != l[j].v) {
+                        const int a = find(parent, l[i].v), b = find(parent, l[j].v);
+                        if (a != b) { parent[std::max(a, b)] = std::min(a, b); ++report.merged_qvertices; }
+                    }
+
+    // 3. Simplify faces.
+    std::vector<Loop> simple;
+    for (Loop& l : loops) {
+        for (Corner& c : l) c.v = find(parent, c.v);
+        std::vector<Loop> parts;
+        simplify(std::move(l), parts);
+        for (Loop& p : parts) {
+            if (p.size() < 3) { ++report.collapsed_faces; continue; }
+            simple.push_back(std::move(p));
+        }
+    }
+
+    // 4. Output: referenced representatives, positioned at the centroid of their clones.
+    std::vector<std::array<double, 3>> sum(nq, {0, 0, 0});
+    std::vector<int> count(nq, 0);
+    for (int i = 0; i < nq; ++i) {
+        const int r = find(parent, i);
+        for (int k = 0; k < 3; ++k) sum[r][k] += q.qvertices[i].position[k];
+        ++count[r];
+    }
+    std::vector<int> out_id(nq, -1);
+    out = QuadMesh{};
+    for (const Loop& l : simple) {
+        std::vector<int> face;
+        std::vector<std::array<std::int64_t, 2>> uvs;
+        for (const Corner& c : l) {
+            if (out_id[c.v] < 0) {
+                out_id[c.v] = static_cast<int>(out.positions.size());
+                const double n = count[c.v];
+                out.positions.push_back({sum[c.v][0] / n, sum[c.v][1] / n, sum[c.v][2] / n});
+                const QVertex& v = q.qvertices[c.v];
+                Provenance pr;
+                pr.kind = v.kind;
+                pr.chart_triangle = m.input_triangle[v.chart];
+                pr.grid = {v.grid[0], v.grid[1]};
+                pr.merged = count[c.v];
+                pr.barycentric = v.barycentric;
+                if (v.kind == QVertexKind::Vertex) {
+                    pr.element = m.input_vertex[v.element];
+                } else if (v.kind == QVertexKind::Edge) {
+                    pr.element = m.input_triangle[TriMesh::face(v.element)];
+                    pr.local_edge = v.element % 3;
+                } else {
+                    pr.element = m.input_triangle[v.element];
+                }
+                out.provenance.push_back(pr);
+            }
+            face.push_back(out_id[c.v]);
+            uvs.push_back({c.uv[0], c.uv[1]});
+        }
+        if (face.size() != 4) {
+            ++report.non_quad_faces;
+            const QVertex& v = q.qvertices[l[0].v];
+            report.defects.push_back({DefectKind::NonQuadFace,
+                                      std::to_string(face.size()) + "-gon near grid point (" +
+                                          std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
+                                          ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
+                                      m.input_triangle[v.chart], static_cast<std::int64_t>(out.faces.size()),
+                                      {v.grid[0], v.grid[1]}});
+        }
+        out.faces.push_back(std::move(face));
+        out.face_uvs.push_back(std::move(uvs));
+    }
+}
+
+} // namespace qex::detail
