@@ -29,7 +29,10 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
 
 std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& report) {
     const int np = static_cast<int>(q.ports.size());
+    // Per port: 0 unvisited, 1 on the walk under way or a closed face, 2 on a walk that ran into
+    // the boundary (a later walk joining it ends at the boundary too).
     std::vector<char> visited(np, 0);
+    std::vector<int> walk;
     std::vector<QFace> faces;
     QFace face;
     for (int start = 0; start < np; ++start) {
@@ -40,8 +43,10 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
         GridAutomorphism gbar; // chart of the start port -> chart of the current port
         int cur = start;
         bool closed = false, boundary = false, open = false;
+        walk.clear();
         for (int guard = 0; guard < 4 * np + 8; ++guard) {
             visited[cur] = 1;
+            walk.push_back(cur);
             const Port& port = q.ports[cur];
             face.qv.push_back(port.qvertex);
             face.uv.push_back(gbar.inverse()(port.grid));
@@ -59,8 +64,10 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
             }
             cur = next;
             if (cur == start) { closed = true; break; }
-            if (visited[cur]) { open = true; break; }
+            if (visited[cur]) { (visited[cur] == 2 ? boundary : open) = true; break; }
         }
+        if (boundary)
+            for (int p : walk) visited[p] = 2;
         ++report.faces_traced;
         if (closed) {
             faces.push_back(face);

@@ -67,6 +67,17 @@ void simplify(Loop loop, std::vector<Loop>& out) {
     }
 }
 
+/// Twice the signed area enclosed by the local UVs of a walk.
+std::int64_t twice_area(const Loop& l) {
+    std::int64_t a = 0;
+    for (std::size_t i = 0; i < l.size(); ++i) {
+        const IPoint& p = l[i].uv;
+        const IPoint& q = l[(i + 1) % l.size()].uv;
+        a += p[0] * q[1] - p[1] * q[0];
+    }
+    return a;
+}
+
 } // namespace
 
 void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> faces, const Options& opt,
@@ -78,15 +89,20 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
         int expected = 4;
         if (v.kind == QVertexKind::Vertex) {
             if (m.on_boundary[v.element]) return false;
-            if (m.singular[v.element]) expected = m.valence[v.element];
+            // Valences 1 and 2 do not occur in cross fields of practical maps: such a count means
+            // a fold-over took a full turn from a valence 5 or 6 singularity (Figure 2 (d)).
+            if (m.singular[v.element])
+                for (expected = m.valence[v.element]; expected < 3;) expected += 4;
         } else if (v.kind == QVertexKind::Edge && m.opp[v.element] < 0) {
             return false;
         }
         return v.num_ports < expected;
     };
 
-    // 1. Recover lost q-edges: split faces between a q-vertex with missing ports and a vertex
-    //    sharing its local UVs.
+    // 1. Recover lost q-edges. A face walk whose local UVs wind around more than one unit square
+    //    enclosed a singularity that lost ports (Figure 5 (a)); it is split between two corners
+    //    with equal local UVs so that every part covers at least one square. Following the paper,
+    //    a q-vertex with missing ports is the preferred end of the new q-edge.
     std::vector<Loop> loops;
     {
         std::vector<Loop> work;
@@ -96,24 +112,27 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
             for (std::size_t i = 0; i < f.qv.size(); ++i) l[i] = {f.qv[i], f.uv[i]};
             work.push_back(std::move(l));
         }
+        Loop a, b;
         while (!work.empty()) {
             Loop l = std::move(work.back());
             work.pop_back();
             bool was_split = false;
-            if (opt.recover_lost_edges && l.size() > 4)
-                for (std::size_t i = 0; i < l.size() && !was_split; ++i) {
-                    if (!missing_ports(l[i].v)) continue;
-                    for (std::size_t j = 0; j < l.size() && !was_split; ++j) {
-                        const std::size_t n = l.size();
-                        if (j == i || j == (i + 1) % n || i == (j + 1) % n || !(l[j].uv == l[i].uv)) continue;
-                        Loop a, b;
-                        split(l, std::min(i, j), std::max(i, j), a, b);
-                        work.push_back(std::move(a));
-                        work.push_back(std::move(b));
-                        ++report.recovered_edges;
-                        was_split = true;
+            if (opt.recover_lost_edges && l.size() > 4 && twice_area(l) >= 4)
+                for (int pass = 0; pass < 2 && !was_split; ++pass)
+                    for (std::size_t i = 0; i < l.size() && !was_split; ++i) {
+                        if (pass == 0 && !missing_ports(l[i].v)) continue;
+                        for (std::size_t j = 0; j < l.size() && !was_split; ++j) {
+                            const std::size_t n = l.size();
+                            if (j == i || j == (i + 1) % n || i == (j + 1) % n || !(l[j].uv == l[i].uv)) continue;
+                            // Both parts keep both ends: the ends share local UVs and merge below.
+                            split(l, std::min(i, j), std::max(i, j), a, b);
+                            if (twice_area(a) < 2 || twice_area(b) < 2) continue;
+                            work.push_back(std::move(a));
+                            work.push_back(std::move(b));
+                            ++report.recovered_edges;
+                            was_split = true;
+                        }
                     }
-                }
             if (!was_split) loops.push_back(std::move(l));
         }
     }
