@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <iterator>
 #include <numeric>
 #include <string>
 
@@ -87,28 +89,41 @@ Error validate(const Input& input) {
     return detail::build_topology(m, "input");
 }
 
-Result extract(const Input& input, const Options& options) {
-    Result result;
+namespace {
+
+/// The fallback ladder. Each rung re-runs the pipeline from the validated mesh.
+struct Rung {
+    const char* name;
+    int untangle_rings;      ///< 0: the map as given
+    int untangle_iterations;
+};
+constexpr Rung kLadder[] = {
+    // 1. The paper's method on the map as given.
+    {"as-given", 0, 0},
+    // 2. Fold-overs defeated the local handling: relax the folded regions (one ring around them).
+    {"untangled-1", 1, 30},
+    // 3. Still invalid: relax wider regions for longer.
+    {"untangled-3", 3, 100},
+};
+
+/// Runs sanitization and extraction on `m` (validated, collapsed). Returns false on an input error.
+bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options, const Rung& rung,
+                  Result& result) {
     Report& report = result.report;
     StageTimer timer(report);
-    report.input_vertices = static_cast<std::int64_t>(input.positions.size());
-    report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
-
-    if ((result.error = detail::validate_input_values(input)).code != ErrorCode::None) return result;
-    detail::TriMesh m = make_mesh(input);
-    if ((result.error = detail::build_topology(m, "input")).code != ErrorCode::None) return result;
-    timer.done("validate");
-
-    // Preprocessing (Section 3): collapse, transitions, sanitization, collapse again.
     std::int64_t collapsed = 0;
-    if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return result;
-    report.collapsed_edges += collapsed;
+    if (rung.untangle_rings > 0) {
+        detail::compute_transitions(m);
+        detail::count_valences(m);
+        report.flipped_after_untangling = detail::untangle_fold_overs(m, rung.untangle_rings, rung.untangle_iterations);
+        timer.done("untangle");
+    }
     for (int round = 0;; ++round) {
         detail::compute_transitions(m);
         detail::count_valences(m);
         if ((result.error = detail::sanitize(m, input.valences, input.feature_edges, report)).code != ErrorCode::None)
-            return result;
-        if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return result;
+            return false;
+        if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return false;
         report.collapsed_edges += collapsed;
         if (collapsed == 0 || round == 8) break;
     }
@@ -131,7 +146,7 @@ Result extract(const Input& input, const Options& options) {
 
     // Geometry extraction (Section 4).
     detail::QState q;
-    if ((result.error = detail::generate_qvertices(m, options, q)).code != ErrorCode::None) return result;
+    if ((result.error = detail::generate_qvertices(m, options, q)).code != ErrorCode::None) return false;
     for (const auto& v : q.qvertices) {
         report.qvertices_on_vertices += v.kind == QVertexKind::Vertex;
         report.qvertices_on_edges += v.kind == QVertexKind::Edge;
@@ -162,7 +177,51 @@ Result extract(const Input& input, const Options& options) {
             if (d.output_face >= 0) d.output_face = new_index[d.output_face];
     }
     timer.done("merge_vertices");
-    return result;
+    return true;
+}
+
+} // namespace
+
+Result extract(const Input& input, const Options& options) {
+    Result result;
+    Report& report = result.report;
+    StageTimer timer(report);
+    report.input_vertices = static_cast<std::int64_t>(input.positions.size());
+    report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
+
+    if ((result.error = detail::validate_input_values(input)).code != ErrorCode::None) return result;
+    detail::TriMesh m = make_mesh(input);
+    if ((result.error = detail::build_topology(m, "input")).code != ErrorCode::None) return result;
+    timer.done("validate");
+    // Collapse of UV-degenerate edges (Section 3): the input's, before any rung changes the map.
+    std::int64_t collapsed = 0;
+    if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return result;
+    timer.done("collapse");
+
+    // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
+    // with the fewest violations is returned, its defects and violations in the report.
+    const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : 1;
+    Result best;
+    std::size_t best_violations = SIZE_MAX;
+    for (int r = 0; r < rungs; ++r) {
+        Result attempt;
+        attempt.report.input_vertices = report.input_vertices;
+        attempt.report.input_triangles = report.input_triangles;
+        attempt.report.stage_seconds = report.stage_seconds;
+        attempt.report.collapsed_edges = collapsed;
+        attempt.report.rung = kLadder[r].name;
+        attempt.report.rungs_tried = r + 1;
+        if (!run_pipeline(m, input, options, kLadder[r], attempt)) return attempt; // input error: no rung helps
+        const VerifyResult check = verify(input, attempt.mesh);
+        attempt.report.check_violations = static_cast<std::int64_t>(check.violations.size());
+        if (check.valid) return attempt;
+        if (check.violations.size() < best_violations) {
+            best_violations = check.violations.size();
+            best = std::move(attempt);
+        }
+        best.report.rungs_tried = r + 1;
+    }
+    return best;
 }
 
 } // namespace qex

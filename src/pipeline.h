@@ -68,6 +68,10 @@ void compute_transitions(TriMesh& m);
 /// Valence counting robust to fold-overs (Algorithm 8); interior vertices only (boundary: 0).
 void count_valences(TriMesh& m);
 
+/// Fallback: relaxes regular vertices within `rings` of a flipped triangle towards the average of
+/// their neighbours, through exact transitions. Returns the number of triangles still flipped.
+std::int64_t untangle_fold_overs(TriMesh& m, int rings, int iterations);
+
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences,

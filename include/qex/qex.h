@@ -74,6 +74,9 @@ struct Options {
     bool merge_vertices = true;
     /// Sort output vertices and faces canonically, so any input order gives the same output.
     bool canonical_order = true;
+    /// When the checker rejects the output of the paper's method, retry on a map whose fold-over
+    /// regions are relaxed (keeping transitions and singularities); see Report::rung.
+    bool fallback_ladder = true;
 };
 
 // ============================================================================ output
@@ -149,6 +152,13 @@ struct Report {
     /// Rounded signed UV area of the input (the expected quad count for fold-over-free closed maps).
     double signed_uv_area = 0.0;
     std::vector<Defect> defects;
+    /// Which rung of the fallback ladder produced the mesh ("as-given", "untangled-1", ...),
+    /// how many were tried, and how many violations the checker found in the returned mesh.
+    std::string rung;
+    std::int64_t rungs_tried = 0;
+    std::int64_t check_violations = 0;
+    /// Triangles still flipped after untangling (rungs past the first).
+    std::int64_t flipped_after_untangling = 0;
     /// Wall time per stage, in the order the stages ran.
     std::vector<std::pair<std::string, double>> stage_seconds;
 };

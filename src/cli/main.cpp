@@ -73,6 +73,9 @@ nlohmann::json to_json(const qex::Report& r) {
                   {"merged_qvertices", r.merged_qvertices},
                   {"collapsed", r.collapsed_faces},
                   {"non_quad", r.non_quad_faces}};
+    j["fallback"] = {{"rung", r.rung},
+                     {"rungs_tried", r.rungs_tried},
+                     {"flipped_after_untangling", r.flipped_after_untangling}};
     j["defects"] = nlohmann::json::array();
     for (const auto& d : r.defects)
         j["defects"].push_back({{"kind", qex::to_string(d.kind)},
@@ -154,10 +157,10 @@ int run_extract(const std::string& in_path, const std::string& out_path, const s
     }
     if (!quiet)
         std::printf("qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
-                    "%lld recovered edges) -> %s\n",
+                    "%lld recovered edges, map %s) -> %s\n",
                     result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
                     static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
-                    static_cast<long long>(r.recovered_edges), out_path.c_str());
+                    static_cast<long long>(r.recovered_edges), r.rung.c_str(), out_path.c_str());
     return kOk;
 }
 
