@@ -5,6 +5,7 @@
 #include "pipeline.h"
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -161,7 +162,40 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
         }
     }
 
-    // 4. Output: referenced representatives, positioned at the centroid of their clones.
+    // 4. Cancel ghost faces (Figure 2 (c)): a face and its reverse cover the same quad once
+    //    positively and once through a fold-over; together they cover nothing.
+    {
+        auto normalized = [](std::vector<int> f) {
+            std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+            return f;
+        };
+        std::map<std::vector<int>, std::vector<std::size_t>> by_key;
+        for (std::size_t i = 0; i < simple.size(); ++i) {
+            std::vector<int> f;
+            for (const Corner& c : simple[i]) f.push_back(c.v);
+            by_key[normalized(f)].push_back(i);
+        }
+        std::vector<char> drop(simple.size(), 0);
+        for (auto& [key, list] : by_key) {
+            std::vector<int> rev(key.rbegin(), key.rend());
+            auto it = by_key.find(normalized(rev));
+            if (it == by_key.end() || it->first == key) continue;
+            // Pair up faces with their reverses one to one.
+            for (std::size_t a = 0, b = 0; a < list.size() && b < it->second.size(); ++a, ++b) {
+                while (a < list.size() && drop[list[a]]) ++a;
+                while (b < it->second.size() && drop[it->second[b]]) ++b;
+                if (a >= list.size() || b >= it->second.size()) break;
+                drop[list[a]] = drop[it->second[b]] = 1;
+                report.ghost_faces_cancelled += 2;
+            }
+        }
+        std::vector<Loop> kept;
+        for (std::size_t i = 0; i < simple.size(); ++i)
+            if (!drop[i]) kept.push_back(std::move(simple[i]));
+        simple.swap(kept);
+    }
+
+    // 5. Output: referenced representatives, positioned at the centroid of their clones.
     std::vector<std::array<double, 3>> sum(nq, {0, 0, 0});
     std::vector<int> count(nq, 0);
     for (int i = 0; i < nq; ++i) {

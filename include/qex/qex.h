@@ -148,6 +148,7 @@ struct Report {
     // connectivity
     std::int64_t faces_traced = 0, boundary_faces_discarded = 0, open_face_walks = 0;
     std::int64_t recovered_edges = 0, merged_qvertices = 0, collapsed_faces = 0;
+    std::int64_t ghost_faces_cancelled = 0; ///< faces removed in pairs with their reverse (Figure 2 (c))
     std::int64_t non_quad_faces = 0;
     /// Rounded signed UV area of the input (the expected quad count for fold-over-free closed maps).
     double signed_uv_area = 0.0;

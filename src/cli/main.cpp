@@ -72,6 +72,7 @@ nlohmann::json to_json(const qex::Report& r) {
                   {"recovered_edges", r.recovered_edges},
                   {"merged_qvertices", r.merged_qvertices},
                   {"collapsed", r.collapsed_faces},
+                  {"ghosts_cancelled", r.ghost_faces_cancelled},
                   {"non_quad", r.non_quad_faces}};
     j["fallback"] = {{"rung", r.rung},
                      {"rungs_tried", r.rungs_tried},
