@@ -111,6 +111,10 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
                   Result& result) {
     Report& report = result.report;
     StageTimer timer(report);
+    std::vector<std::array<int, 2>> features = input.feature_edges;
+    if (options.snap_boundary)
+        for (int h = 0; h < 3 * m.num_faces(); ++h)
+            if (m.opp[h] < 0) features.push_back({m.input_vertex[m.origin(h)], m.input_vertex[m.target(h)]});
     std::int64_t collapsed = 0;
     if (rung.untangle_rings > 0) {
         detail::compute_transitions(m);
@@ -121,7 +125,7 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
     for (int round = 0;; ++round) {
         detail::compute_transitions(m);
         detail::count_valences(m);
-        if ((result.error = detail::sanitize(m, input.valences, input.feature_edges, report)).code != ErrorCode::None)
+        if ((result.error = detail::sanitize(m, input.valences, features, report)).code != ErrorCode::None)
             return false;
         if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return false;
         report.collapsed_edges += collapsed;
@@ -220,6 +224,29 @@ Result extract(const Input& input, const Options& options) {
             best = std::move(attempt);
         }
         best.report.rungs_tried = r + 1;
+    }
+    // No rung gave a valid mesh: locate every violation on the input through the provenance.
+    const VerifyResult check = verify(input, best.mesh);
+    for (const Violation& v : check.violations) {
+        Defect d{DefectKind::CheckerViolation, std::string(to_string(v.kind)) + ": " + v.message, -1, -1, {0, 0}};
+        int vertex = -1;
+        const bool per_face = v.kind == ViolationKind::NotQuad || v.kind == ViolationKind::RepeatedVertex ||
+                              v.kind == ViolationKind::InconsistentOrientation ||
+                              v.kind == ViolationKind::LocalUvNotUnitSquare;
+        if (per_face && v.element >= 0 && v.element < static_cast<std::int64_t>(best.mesh.faces.size())) {
+            d.output_face = v.element;
+            if (!best.mesh.faces[v.element].empty()) vertex = best.mesh.faces[v.element][0];
+        } else if (v.kind == ViolationKind::NonManifoldVertex) {
+            vertex = static_cast<int>(v.element);
+        }
+        if (vertex >= 0 && vertex < static_cast<int>(best.mesh.provenance.size())) {
+            const Provenance& p = best.mesh.provenance[vertex];
+            d.input_element = p.chart_triangle;
+            d.grid = p.grid;
+            d.message += " (near grid point (" + std::to_string(p.grid[0]) + ", " + std::to_string(p.grid[1]) +
+                         ") of input triangle " + std::to_string(p.chart_triangle) + ")";
+        }
+        best.report.defects.push_back(std::move(d));
     }
     return best;
 }

@@ -33,6 +33,9 @@ const char* to_string(DefectKind k) {
         case DefectKind::PortConflict: return "PortConflict";
         case DefectKind::OpenFaceWalk: return "OpenFaceWalk";
         case DefectKind::PortlessQVertex: return "PortlessQVertex";
+        case DefectKind::CheckerViolation: return "CheckerViolation";
+        case DefectKind::FaceCollapsed: return "FaceCollapsed";
+        case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";
     }
     return "Unknown";
 }

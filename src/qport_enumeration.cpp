@@ -39,6 +39,21 @@ void corner_ports(std::vector<Port>& ports, int qv, int corner, const IPoint& gr
     }
 }
 
+/// Whether the ray of corner c's w-edge is claimed counter-clockwise of c: degenerate corners of
+/// angle 0 carry the ray on unchanged, and the first non-degenerate corner claims it as its v-edge.
+bool w_ray_claimed(const TriMesh& m, int c) {
+    int cur = m.ccw(c);
+    for (int guard = 0; cur >= 0 && m.face_sign[TriMesh::face(cur)] == 0; ++guard) {
+        const Point2& u = m.uv[cur];
+        const Point2& v = m.uv[TriMesh::next(cur)];
+        const Point2& w = m.uv[TriMesh::prev(cur)];
+        if ((v[0] - u[0]) * (w[0] - u[0]) + (v[1] - u[1]) * (w[1] - u[1]) <= 0) return false; // angle pi
+        if (guard > m.fan_size[m.origin(c)]) return false;
+        cur = m.ccw(cur);
+    }
+    return cur >= 0;
+}
+
 } // namespace
 
 void enumerate_ports(const TriMesh& m, QState& q) {
@@ -51,8 +66,7 @@ void enumerate_ports(const TriMesh& m, QState& q) {
                 const int v = qv.element;
                 IPoint grid = qv.grid; // in the chart of the fan's first corner, propagated clockwise
                 for (int c = m.fan_start[v], n = 0; c >= 0 && n < m.fan_size[v]; ++n) {
-                    const int ccw = m.ccw(c);
-                    const bool take_w = ccw < 0 || m.face_sign[TriMesh::face(ccw)] == 0;
+                    const bool take_w = m.ccw(c) < 0 || !w_ray_claimed(m, c);
                     corner_ports(q.ports, i, c, grid, m.uv[TriMesh::next(c)], m.uv[TriMesh::prev(c)],
                                  m.face_sign[TriMesh::face(c)], take_w);
                     grid = m.transition[c](grid);

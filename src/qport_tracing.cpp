@@ -13,13 +13,19 @@ int vertices_on_segment(const TriMesh& m, int h, const Point2& a, const Point2& 
 }
 
 /// The edge of face f (other than `entry`) through which segment (a, b] leaves it (PICKNEXTEDGE).
+/// Of two candidates the paper takes the one incident to fewer vertices on the segment; an edge
+/// the segment runs along ranks last, so a trace along a boundary edge is not mistaken for one
+/// leaving the surface there.
 int pick_next_edge(const TriMesh& m, int f, int entry, const Point2& a, const Point2& b) {
-    int best = -1, best_on = 3;
+    int best = -1, best_rank = 100;
     for (int k = 0; k < 3; ++k) {
         const int h = 3 * f + k;
         if (h == entry || !segment_hits_half_open(m.uv[h], m.uv[TriMesh::next(h)], a, b)) continue;
         const int on = vertices_on_segment(m, h, a, b);
-        if (on < best_on) { best = h; best_on = on; }
+        const bool along = orient2d(a, b, m.uv[h]) == Orientation::Collinear &&
+                           orient2d(a, b, m.uv[TriMesh::next(h)]) == Orientation::Collinear;
+        const int rank = on + (along ? 10 : 0);
+        if (rank < best_rank) { best = h; best_rank = rank; }
     }
     return best;
 }

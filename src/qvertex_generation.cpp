@@ -11,19 +11,34 @@ namespace {
 
 bool is_integer_point(const Point2& p) { return std::floor(p[0]) == p[0] && std::floor(p[1]) == p[1]; }
 
-std::array<double, 3> lerp3(const std::array<double, 3>& a, const std::array<double, 3>& b,
-                            const std::array<double, 3>& c, const std::array<double, 3>& w) {
-    return {w[0] * a[0] + w[1] * b[0] + w[2] * c[0], w[0] * a[1] + w[1] * b[1] + w[2] * c[1],
-            w[0] * a[2] + w[1] * b[2] + w[2] * c[2]};
-}
-
 /// Barycentric coordinates of x in (a, b, c); only used for embedding, not for decisions.
-std::array<double, 3> barycentric(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
     const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     if (det == 0.0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
     const double wb = ((x[0] - a[0]) * (c[1] - a[1]) - (x[1] - a[1]) * (c[0] - a[0])) / det;
     const double wc = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
     return {1.0 - wb - wc, wb, wc};
+}
+
+/// Barycentric coordinates of x in triangle f, computed with the corners in 3D order so that
+/// the result does not depend on the input's corner order.
+std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
+    std::array<int, 3> c{3 * f, 3 * f + 1, 3 * f + 2};
+    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.corner_pos[i] < m.corner_pos[j]; });
+    const auto w = barycentric_raw(x, m.uv[c[0]], m.uv[c[1]], m.uv[c[2]]);
+    std::array<double, 3> out{};
+    for (int i = 0; i < 3; ++i) out[c[i] - 3 * f] = w[i];
+    return out;
+}
+
+/// Position from barycentric weights, summed in 3D order of the corners.
+std::array<double, 3> embed(const TriMesh& m, int f, const std::array<double, 3>& w) {
+    std::array<int, 3> c{0, 1, 2};
+    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.corner_pos[3 * f + i] < m.corner_pos[3 * f + j]; });
+    std::array<double, 3> p{0, 0, 0};
+    for (int i : c)
+        for (int d = 0; d < 3; ++d) p[d] += w[i] * m.corner_pos[3 * f + i][d];
+    return p;
 }
 
 /// Parameter of x on segment [a, b] (for embedding only).
@@ -89,15 +104,16 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                 p[ax] = x;
                 p[1 - ax] = cand;
                 if (p == a || p == b || !on_segment(p, a, b)) continue;
-                const double s = segment_param(p, a, b);
+                // Parametrise from the endpoint first in 3D order, so input order does not matter.
                 const int f = TriMesh::face(h), k = h % 3;
+                const bool swap = m.corner_pos[TriMesh::next(h)] < m.corner_pos[h];
+                const double s = swap ? segment_param(p, b, a) : segment_param(p, a, b);
                 std::array<double, 3> w{0, 0, 0};
-                w[k] = 1.0 - s;
-                w[(k + 1) % 3] = s;
+                w[k] = swap ? s : 1.0 - s;
+                w[(k + 1) % 3] = swap ? 1.0 - s : s;
                 q.qvertices.push_back({QVertexKind::Edge, h, f,
                                        {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
-                                       lerp3(m.corner_pos[3 * f], m.corner_pos[3 * f + 1], m.corner_pos[3 * f + 2], w),
-                                       w});
+                                       embed(m, f, w), w});
             }
         }
         q.edge_count[h] = static_cast<int>(q.qvertices.size()) - q.edge_first[h];
@@ -118,11 +134,10 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                     const Point2 p{x, y};
                     if (sign(orient2d(a, b, p)) != s || sign(orient2d(b, c, p)) != s || sign(orient2d(c, a, p)) != s)
                         continue;
-                    const auto w = barycentric(p, a, b, c);
+                    const auto w = barycentric(m, f, p);
                     q.qvertices.push_back({QVertexKind::Face, f, f,
                                            {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
-                                           lerp3(m.corner_pos[3 * f], m.corner_pos[3 * f + 1], m.corner_pos[3 * f + 2], w),
-                                           w});
+                                           embed(m, f, w), w});
                 }
         }
         q.face_count[f] = static_cast<int>(q.qvertices.size()) - q.face_first[f];

@@ -157,7 +157,19 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
         std::vector<Loop> parts;
         simplify(std::move(l), parts);
         for (Loop& p : parts) {
-            if (p.size() < 3) { ++report.collapsed_faces; continue; }
+            if (p.size() < 3) {
+                ++report.collapsed_faces;
+                if (!p.empty()) {
+                    const QVertex& v = q.qvertices[p[0].v];
+                    report.explanations.push_back({DefectKind::FaceCollapsed,
+                                                   "a face collapsed to a " + std::to_string(p.size()) +
+                                                       "-gon at grid point (" + std::to_string(v.grid[0]) + ", " +
+                                                       std::to_string(v.grid[1]) + ") of input triangle " +
+                                                       std::to_string(m.input_triangle[v.chart]),
+                                                   m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
+                }
+                continue;
+            }
             simple.push_back(std::move(p));
         }
     }
@@ -187,6 +199,12 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
                 if (a >= list.size() || b >= it->second.size()) break;
                 drop[list[a]] = drop[it->second[b]] = 1;
                 report.ghost_faces_cancelled += 2;
+                const QVertex& v = q.qvertices[simple[list[a]][0].v];
+                report.explanations.push_back({DefectKind::GhostFacesCancelled,
+                                               "a face and its reverse cancelled near grid point (" +
+                                                   std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
+                                                   ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
+                                               m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
             }
         }
         std::vector<Loop> kept;
@@ -196,10 +214,16 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     }
 
     // 5. Output: referenced representatives, positioned at the centroid of their clones.
+    // Centroids summed in 3D order of the clones, so input order does not change the result.
+    std::vector<std::pair<int, int>> by_rep(nq);
+    for (int i = 0; i < nq; ++i) by_rep[i] = {find(parent, i), i};
+    std::sort(by_rep.begin(), by_rep.end(), [&](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first < b.first;
+        return q.qvertices[a.second].position < q.qvertices[b.second].position;
+    });
     std::vector<std::array<double, 3>> sum(nq, {0, 0, 0});
     std::vector<int> count(nq, 0);
-    for (int i = 0; i < nq; ++i) {
-        const int r = find(parent, i);
+    for (const auto& [r, i] : by_rep) {
         for (int k = 0; k < 3; ++k) sum[r][k] += q.qvertices[i].position[k];
         ++count[r];
     }

@@ -74,6 +74,9 @@ struct Options {
     bool merge_vertices = true;
     /// Sort output vertices and faces canonically, so any input order gives the same output.
     bool canonical_order = true;
+    /// Treat every boundary edge as a feature edge: snap it to its closest integer iso-line.
+    /// For maps whose boundaries are meant to be aligned but carry solver noise.
+    bool snap_boundary = false;
     /// When the checker rejects the output of the paper's method, retry on a map whose fold-over
     /// regions are relaxed (keeping transitions and singularities); see Report::rung.
     bool fallback_ladder = true;
@@ -117,6 +120,10 @@ enum class DefectKind {
     PortConflict,       ///< two traces claimed the same q-port
     OpenFaceWalk,       ///< a face walk ran into an unconnected port in the interior
     PortlessQVertex,    ///< a q-vertex has no q-port (it lies only on degenerate triangles)
+    CheckerViolation,   ///< the checker rejected the returned mesh here (no rung produced a valid one)
+    // Explanations (Report::explanations): why the quad count differs from the UV area.
+    FaceCollapsed,      ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
+    GhostFacesCancelled,///< a face and its reverse (a fold-over's double cover) were removed together
 };
 const char* to_string(DefectKind kind);
 
@@ -153,6 +160,9 @@ struct Report {
     /// Rounded signed UV area of the input (the expected quad count for fold-over-free closed maps).
     double signed_uv_area = 0.0;
     std::vector<Defect> defects;
+    /// Where fold-overs removed quads (collapsed faces, cancelled ghost pairs), with locations:
+    /// together they explain a quad count below the signed UV area.
+    std::vector<Defect> explanations;
     /// Which rung of the fallback ladder produced the mesh ("as-given", "untangled-1", ...),
     /// how many were tried, and how many violations the checker found in the returned mesh.
     std::string rung;

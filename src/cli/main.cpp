@@ -84,6 +84,12 @@ nlohmann::json to_json(const qex::Report& r) {
                                 {"output_face", d.output_face},
                                 {"grid", {d.grid[0], d.grid[1]}},
                                 {"message", d.message}});
+    j["explanations"] = nlohmann::json::array();
+    for (const auto& d : r.explanations)
+        j["explanations"].push_back({{"kind", qex::to_string(d.kind)},
+                                     {"input_triangle", d.input_element},
+                                     {"grid", {d.grid[0], d.grid[1]}},
+                                     {"message", d.message}});
     j["stage_seconds"] = nlohmann::json::object();
     for (const auto& [name, s] : r.stage_seconds) j["stage_seconds"][name] = s;
     return j;

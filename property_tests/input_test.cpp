@@ -1,0 +1,164 @@
+// Bad input: every problem gets its own error code and names its place; nothing crashes.
+#include "test_support.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace qex::testing {
+namespace {
+
+Input small_map() { return make_map(torus_layout(), 1, 2); }
+
+ErrorCode extract_error(const Input& in) {
+    const Result r = extract(in);
+    EXPECT_EQ(validate(in).code, r.error.code);
+    return r.error.code;
+}
+
+TEST(BadInput, EmptyMesh) { EXPECT_EQ(extract_error(Input{}), ErrorCode::EmptyMesh); }
+
+TEST(BadInput, IndexOutOfRange) {
+    Input in = small_map();
+    in.triangles[3][1] = static_cast<int>(in.positions.size());
+    const Result r = extract(in);
+    EXPECT_EQ(r.error.code, ErrorCode::IndexOutOfRange);
+    EXPECT_EQ(r.error.element, 3);
+    EXPECT_NE(r.error.message.find("triangle 3"), std::string::npos);
+}
+
+TEST(BadInput, UvCountMismatch) {
+    Input in = small_map();
+    in.uvs.pop_back();
+    EXPECT_EQ(extract_error(in), ErrorCode::UvCountMismatch);
+}
+
+TEST(BadInput, NonFinite) {
+    Input in = small_map();
+    in.uvs[10][1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(extract_error(in), ErrorCode::NonFiniteValue);
+    in = small_map();
+    in.positions[2][0] = std::numeric_limits<double>::infinity();
+    const Result r = extract(in);
+    EXPECT_EQ(r.error.code, ErrorCode::NonFiniteValue);
+    EXPECT_EQ(r.error.element, 2);
+}
+
+TEST(BadInput, CoordinateBeyond2To52) {
+    Input in = small_map();
+    in.uvs[0][0] = 9007199254740992.0; // 2^53
+    EXPECT_EQ(extract_error(in), ErrorCode::CoordinateTooLarge);
+}
+
+TEST(BadInput, DegenerateTriangleAndIsolatedVertex) {
+    Input in = small_map();
+    in.triangles[0][2] = in.triangles[0][0];
+    EXPECT_EQ(extract_error(in), ErrorCode::DegenerateTriangle);
+    in = small_map();
+    in.positions.push_back({0, 0, 0});
+    const Result r = extract(in);
+    EXPECT_EQ(r.error.code, ErrorCode::IsolatedVertex);
+    EXPECT_EQ(r.error.element, static_cast<std::int64_t>(in.positions.size()) - 1);
+}
+
+TEST(BadInput, NonManifoldAndMisoriented) {
+    Input in = small_map();
+    std::swap(in.triangles[4][0], in.triangles[4][1]); // one triangle reversed
+    EXPECT_EQ(extract_error(in), ErrorCode::InconsistentOrientation);
+    in = small_map();
+    in.triangles.push_back(in.triangles[0]); // a third triangle on three edges (same direction)
+    in.uvs.insert(in.uvs.end(), {in.uvs[0], in.uvs[1], in.uvs[2]});
+    const ErrorCode c = extract_error(in);
+    EXPECT_TRUE(c == ErrorCode::InconsistentOrientation || c == ErrorCode::NonManifoldEdge) << to_string(c);
+    // Two disks sharing one vertex: a non-manifold vertex.
+    Input a = make_map(disk_layout(1), 1, 1);
+    Input b = a;
+    const int offset = static_cast<int>(a.positions.size());
+    for (auto& p : b.positions) p[2] += 5;
+    a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) {
+        for (int& v : t) v = v == 0 ? 0 : v + offset; // glue vertex 0
+        a.triangles.push_back(t);
+    }
+    a.uvs.insert(a.uvs.end(), b.uvs.begin(), b.uvs.end());
+    a.positions.erase(a.positions.begin() + offset); // b's own vertex 0 is unused now
+    for (auto& t : a.triangles)
+        for (int& v : t)
+            if (v > offset) --v;
+    EXPECT_EQ(extract_error(a), ErrorCode::NonManifoldVertex);
+}
+
+TEST(BadInput, ValencesAndFeatures) {
+    Input in = small_map();
+    in.valences = {4, 4};
+    EXPECT_EQ(extract_error(in), ErrorCode::ValenceCountMismatch);
+    in = small_map();
+    in.feature_edges.push_back({0, static_cast<int>(in.positions.size())});
+    EXPECT_EQ(extract_error(in), ErrorCode::BadFeatureEdge);
+}
+
+TEST(BadInput, AbsurdlyLargeMap) {
+    Input in = small_map();
+    for (auto& uv : in.uvs) uv = {uv[0] * 1e6, uv[1] * 1e6};
+    Options opt;
+    opt.max_qvertices = 1000;
+    EXPECT_EQ(extract(in, opt).error.code, ErrorCode::MapTooLarge);
+}
+
+// --- OBJ ------------------------------------------------------------------------------------------
+
+IoError parse(const std::string& text, Input& in) { return parse_obj(text.data(), text.size(), in); }
+
+TEST(Obj, ParsesCornerUvsAndRelativeIndices) {
+    Input in;
+    const IoError e = parse("# c\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf -3/-3 -2/-2 -1/-1\n", in);
+    ASSERT_TRUE(e.ok()) << e.message;
+    ASSERT_EQ(in.triangles.size(), 1u);
+    EXPECT_EQ(in.uvs[1], (std::array<double, 2>{1, 0}));
+}
+
+TEST(Obj, ErrorsNameTheLine) {
+    struct Bad { const char* text; IoError::Code code; std::int64_t line; };
+    const Bad cases[] = {
+        {"v 0 0 0\nv 1 0\n", IoError::Code::Syntax, 2},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", IoError::Code::MissingUv, 4},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n", IoError::Code::IndexOutOfRange, 5},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/1 4/1\n", IoError::Code::NonTriangle, 6},
+        {"v nan 0 0\n", IoError::Code::NonFinite, 1},
+        {"vt 0 inf\n", IoError::Code::NonFinite, 1},
+        {"v 0 0 0\nbogus 1\n", IoError::Code::Syntax, 2},
+        {"v 0 0 0 \nvt 0.5\n", IoError::Code::Syntax, 2},
+        {"v 1 2 3\nv 1 2 3\nv 1 2 3\nvt 0 0\nf 1/1 2/1\n", IoError::Code::NonTriangle, 5},
+        {"v 1e999 0 0\n", IoError::Code::NonFinite, 1},
+    };
+    for (const Bad& b : cases) {
+        Input in;
+        const IoError e = parse(b.text, in);
+        EXPECT_EQ(e.code, b.code) << b.text;
+        EXPECT_EQ(e.line, b.line) << b.text;
+        EXPECT_NE(e.message.find("line " + std::to_string(b.line)), std::string::npos) << e.message;
+    }
+}
+
+TEST(Obj, TruncatedFilesNeverCrash) {
+    const std::string good = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    for (std::size_t n = 0; n <= good.size(); ++n) {
+        Input in;
+        const IoError e = parse(good.substr(0, n), in);
+        if (e.ok()) (void)extract(in); // whatever parsed must be handled cleanly
+    }
+}
+
+TEST(Vval, HeaderCountAndValues) {
+    std::vector<int> val;
+    const std::string ok = "{\"file_format\":\"VVAL\",\"version\":1}\n3\n4\n5\n3\n";
+    ASSERT_TRUE(parse_vval(ok.data(), ok.size(), val).ok());
+    EXPECT_EQ(val, (std::vector<int>{4, 5, 3}));
+    const std::string short_file = "{\"file_format\":\"VVAL\",\"version\":1}\n3\n4\n";
+    EXPECT_EQ(parse_vval(short_file.data(), short_file.size(), val).code, IoError::Code::VvalSyntax);
+    const std::string no_header = "3\n4\n4\n4\n";
+    EXPECT_EQ(parse_vval(no_header.data(), no_header.size(), val).code, IoError::Code::VvalSyntax);
+}
+
+} // namespace
+} // namespace qex::testing

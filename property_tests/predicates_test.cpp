@@ -1,0 +1,47 @@
+// The core's predicates against exact rational arithmetic on near-degenerate inputs.
+#include "predicates.h"
+
+#include <CGAL/Exact_rational.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace qex::detail {
+namespace {
+
+using Q = CGAL::Exact_rational;
+
+int exact_orient(const Point2& a, const Point2& b, const Point2& c) {
+    const Q d = (Q(b[0]) - Q(a[0])) * (Q(c[1]) - Q(a[1])) - (Q(b[1]) - Q(a[1])) * (Q(c[0]) - Q(a[0]));
+    return CGAL::sign(d);
+}
+
+TEST(Predicates, Orient2dMatchesExactRationals) {
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> u(-100, 100);
+    for (int i = 0; i < 20000; ++i) {
+        Point2 a{u(rng), u(rng)}, b{u(rng), u(rng)};
+        // c nearly on the line ab: a + t (b - a), nudged by a few ulps.
+        const double t = u(rng) / 37.0;
+        Point2 c{a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+        for (int k = 0; k < (i % 4); ++k) c[k % 2] = std::nextafter(c[k % 2], i % 2 ? 1e300 : -1e300);
+        ASSERT_EQ(sign(orient2d(a, b, c)), exact_orient(a, b, c)) << i;
+    }
+}
+
+TEST(Predicates, SegmentAndTriangleTests) {
+    const Point2 a{0, 0}, b{1, 0};
+    EXPECT_FALSE(segment_hits_half_open({0, -1}, {0, 1}, a, b)); // only at a: excluded
+    EXPECT_TRUE(segment_hits_half_open({1, -1}, {1, 1}, a, b));  // at b: included
+    EXPECT_TRUE(segment_hits_half_open({0.5, 0}, {2, 0}, a, b)); // collinear overlap
+    EXPECT_FALSE(segment_hits_half_open({-1, 0}, {0, 0}, a, b)); // collinear, touching a only
+    EXPECT_TRUE(in_closed_triangle({0.5, 0}, {0, 0}, {1, 0}, {0, 1}));
+    EXPECT_TRUE(in_closed_triangle({0.5, 0}, {0, 0}, {0, 1}, {1, 0})); // flipped triangle
+    EXPECT_FALSE(in_closed_triangle({0.5, -1e-300}, {0, 0}, {1, 0}, {0, 1}));
+    EXPECT_TRUE(on_segment({0.25, 0.25}, {0, 0}, {1, 1}));
+    EXPECT_FALSE(on_segment({0.25, 0.2500000000000001}, {0, 0}, {1, 1}));
+}
+
+} // namespace
+} // namespace qex::detail

@@ -1,0 +1,126 @@
+// Properties over generated integer-grid maps (RapidCheck; seeds print on failure and replay
+// with RC_PARAMS="reproduce=..."; the case count comes from RC_PARAMS=max_success=N).
+#include "test_support.h"
+
+#include <rapidcheck.h>
+#include <cmath>
+#include <rapidcheck/gtest.h>
+
+namespace qex::testing {
+namespace {
+
+QuadLayout layout_by_index(int i) {
+    switch (i) {
+        case 0: return torus_layout();
+        case 1: return cube_layout();
+        case 2: return icosahedron_layout();
+        case 3: return prism_layout(6);
+        case 4: return prism_layout(8);
+        case 5: return disk_layout(2);
+        default: return annulus_layout();
+    }
+}
+
+struct MapCase {
+    int layout, n, k, diagonals;
+    std::uint32_t seed;
+};
+
+void showValue(const MapCase& c, std::ostream& os) {
+    os << "layout " << c.layout << " n " << c.n << " k " << c.k << " diagonals " << c.diagonals << " seed " << c.seed;
+}
+
+rc::Gen<MapCase> gen_case() {
+    return rc::gen::build<MapCase>(rc::gen::set(&MapCase::layout, rc::gen::inRange(0, 7)),
+                                   rc::gen::set(&MapCase::n, rc::gen::inRange(1, 4)),
+                                   rc::gen::set(&MapCase::k, rc::gen::inRange(1, 6)),
+                                   rc::gen::set(&MapCase::diagonals, rc::gen::inRange(0, 3)),
+                                   rc::gen::set(&MapCase::seed, rc::gen::arbitrary<std::uint32_t>()));
+}
+
+bool valid_quads(const Input& in, const Result& r) {
+    if (!r.ok()) return false;
+    for (const auto& f : r.mesh.faces)
+        if (f.size() != 4) return false;
+    return verify(in, r.mesh).valid;
+}
+
+RC_GTEST_PROP(Properties, FoldFreeMapsGiveValidMeshesOfTheirArea, ()) {
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    const Input in = make_map(layout, c.n, c.k, c.diagonals, c.seed);
+    const Result r = extract(in);
+    RC_ASSERT(valid_quads(in, r));
+    RC_ASSERT(static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n));
+    RC_ASSERT(r.report.rung == std::string("as-given"));
+}
+
+RC_GTEST_PROP(Properties, OutputIsInvariantUnderChartsOrderTranslationRotation, ()) {
+    const MapCase c = *gen_case();
+    const Input base = make_map(layout_by_index(c.layout), c.n, c.k, c.diagonals, c.seed);
+    std::mt19937 rng(c.seed);
+    Input in = base;
+    rechart(in, rng);
+    shuffle(in, rng);
+    const auto shift = *rc::gen::inRange<std::int64_t>(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
+    translate(in, shift, -shift);
+    rotate(in, *rc::gen::inRange(0, 4));
+    const Result a = extract(base), b = extract(in);
+    RC_ASSERT(valid_quads(in, b));
+    RC_ASSERT(same_mesh(a.mesh, b.mesh, 1e-6));
+}
+
+RC_GTEST_PROP(Properties, NoiseUpTo1e6GivesTheExactMapsMesh, ()) {
+    const MapCase c = *gen_case();
+    const Input base = make_map(layout_by_index(c.layout), c.n, c.k, c.diagonals, c.seed);
+    const int exponent = *rc::gen::inRange(6, 13);
+    std::mt19937 rng(c.seed);
+    Input in = base;
+    add_noise(in, std::pow(10.0, -exponent), rng);
+    Options opt; // boundaries of the disk and annulus are aligned: noise must not misalign them
+    opt.snap_boundary = true;
+    const Result a = extract(base), b = extract(in, opt);
+    RC_ASSERT(valid_quads(in, b));
+    // Positions move with the noise only; the combinatorics stay.
+    RC_ASSERT(same_mesh(a.mesh, b.mesh, 1e-3));
+}
+
+RC_GTEST_PROP(Properties, InjectedFoldOversStillGiveValidQuadMeshes, ()) {
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    Input in = make_map(layout, c.n, std::max(c.k, 3), c.diagonals, c.seed);
+    // Push a vertex that lives in a single chart across part of its one-ring: the first one,
+    // from a random start, whose displacement flips triangles.
+    const int nv = static_cast<int>(in.positions.size());
+    const int start = *rc::gen::inRange(0, nv);
+    const double spacing = static_cast<double>(c.n) / std::max(c.k, 3);
+    const double dx = (*rc::gen::inRange(80, 160) / 100.0 + 0.00731) * spacing * (*rc::gen::arbitrary<bool>() ? 1 : -1);
+    const double dy = (*rc::gen::inRange(-60, 61) / 100.0 + 0.00377) * spacing;
+    Input folded;
+    std::int64_t flips = 0;
+    for (int i = 0; i < nv && flips <= 0; ++i) {
+        folded = in;
+        flips = displace_vertex(folded, (start + i) % nv, dx, dy);
+    }
+    RC_PRE(flips > 0);
+    RC_TAG(flips);
+    const Result r = extract(folded);
+    RC_ASSERT(r.ok());
+    RC_ASSERT(valid_quads(folded, r));
+}
+
+RC_GTEST_PROP(Properties, DegeneraciesAreCollapsedOrTolerated, ()) {
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    Input in = make_map(layout, c.n, 2 * c.k, c.diagonals, c.seed); // even k: exact midpoints
+    const int f = *rc::gen::inRange(0, static_cast<int>(in.triangles.size()));
+    const int corner = *rc::gen::inRange(0, 3);
+    if (*rc::gen::arbitrary<bool>()) insert_collapsed_edge(in, f, corner);
+    else insert_zero_area_triangle(in, f, corner);
+    const Result r = extract(in);
+    RC_ASSERT(valid_quads(in, r));
+    RC_ASSERT(static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n));
+}
+
+} // namespace
+} // namespace qex::testing

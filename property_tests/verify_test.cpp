@@ -1,0 +1,87 @@
+// The checker must reject what is wrong: a triangle, a hole, a flipped face, a moved vertex,
+// a missing or extra quad, a broken local UV square.
+#include "test_support.h"
+
+namespace qex::testing {
+namespace {
+
+struct Fixture {
+    Input in = make_map(cube_layout(), 2, 3);
+    QuadMesh mesh = extract(in).mesh;
+};
+
+bool has(const VerifyResult& v, ViolationKind k) {
+    for (const auto& x : v.violations)
+        if (x.kind == k) return true;
+    return false;
+}
+
+TEST(Checker, AcceptsExtraction) {
+    Fixture f;
+    const VerifyResult v = verify(f.in, f.mesh);
+    EXPECT_TRUE(v.valid);
+    EXPECT_EQ(v.euler, 2);
+    EXPECT_EQ(v.input_signed_uv_area_rounded, static_cast<std::int64_t>(f.mesh.faces.size()));
+}
+
+TEST(Checker, RejectsTriangle) {
+    Fixture f;
+    f.mesh.faces[0].pop_back();
+    f.mesh.face_uvs[0].pop_back();
+    EXPECT_TRUE(has(verify(f.in, f.mesh), ViolationKind::NotQuad));
+}
+
+TEST(Checker, RejectsHoleAndMissingQuad) {
+    Fixture f;
+    f.mesh.faces.erase(f.mesh.faces.begin() + 3);
+    f.mesh.face_uvs.erase(f.mesh.face_uvs.begin() + 3);
+    const VerifyResult v = verify(f.in, f.mesh);
+    EXPECT_FALSE(v.valid);
+    EXPECT_TRUE(has(v, ViolationKind::BoundaryMismatch));
+}
+
+TEST(Checker, RejectsFlippedFace) {
+    Fixture f;
+    std::reverse(f.mesh.faces[5].begin(), f.mesh.faces[5].end());
+    EXPECT_TRUE(has(verify(f.in, f.mesh), ViolationKind::InconsistentOrientation));
+}
+
+TEST(Checker, RejectsExtraQuad) {
+    Fixture f;
+    f.mesh.faces.push_back(f.mesh.faces[0]);
+    f.mesh.face_uvs.push_back(f.mesh.face_uvs[0]);
+    EXPECT_FALSE(verify(f.in, f.mesh).valid);
+}
+
+TEST(Checker, RejectsBrokenLocalUvs) {
+    Fixture f;
+    f.mesh.face_uvs[2][1][0] += 1;
+    EXPECT_TRUE(has(verify(f.in, f.mesh), ViolationKind::LocalUvNotUnitSquare));
+}
+
+TEST(Checker, RejectsUnreferencedAndNonFinite) {
+    Fixture f;
+    f.mesh.positions.push_back({0, 0, 0});
+    EXPECT_TRUE(has(verify(f.in, f.mesh), ViolationKind::UnreferencedVertex));
+    Fixture g;
+    g.mesh.positions[0][1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(has(verify(g.in, g.mesh), ViolationKind::NonFinitePosition));
+}
+
+TEST(Checker, RejectsWrongTopology) {
+    // The cube's quads judged against a torus map: Euler characteristic differs.
+    Fixture f;
+    const Input torus = make_map(torus_layout(), 1, 2);
+    EXPECT_TRUE(has(verify(torus, f.mesh), ViolationKind::EulerMismatch));
+}
+
+TEST(Checker, RejectsBadIndicesWithoutCrashing) {
+    Fixture f;
+    f.mesh.faces[0][0] = -7;
+    f.mesh.faces[1][2] = 1 << 28;
+    EXPECT_TRUE(has(verify(f.in, f.mesh), ViolationKind::BadIndex));
+    EXPECT_TRUE(has(verify(f.in, QuadMesh{}), ViolationKind::EmptyMesh));
+}
+
+} // namespace
+} // namespace qex::testing
