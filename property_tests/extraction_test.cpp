@@ -169,8 +169,9 @@ TEST(Extraction, ZeroAreaTriangles) {
 // --- fold-overs (Figure 2) ------------------------------------------------------------------------
 
 /// First vertex whose corners all share one chart and whose displacement by (dx, dy) flips triangles.
-int fold(Input& in, double dx, double dy) {
+int fold(Input& in, const std::vector<char>& single_chart, double dx, double dy) {
     for (int v = 0; v < static_cast<int>(in.positions.size()); ++v) {
+        if (!single_chart[v]) continue;
         Input trial = in;
         if (displace_vertex(trial, v, dx, dy) > 0) {
             in = trial;
@@ -183,8 +184,9 @@ int fold(Input& in, double dx, double dy) {
 TEST(Extraction, FoldOverInsideCell) {
     // Figure 2 (a)-like: a fold-over that only covers part of a grid cell.
     const auto layout = torus_layout();
-    Input in = make_map(layout, 2, 8);
-    ASSERT_GE(fold(in, 0.21, 0.07), 0);
+    std::vector<char> single;
+    Input in = make_map(layout, 2, 8, 1, 1, &single);
+    ASSERT_GE(fold(in, single, 0.21, 0.07), 0);
     const Result r = extract_valid(in);
     EXPECT_GT(r.report.flipped_triangles, 0);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
@@ -193,8 +195,9 @@ TEST(Extraction, FoldOverInsideCell) {
 TEST(Extraction, FoldOverAcrossIsoLine) {
     // Figure 2 (a): the fold-over covers part of an iso-line; traces reverse inside it.
     const auto layout = torus_layout();
-    Input in = make_map(layout, 2, 6);                // spacing 1/3
-    ASSERT_GE(fold(in, 0.45, 0.1), 0);
+    std::vector<char> single;
+    Input in = make_map(layout, 2, 6, 1, 1, &single); // spacing 1/3
+    ASSERT_GE(fold(in, single, 0.45, 0.1), 0);
     const Result r = extract_valid(in);
     EXPECT_GT(r.report.flipped_triangles, 0);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
@@ -203,8 +206,9 @@ TEST(Extraction, FoldOverAcrossIsoLine) {
 TEST(Extraction, FoldOverContainingGridPoint) {
     // Figure 2 (b)/(c): the fold-over covers a grid point, creating clones that are merged.
     const auto layout = torus_layout();
-    Input in = make_map(layout, 2, 6);
-    ASSERT_GE(fold(in, 0.55, 0.3), 0);
+    std::vector<char> single;
+    Input in = make_map(layout, 2, 6, 1, 1, &single);
+    ASSERT_GE(fold(in, single, 0.55, 0.3), 0);
     const Result r = extract_valid(in);
     EXPECT_GT(r.report.flipped_triangles, 0);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
@@ -265,6 +269,19 @@ TEST(Extraction, GivenValencesAndFeatureEdges) {
     EXPECT_EQ(plain.report.singularities, 8);
     in.feature_edges.push_back({in.triangles[0][0], in.triangles[0][1]});
     extract_valid(in);
+}
+
+// --- known failures: minimal cases, asserted to be reported rather than silent ------------------
+
+TEST(KnownFailures, ZeroAreaTriangleOnBoundaryIsoLine) {
+    // A zero-area triangle whose long edge is a boundary edge on an iso-line: the grid point on
+    // it is generated twice (on the long and on a short edge). Found by the property tests.
+    Input in = make_map(disk_layout(2), 3, 2, 0, 0);
+    insert_zero_area_triangle(in, 9, 2);
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok());
+    const bool exact = verify(in, r.mesh).valid && r.mesh.faces.size() == 36u;
+    EXPECT_TRUE(exact || !r.report.defects.empty());
 }
 
 } // namespace

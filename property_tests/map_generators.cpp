@@ -134,7 +134,8 @@ QuadLayout annulus_layout(int nu, int nv) {
     return l;
 }
 
-Input make_map(const QuadLayout& layout, int n, int k, int diagonals, std::uint32_t seed) {
+Input make_map(const QuadLayout& layout, int n, int k, int diagonals, std::uint32_t seed,
+               std::vector<char>* single_chart) {
     Input in;
     std::mt19937 rng(seed);
     std::map<std::tuple<int, int, int>, int> shared; // (kind/vertex, vertex, t) -> vertex id
@@ -166,6 +167,10 @@ Input make_map(const QuadLayout& layout, int n, int k, int diagonals, std::uint3
                 else if (b == k) key = on_edge(q[2], q[3], k - a);
                 else if (a == 0) key = on_edge(q[3], q[0], k - b);
                 ids[b * (k + 1) + a] = vertex_id(key, p);
+                if (single_chart) {
+                    single_chart->resize(in.positions.size(), 0);
+                    (*single_chart)[ids[b * (k + 1) + a]] = std::get<0>(key) == -1;
+                }
             }
         auto uv = [&](int a, int b) {
             return std::array<double, 2>{double(a) * n / k, double(b) * n / k};

@@ -35,7 +35,10 @@ QuadLayout annulus_layout(int nu = 6, int nv = 2);         ///< two boundary loo
 /// The exact integer-grid map of a layout. `n` grid quads per layout edge; `k` lattice steps per
 /// layout edge (k = n: vertices on grid points and edges along iso-lines; k coprime to n: general
 /// position). `diagonals`: 0 all one way, 1 alternating, 2 random (with `seed`).
-Input make_map(const QuadLayout& layout, int n, int k, int diagonals = 1, std::uint32_t seed = 1);
+/// `single_chart`, if given, marks the vertices strictly inside one layout quad (all their corners
+/// share one chart; only those may be moved by displace_vertex).
+Input make_map(const QuadLayout& layout, int n, int k, int diagonals = 1, std::uint32_t seed = 1,
+               std::vector<char>* single_chart = nullptr);
 
 /// Expected number of quads of make_map: quads * n^2.
 std::int64_t expected_quads(const QuadLayout& layout, int n);
@@ -52,7 +55,8 @@ void translate(Input& in, std::int64_t dx, std::int64_t dy);
 void rotate(Input& in, int r);
 /// Adds uniform noise of magnitude `eps` to every corner UV independently.
 void add_noise(Input& in, double eps, std::mt19937& rng);
-/// Moves one vertex (consistently in all its corners' charts) by (dx, dy); returns flipped count.
+/// Moves one vertex by (dx, dy) in all its corners, which must share one chart (see make_map);
+/// returns the number of flipped triangles afterwards, or -1 if the corners' UVs differ.
 std::int64_t displace_vertex(Input& in, int vertex, double dx, double dy);
 /// Counts triangles with negative UV area.
 std::int64_t count_flipped(const Input& in);
