@@ -58,6 +58,8 @@ void add_noise(Input& in, double eps, std::mt19937& rng);
 /// Moves one vertex by (dx, dy) in all its corners, which must share one chart (see make_map);
 /// returns the number of flipped triangles afterwards, or -1 if the corners' UVs differ.
 std::int64_t displace_vertex(Input& in, int vertex, double dx, double dy);
+/// The map as OBJ text (v, one vt per corner, f a/ta b/tb c/tc), UVs with 17 digits.
+std::string to_obj(const Input& in);
 /// Counts triangles with negative UV area.
 std::int64_t count_flipped(const Input& in);
 /// Splits triangle f by a new vertex placed at corner `corner`'s UV (in 3D at the centroid):

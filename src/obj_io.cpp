@@ -64,12 +64,15 @@ bool resolve(std::int64_t idx, std::size_t count, int& out) {
 }
 
 bool read_file(const std::string& path, std::string& data) {
-    std::ifstream f(path, std::ios::binary);
+    std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return false;
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    data = ss.str();
-    return !f.bad();
+    data.clear();
+    char buf[1 << 16];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+    const bool ok = std::ferror(f) == 0;
+    std::fclose(f);
+    return ok;
 }
 
 } // namespace

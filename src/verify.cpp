@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -206,17 +207,41 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
         r.input_euler = ti.euler();
         r.input_boundary_loops = ti.boundary_loops;
         r.input_components = ti.components;
-        Rational area = 0;
+        // Signed UV area: a double sum with a rigorous error bound decides the rounding; exact
+        // rationals are used only when the bound does not.
+        double approx = 0.0, bound = 0.0;
+        bool finite = true;
         for (std::size_t f = 0; f < input.triangles.size(); ++f) {
             const auto &a = input.uvs[3 * f], &b = input.uvs[3 * f + 1], &c = input.uvs[3 * f + 2];
-            if (!std::isfinite(a[0] + a[1] + b[0] + b[1] + c[0] + c[1])) continue;
-            area += (Rational(b[0]) - Rational(a[0])) * (Rational(c[1]) - Rational(a[1])) -
-                    (Rational(b[1]) - Rational(a[1])) * (Rational(c[0]) - Rational(a[0]));
+            const double t = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            finite = finite && std::isfinite(t);
+            approx += t;
+            bound += std::abs(b[0] - a[0]) * std::abs(c[1] - a[1]) + std::abs(b[1] - a[1]) * std::abs(c[0] - a[0]) +
+                     std::abs(approx);
         }
-        area /= 2;
-        const double approx = CGAL::to_double(area);
+        bound *= 8 * std::numeric_limits<double>::epsilon();
+        approx *= 0.5;
+        bound *= 0.5;
+        const double nearest = std::nearbyint(approx);
+        if (finite && std::abs(approx - nearest) + bound < 0.5) {
+            r.input_signed_uv_area_rounded = static_cast<std::int64_t>(nearest);
+        } else if (finite) {
+            Rational area = 0;
+            for (std::size_t f = 0; f < input.triangles.size(); ++f) {
+                const auto &a = input.uvs[3 * f], &b = input.uvs[3 * f + 1], &c = input.uvs[3 * f + 2];
+                area += (Rational(b[0]) - Rational(a[0])) * (Rational(c[1]) - Rational(a[1])) -
+                        (Rational(b[1]) - Rational(a[1])) * (Rational(c[0]) - Rational(a[0]));
+            }
+            area /= 2;
+            approx = CGAL::to_double(area);
+            // Round half away from zero, decided exactly.
+            Rational lo = Rational(std::floor(approx));
+            while (lo > area) lo -= 1;
+            while (lo + 1 <= area) lo += 1;
+            const Rational frac = area - lo;
+            r.input_signed_uv_area_rounded = static_cast<std::int64_t>(CGAL::to_double(lo)) + (frac >= Rational(1, 2) ? 1 : 0);
+        }
         r.input_signed_uv_area = std::to_string(approx);
-        r.input_signed_uv_area_rounded = static_cast<std::int64_t>(std::llround(approx));
         if (indices_ok && !mesh.faces.empty()) {
             if (r.euler != r.input_euler)
                 out.push_back({ViolationKind::EulerMismatch,

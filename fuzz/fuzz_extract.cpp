@@ -1,0 +1,64 @@
+// Structure-aware: the bytes choose a generated integer-grid map and a sequence of perturbations,
+// then run extraction and the exact checker. Perturbations the paper handles must give a valid
+// mesh with the map's area; any others must give a valid mesh or reported defects.
+#include "fuzz_input.h"
+#include "map_generators.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+using namespace qex;
+using namespace qex::testing;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    fuzz::Bytes b(data, size);
+    const QuadLayout layouts[] = {torus_layout(), cube_layout(), icosahedron_layout(), prism_layout(8),
+                                  disk_layout(2), annulus_layout()};
+    const QuadLayout& layout = layouts[b.range(0, 5)];
+    const int n = b.range(1, 3), k = b.range(1, 5);
+    std::vector<char> single_chart;
+    Input in = make_map(layout, n, k, b.range(0, 2), b.u32(), &single_chart);
+    std::mt19937 rng(b.u32());
+    bool benign = true; // only perturbations after which the exact result is required
+    for (int ops = b.range(0, 6); ops > 0 && !b.empty(); --ops) {
+        const int nf = static_cast<int>(in.triangles.size()), nv = static_cast<int>(in.positions.size());
+        switch (b.range(0, 10)) {
+            case 0: rechart(in, rng, 1 << b.range(0, 20)); break;
+            case 1: shuffle(in, rng); break;
+            case 2: translate(in, std::int64_t{1} << b.range(0, 40), -(std::int64_t{1} << b.range(0, 40))); break;
+            case 3: rotate(in, b.range(0, 3)); break;
+            case 4: add_noise(in, std::ldexp(1.0, -b.range(20, 50)), rng); break;
+            case 5: { // fold-over at a single-chart vertex
+                const int v = b.range(0, nv - 1);
+                if (v < static_cast<int>(single_chart.size()) && single_chart[v]) {
+                    displace_vertex(in, v, b.unit() * n / k * 1.5, b.unit() * n / k * 1.5);
+                    benign = false;
+                }
+                break;
+            }
+            case 6: insert_collapsed_edge(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); break;
+            case 7: insert_zero_area_triangle(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); benign = false; break;
+            case 8: in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] = std::numeric_limits<double>::quiet_NaN(); benign = false; break;
+            case 9: in.triangles.push_back(in.triangles[b.range(0, nf - 1)]); in.uvs.resize(3 * in.triangles.size()); benign = false; break;
+            default: {
+                const int f = b.range(0, nf - 1);
+                in.triangles.erase(in.triangles.begin() + f);
+                in.uvs.erase(in.uvs.begin() + 3 * f, in.uvs.begin() + 3 * f + 3);
+                benign = false;
+                break;
+            }
+        }
+    }
+    Options opt;
+    opt.max_qvertices = 200000;
+    opt.snap_boundary = b.byte() & 1;
+    const Result r = extract(in, opt);
+    if (!r.ok()) {
+        if (benign || r.error.message.empty()) std::abort(); // a generated map is valid input
+        return 0;
+    }
+    const VerifyResult v = verify(in, r.mesh);
+    if (!v.valid && r.report.defects.empty()) std::abort();
+    return 0;
+}

@@ -1,0 +1,45 @@
+// Raw doubles as the UVs of a small fixed mesh through the preprocessing: either a clean error, or
+// the sanitization's invariants hold exactly (transitions map corners bit for bit, fans close).
+#include "fuzz_input.h"
+#include "map_generators.h"
+#include "pipeline.h"
+
+#include <cstdlib>
+
+using namespace qex;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    static const Input base = testing::make_map(testing::torus_layout(3, 3), 1, 2);
+    fuzz::Bytes b(data, size);
+    Input in = base;
+    const bool raw = b.byte() & 1;
+    for (auto& uv : in.uvs)
+        for (double& x : uv) {
+            if (b.empty()) break;
+            x = raw ? b.raw_double() : x + b.unit() * 0.3;
+        }
+    if (detail::validate_input_values(in).code != ErrorCode::None) return 0;
+    detail::TriMesh m;
+    m.num_vertices = static_cast<int>(in.positions.size());
+    m.tri = in.triangles;
+    m.uv = in.uvs;
+    m.corner_pos.assign(m.uv.size(), {0, 0, 0});
+    for (std::size_t f = 0; f < in.triangles.size(); ++f) m.input_triangle.push_back(static_cast<int>(f));
+    for (std::size_t v = 0; v < in.positions.size(); ++v) m.input_vertex.push_back(static_cast<int>(v));
+    if (detail::build_topology(m, "fuzz").code != ErrorCode::None) std::abort(); // topology is fixed
+    std::int64_t collapsed = 0;
+    if (detail::collapse_degenerate_edges(m, collapsed).code != ErrorCode::None) return 0;
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    Report report;
+    if (detail::sanitize(m, {}, {}, report).code != ErrorCode::None) return 0;
+    for (int h = 0; h < 3 * m.num_faces(); ++h) {
+        const int o = m.opp[h];
+        if (o < 0) continue;
+        if (!(m.transition[o] == m.transition[h].inverse())) std::abort();
+        // Exactness holds while coordinates stay below 2^52 (validated).
+        if (m.transition[h](m.uv[h]) != m.uv[detail::TriMesh::next(o)]) std::abort();
+        if (m.transition[h](m.uv[detail::TriMesh::next(h)]) != m.uv[o]) std::abort();
+    }
+    return 0;
+}
