@@ -19,10 +19,11 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/corpus" "$root/corpus/$target/merged" "$work/artifacts"
 find "$root/corpus/$target" -type f ! -name '*.md' -exec cp {} "$work/corpus/" \;
 cd "$work"
-"$build/fuzz/$target" -max_total_time="$seconds" -jobs="$jobs" -workers="$jobs" -timeout=10 -rss_limit_mb=2048 \
-  -max_len=65536 -artifact_prefix="$work/artifacts/" "$work/corpus" >"$work/log" 2>&1 || true
-cat fuzz-*.log >>"$work/log" 2>/dev/null || true
-grep -E "DONE|exec/s|cov:" "$work/log" | tail -n 3
+"$build/fuzz/$target" -max_total_time="$seconds" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
+  -timeout=30 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -artifact_prefix="$work/artifacts/" \
+  "$work/corpus" >"$work/log" 2>&1 || true
+grep -E "exec/s|cov:" "$work/log" | tail -n 2
+grep -E "stat::" "$work/log" | tail -n 8 || true
 if ls "$work/artifacts"/* >/dev/null 2>&1; then
   mkdir -p "$root/corpus/$target/regressions"
   for a in "$work/artifacts"/*; do cp "$a" "$root/corpus/$target/regressions/$(sha1sum "$a" | cut -c1-16)"; done

@@ -216,18 +216,21 @@ Result extract(const Input& input, const Options& options) {
         attempt.report.rung = kLadder[r].name;
         attempt.report.rungs_tried = r + 1;
         if (!run_pipeline(m, input, options, kLadder[r], attempt)) return attempt; // input error: no rung helps
-        const VerifyResult check = verify(input, attempt.mesh);
-        attempt.report.check_violations = static_cast<std::int64_t>(check.violations.size());
-        if (check.valid) return attempt;
-        if (check.violations.size() < best_violations) {
-            best_violations = check.violations.size();
+        attempt.check = verify(input, attempt.mesh);
+        attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
+        if (attempt.check.valid) return attempt;
+        // Untangling moves only vertices near flipped or degenerate triangles: without any,
+        // the further rungs would repeat this one.
+        const bool untangling_can_help = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
+        if (attempt.check.violations.size() < best_violations) {
+            best_violations = attempt.check.violations.size();
             best = std::move(attempt);
         }
         best.report.rungs_tried = r + 1;
+        if (!untangling_can_help) break;
     }
     // No rung gave a valid mesh: locate every violation on the input through the provenance.
-    const VerifyResult check = verify(input, best.mesh);
-    for (const Violation& v : check.violations) {
+    for (const Violation& v : best.check.violations) {
         Defect d{DefectKind::CheckerViolation, std::string(to_string(v.kind)) + ": " + v.message, -1, -1, {0, 0}};
         int vertex = -1;
         const bool per_face = v.kind == ViolationKind::NotQuad || v.kind == ViolationKind::RepeatedVertex ||

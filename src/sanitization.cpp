@@ -133,20 +133,27 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
                     w[fc.axis] = fc.value;
                     u0 = to_c[i].inverse()(w);
                 }
-            double max_coord = 0.0;
-            for (int c : fan) max_coord = std::max({max_coord, std::abs(m.uv[c][0]), std::abs(m.uv[c][1])});
-            int e = 0;
-            std::frexp(max_coord, &e);
-            // Grow delta until every propagated coordinate fits under it: then all are exact.
-            for (int attempt = 0; attempt < 64; ++attempt, ++e) {
-                const double delta = std::ldexp(1.0, e);
-                const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
-                double reach = 0.0;
-                for (std::size_t i = 0; i < n; ++i) {
-                    const Point2 p = to_c[i](t);
-                    reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
+            // delta: a power of two at least as large as every coordinate of the fan, before and
+            // after propagation (translations may dominate tiny coordinates). Truncated to it, u0
+            // propagates exactly; the loop only guards against rounding at the boundary.
+            double scale = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const Point2 p = to_c[i](u0);
+                scale = std::max({scale, std::abs(m.uv[fan[i]][0]), std::abs(m.uv[fan[i]][1]), std::abs(p[0]), std::abs(p[1])});
+            }
+            if (scale > 0.0) {
+                int e = 0;
+                std::frexp(scale, &e);
+                for (int attempt = 0; attempt < 64; ++attempt, ++e) {
+                    const double delta = std::ldexp(1.0, e);
+                    const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
+                    double reach = 0.0;
+                    for (std::size_t i = 0; i < n; ++i) {
+                        const Point2 p = to_c[i](t);
+                        reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
+                    }
+                    if (reach <= delta) { u0 = t; break; }
                 }
-                if (reach <= delta || max_coord == 0.0) { u0 = t; break; }
             }
         }
         for (std::size_t i = 0; i < n; ++i) {

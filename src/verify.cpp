@@ -9,7 +9,6 @@
 #include <limits>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 
 namespace qex {
 namespace {
@@ -29,96 +28,107 @@ int find(std::vector<int>& parent, int x) {
 std::uint64_t key(int a, int b) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b); }
 
 /// Topology of a polygon mesh with valid indices; appends violations when `out` is given.
-Topology analyse(std::size_t num_vertices, const std::vector<std::vector<int>>& faces, std::vector<Violation>* out) {
+/// Directed edges are sorted once; twins are found by binary search (no hash tables).
+/// `offset` (size F+1) and `corner_vertex` describe the faces as flat arrays.
+Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offset, const std::vector<int>& corner_vertex,
+                 std::vector<Violation>* out) {
     Topology t;
     auto violate = [&](ViolationKind k, std::string msg, std::int64_t e) {
         if (out && out->size() < 1000) out->push_back({k, std::move(msg), e});
     };
-    // Directed edges: (a, b) -> face; detect duplicates (misorientation or non-manifold).
-    std::unordered_map<std::uint64_t, int> directed;
-    directed.reserve(faces.size() * 4);
+    const std::size_t nf = offset.size() - 1, nc = offset.back();
+    std::vector<int> corner_face(nc);
+    for (std::size_t f = 0; f < nf; ++f)
+        for (std::size_t c = offset[f]; c < offset[f + 1]; ++c) corner_face[c] = static_cast<int>(f);
+    auto next_corner = [&](std::size_t c) {
+        const int f = corner_face[c];
+        return c + 1 == offset[f + 1] ? offset[f] : c + 1;
+    };
+    auto prev_corner = [&](std::size_t c) {
+        const int f = corner_face[c];
+        return c == offset[f] ? offset[f + 1] - 1 : c - 1;
+    };
+    // Undirected edges by one sort; twin[c] is the corner whose outgoing edge is the reverse of
+    // c's, or -1 (boundary or non-manifold).
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(nc);
+    for (std::size_t c = 0; c < nc; ++c) {
+        const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
+        edges[c] = {key(std::min(a, b), std::max(a, b)), static_cast<std::uint32_t>(c)};
+    }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::int64_t> twin(nc, -1);
+    for (std::size_t i = 0; i < nc;) {
+        std::size_t j = i;
+        while (j < nc && edges[j].first == edges[i].first) ++j;
+        const std::uint32_t c0 = edges[i].second;
+        const std::string name = "(" + std::to_string(edges[i].first >> 32) + ", " +
+                                 std::to_string(edges[i].first & 0xffffffffu) + ")";
+        if (j - i > 2) {
+            violate(ViolationKind::NonManifoldEdge, "edge " + name + " has " + std::to_string(j - i) + " incident face sides",
+                    corner_face[c0]);
+        } else if (j - i == 2) {
+            const std::uint32_t c1 = edges[i + 1].second;
+            if (corner_vertex[c0] == corner_vertex[c1])
+                violate(ViolationKind::InconsistentOrientation, "edge " + name + " is traversed twice in the same direction",
+                        corner_face[c1]);
+            else
+                twin[c0] = c1, twin[c1] = c0;
+        }
+        i = j;
+    }
+    std::vector<int> boundary_next(num_vertices, -1), boundary_count(num_vertices, 0), corners(num_vertices, 0);
     std::vector<char> referenced(num_vertices, 0);
     std::vector<int> parent(num_vertices);
     std::iota(parent.begin(), parent.end(), 0);
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-        const auto& face = faces[f];
-        for (std::size_t i = 0; i < face.size(); ++i) {
-            const int a = face[i], b = face[(i + 1) % face.size()];
-            referenced[a] = 1;
-            parent[find(parent, a)] = find(parent, b);
-            if (!directed.emplace(key(a, b), static_cast<int>(f)).second)
-                violate(ViolationKind::InconsistentOrientation,
-                        "edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is traversed twice in the same direction",
-                        static_cast<std::int64_t>(f));
+    for (std::size_t c = 0; c < nc; ++c) {
+        const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
+        referenced[a] = 1;
+        ++corners[a];
+        parent[find(parent, a)] = find(parent, b);
+        if (twin[c] < 0) {
+            ++boundary_count[a];
+            if (boundary_next[a] < 0) boundary_next[a] = b;
         }
     }
-    // Undirected edges and boundary half-edges.
-    std::unordered_map<int, std::vector<int>> boundary_out; // vertex -> targets of boundary half-edges
-    for (const auto& [k, f] : directed) {
-        const int a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
-        if (directed.count(key(b, a))) {
-            if (a < b) ++t.edges;
-        } else {
-            ++t.edges;
-            boundary_out[a].push_back(b);
-        }
-    }
-    // Non-manifold vertices: more than one boundary fan, or fans that do not cover all corners.
-    std::vector<int> corners(num_vertices, 0);
-    for (const auto& face : faces)
-        for (int v : face) ++corners[v];
-    for (const auto& [v, targets] : boundary_out)
-        if (targets.size() > 1)
+    for (std::size_t v = 0; v < num_vertices; ++v)
+        if (boundary_count[v] > 1)
             violate(ViolationKind::NonManifoldVertex,
-                    "vertex " + std::to_string(v) + " has " + std::to_string(targets.size()) + " boundary fans", v);
-    {
-        // Walk each vertex's fan: from corner (f, i) at v, cross the edge (v, next) to the face holding (next, v).
-        std::vector<int> first_face(num_vertices, -1), first_pos(num_vertices, -1);
-        std::unordered_map<std::uint64_t, std::pair<int, int>> incoming; // (prev, v) -> (face, position of v)
-        incoming.reserve(directed.size());
-        for (std::size_t f = 0; f < faces.size(); ++f)
-            for (std::size_t i = 0; i < faces[f].size(); ++i) {
-                const auto& face = faces[f];
-                const int v = face[i], prev = face[(i + face.size() - 1) % face.size()];
-                incoming[key(prev, v)] = {static_cast<int>(f), static_cast<int>(i)};
-                if (first_face[v] < 0 || directed.count(key(v, prev)) == 0) { first_face[v] = static_cast<int>(f); first_pos[v] = static_cast<int>(i); }
-            }
-        for (std::size_t v = 0; v < num_vertices; ++v) {
-            if (first_face[v] < 0) continue;
-            int f = first_face[v], i = first_pos[v], seen = 0;
-            do {
-                ++seen;
-                const auto& face = faces[f];
-                const int next = face[(i + 1) % face.size()];
-                const auto it = incoming.find(key(next, static_cast<int>(v)));
-                if (it == incoming.end()) break;
-                f = it->second.first;
-                i = it->second.second;
-            } while ((f != first_face[v] || i != first_pos[v]) && seen <= corners[v]);
-            if (seen != corners[v])
-                violate(ViolationKind::NonManifoldVertex,
-                        "the faces around vertex " + std::to_string(v) + " do not form a single fan", static_cast<std::int64_t>(v));
-        }
+                    "vertex " + std::to_string(v) + " has " + std::to_string(boundary_count[v]) + " boundary fans",
+                    static_cast<std::int64_t>(v));
+    // Fans: from a corner, cross its outgoing edge to the twin's face; the corner there follows the twin.
+    std::vector<std::int64_t> start(num_vertices, -1);
+    for (std::size_t c = 0; c < nc; ++c) {
+        const int v = corner_vertex[c];
+        if (start[v] < 0 || twin[prev_corner(c)] < 0) start[v] = static_cast<std::int64_t>(c);
+    }
+    for (std::size_t v = 0; v < num_vertices; ++v) {
+        if (start[v] < 0) continue;
+        std::size_t c = static_cast<std::size_t>(start[v]);
+        int seen = 0;
+        do {
+            ++seen;
+            if (twin[c] < 0) break;
+            c = next_corner(static_cast<std::size_t>(twin[c]));
+        } while (c != static_cast<std::size_t>(start[v]) && seen <= corners[v]);
+        if (seen != corners[v])
+            violate(ViolationKind::NonManifoldVertex,
+                    "the faces around vertex " + std::to_string(v) + " do not form a single fan", static_cast<std::int64_t>(v));
     }
     // Boundary loops: follow boundary half-edges.
-    std::unordered_map<int, char> used;
-    for (const auto& [v, targets] : boundary_out) {
-        if (used[v]) continue;
+    std::vector<char> used(num_vertices, 0);
+    for (std::size_t v = 0; v < num_vertices; ++v) {
+        if (boundary_next[v] < 0 || used[v]) continue;
         ++t.boundary_loops;
-        int x = v;
-        for (std::size_t guard = 0; guard <= boundary_out.size() && !used[x]; ++guard) {
-            used[x] = 1;
-            const auto it = boundary_out.find(x);
-            if (it == boundary_out.end()) break;
-            x = it->second.front();
-        }
+        for (int x = static_cast<int>(v); x >= 0 && !used[x]; x = boundary_next[x]) used[x] = 1;
     }
     for (std::size_t v = 0; v < num_vertices; ++v) {
         if (!referenced[v]) continue;
         ++t.vertices;
         if (find(parent, static_cast<int>(v)) == static_cast<int>(v)) ++t.components;
     }
-    t.faces = static_cast<std::int64_t>(faces.size());
+    for (std::size_t i = 0; i < nc; ++i)
+        if (i == 0 || edges[i].first != edges[i - 1].first) ++t.edges;
+    t.faces = static_cast<std::int64_t>(nf);
     return t;
 }
 
@@ -183,7 +193,13 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
                                "the local UVs of face " + std::to_string(f) + " are not a counter-clockwise unit square",
                                static_cast<std::int64_t>(f)});
     if (indices_ok) {
-        const Topology t = analyse(nv, mesh.faces, &out);
+        std::vector<std::size_t> offset(mesh.faces.size() + 1, 0);
+        std::vector<int> corners;
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+            offset[f + 1] = offset[f] + mesh.faces[f].size();
+            corners.insert(corners.end(), mesh.faces[f].begin(), mesh.faces[f].end());
+        }
+        const Topology t = analyse(nv, offset, corners, &out);
         r.faces = t.faces;
         r.vertices = t.vertices;
         r.edges = t.edges;
@@ -196,14 +212,18 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
     }
     // The input's topology and exact signed UV area.
     bool input_ok = input.uvs.size() == 3 * input.triangles.size();
-    std::vector<std::vector<int>> tris;
-    tris.reserve(input.triangles.size());
-    for (const auto& t : input.triangles) {
-        for (int v : t) input_ok = input_ok && v >= 0 && static_cast<std::size_t>(v) < input.positions.size();
-        tris.push_back({t[0], t[1], t[2]});
+    std::vector<std::size_t> tri_offset(input.triangles.size() + 1);
+    std::vector<int> tri_corners;
+    tri_corners.reserve(3 * input.triangles.size());
+    for (std::size_t f = 0; f < input.triangles.size(); ++f) {
+        tri_offset[f + 1] = 3 * (f + 1);
+        for (int v : input.triangles[f]) {
+            input_ok = input_ok && v >= 0 && static_cast<std::size_t>(v) < input.positions.size();
+            tri_corners.push_back(v);
+        }
     }
     if (input_ok) {
-        const Topology ti = analyse(input.positions.size(), tris, nullptr);
+        const Topology ti = analyse(input.positions.size(), tri_offset, tri_corners, nullptr);
         r.input_euler = ti.euler();
         r.input_boundary_loops = ti.boundary_loops;
         r.input_components = ti.components;

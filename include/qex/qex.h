@@ -174,19 +174,6 @@ struct Report {
     std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
-struct Result {
-    Error error;   ///< code None on success
-    QuadMesh mesh;
-    Report report;
-    bool ok() const { return error.code == ErrorCode::None; }
-};
-
-/// Extracts the quad mesh induced by the integer-grid map of `input`.
-/// Never throws (std::bad_alloc aside), never aborts, never prints.
-Result extract(const Input& input, const Options& options = {});
-
-/// Validates `input` as extract() would; returns an Error with code None when it is acceptable.
-Error validate(const Input& input);
 
 // ============================================================================ verification
 
@@ -213,6 +200,22 @@ struct VerifyResult {
     std::string input_signed_uv_area;
     std::int64_t input_signed_uv_area_rounded = 0;
 };
+
+struct Result {
+    Error error;   ///< code None on success
+    QuadMesh mesh;
+    Report report;
+    /// The checker's verdict on `mesh` (extract() consults the checker to choose a fallback rung).
+    VerifyResult check;
+    bool ok() const { return error.code == ErrorCode::None; }
+};
+
+/// Extracts the quad mesh induced by the integer-grid map of `input`.
+/// Never throws (std::bad_alloc aside), never aborts, never prints.
+Result extract(const Input& input, const Options& options = {});
+
+/// Validates `input` as extract() would; returns an Error with code None when it is acceptable.
+Error validate(const Input& input);
 
 /// Judges `mesh` against `input` with its own code (no extraction code is shared) and exact
 /// arithmetic: all-quad, manifold, oriented, boundary and Euler characteristic and components as
