@@ -1,19 +1,36 @@
-// Raw bytes as an OBJ file: the reader and, where it parses, the whole pipeline and the checker.
-// Only clean errors are allowed; an invalid mesh must come with reported defects.
+// Raw bytes as an OBJ file (and as a VVAL file): the readers and, where the OBJ parses, the whole
+// pipeline and the checker. Only clean errors are allowed; an invalid mesh must come with
+// reported defects, each with a name and a message.
 #include "qex/qex.h"
 
 #include <cstdlib>
+#include <cstring>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const char* text = reinterpret_cast<const char*>(data);
+    std::vector<int> valences;
+    const qex::IoError ve = qex::parse_vval(text, size, valences);
+    if (!ve.ok() && ve.message.empty()) std::abort();
     qex::Input in;
-    if (!qex::parse_obj(reinterpret_cast<const char*>(data), size, in).ok()) return 0;
+    const qex::IoError e = qex::parse_obj(text, size, in);
+    if (!e.ok()) {
+        if (e.message.empty() || e.line < 0) std::abort();
+        return 0;
+    }
+    if (valences.size() == in.positions.size()) in.valences = valences;
     qex::Options opt;
     opt.max_qvertices = 5000; // keep each run short (broken maps run every fallback rung)
     const qex::Result r = qex::extract(in, opt);
     if (!r.ok()) {
-        if (r.error.message.empty()) std::abort();
+        if (r.error.message.empty() || std::strlen(qex::to_string(r.error.code)) == 0) std::abort();
         return 0;
     }
-    if (!qex::verify(in, r.mesh).valid && r.report.defects.empty()) std::abort();
+    const qex::VerifyResult v = qex::verify(in, r.mesh);
+    if (v.valid != r.check.valid) std::abort(); // the checker is deterministic
+    if (!v.valid && r.report.defects.empty()) std::abort();
+    for (const auto& d : r.report.defects)
+        if (d.message.empty() || std::strlen(qex::to_string(d.kind)) == 0) std::abort();
+    for (const auto& x : v.violations)
+        if (x.message.empty() || std::strlen(qex::to_string(x.kind)) == 0) std::abort();
     return 0;
 }
