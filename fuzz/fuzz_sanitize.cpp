@@ -19,13 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             x = raw ? b.raw_double() : x + b.unit() * 0.3;
         }
     if (detail::validate_input_values(in).code != ErrorCode::None) return 0;
-    detail::TriMesh m;
-    m.num_vertices = static_cast<int>(in.positions.size());
-    m.tri = in.triangles;
-    m.uv = in.uvs;
-    m.corner_pos.assign(m.uv.size(), {0, 0, 0});
-    for (std::size_t f = 0; f < in.triangles.size(); ++f) m.input_triangle.push_back(static_cast<int>(f));
-    for (std::size_t v = 0; v < in.positions.size(); ++v) m.input_vertex.push_back(static_cast<int>(v));
+    detail::TriMesh m = detail::make_mesh(in);
     if (detail::build_topology(m, "fuzz").code != ErrorCode::None) std::abort(); // topology is fixed
     std::int64_t collapsed = 0;
     if (detail::collapse_degenerate_edges(m, collapsed).code != ErrorCode::None) return 0;

@@ -231,13 +231,7 @@ TEST(Extraction, SanitizationIsIdempotent) {
     std::mt19937 rng(5);
     add_noise(in, 1e-8, rng);
     rechart(in, rng);
-    detail::TriMesh m;
-    m.num_vertices = static_cast<int>(in.positions.size());
-    m.tri = in.triangles;
-    m.uv = in.uvs;
-    m.corner_pos.assign(m.uv.size(), {0, 0, 0});
-    for (std::size_t f = 0; f < in.triangles.size(); ++f) m.input_triangle.push_back(static_cast<int>(f));
-    for (std::size_t v = 0; v < in.positions.size(); ++v) m.input_vertex.push_back(static_cast<int>(v));
+    detail::TriMesh m = detail::make_mesh(in);
     ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
     Report rep;
     detail::compute_transitions(m);

@@ -28,19 +28,29 @@ std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
 
 } // namespace
 
+/// Midpoint vertices shared between the polygons that split an edge.
+class Midpoints {
+public:
+    explicit Midpoints(std::vector<Vec3>& positions) : positions_(positions) {}
+    int operator()(int a, int b) {
+        const auto key = std::minmax(a, b);
+        auto it = ids_.find(key);
+        if (it != ids_.end()) return it->second;
+        const int id = static_cast<int>(positions_.size());
+        positions_.push_back(lerp(positions_[a], positions_[b], 0.5));
+        ids_.emplace(key, id);
+        return id;
+    }
+
+private:
+    std::vector<Vec3>& positions_;
+    std::map<std::pair<int, int>, int> ids_;
+};
+
 QuadLayout split_polygons(const std::string& name, const std::vector<Vec3>& positions,
                           const std::vector<std::vector<int>>& polygons) {
     QuadLayout out{name, positions, {}};
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-        const auto key = std::minmax(a, b);
-        auto it = mid.find(key);
-        if (it != mid.end()) return it->second;
-        const int id = static_cast<int>(out.positions.size());
-        out.positions.push_back(lerp(positions[a], positions[b], 0.5));
-        mid.emplace(key, id);
-        return id;
-    };
+    Midpoints midpoint(out.positions);
     for (const auto& poly : polygons) {
         Vec3 c{0, 0, 0};
         for (int v : poly)
@@ -265,6 +275,24 @@ std::int64_t displace_vertex(Input& in, int vertex, double dx, double dy) {
         if (in.uvs[c] != in.uvs[corners[0]]) return -1; // on a chart boundary: not supported
     for (std::size_t c : corners) in.uvs[c] = {in.uvs[c][0] + dx, in.uvs[c][1] + dy};
     return count_flipped(in);
+}
+
+Input subdivide(const Input& in) {
+    Input out;
+    out.positions = in.positions;
+    Midpoints midpoint(out.positions);
+    auto half = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
+        return std::array<double, 2>{0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+    };
+    for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+        const auto& t = in.triangles[f];
+        const auto* uv = &in.uvs[3 * f];
+        const int m01 = midpoint(t[0], t[1]), m12 = midpoint(t[1], t[2]), m20 = midpoint(t[2], t[0]);
+        const auto u01 = half(uv[0], uv[1]), u12 = half(uv[1], uv[2]), u20 = half(uv[2], uv[0]);
+        out.triangles.insert(out.triangles.end(), {{t[0], m01, m20}, {m01, t[1], m12}, {m20, m12, t[2]}, {m01, m12, m20}});
+        out.uvs.insert(out.uvs.end(), {uv[0], u01, u20, u01, uv[1], u12, u20, u12, uv[2], u01, u12, u20});
+    }
+    return out;
 }
 
 std::string to_obj(const Input& in) {

@@ -60,6 +60,8 @@ void add_noise(Input& in, double eps, std::mt19937& rng);
 std::int64_t displace_vertex(Input& in, int vertex, double dx, double dy);
 /// The map as OBJ text (v, one vt per corner, f a/ta b/tb c/tc), UVs with 17 digits.
 std::string to_obj(const Input& in);
+/// 1-to-4 midpoint subdivision with linearly interpolated per-corner UVs (the map is unchanged).
+Input subdivide(const Input& in);
 /// Counts triangles with negative UV area.
 std::int64_t count_flipped(const Input& in);
 /// Splits triangle f by a new vertex placed at corner `corner`'s UV (in 3D at the centroid):

@@ -25,22 +25,6 @@ private:
     std::chrono::steady_clock::time_point last_;
 };
 
-detail::TriMesh make_mesh(const Input& in) {
-    detail::TriMesh m;
-    m.num_vertices = static_cast<int>(in.positions.size());
-    m.tri = in.triangles;
-    m.uv = in.uvs;
-    m.corner_pos.resize(3 * in.triangles.size());
-    for (std::size_t f = 0; f < in.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) m.corner_pos[3 * f + k] = in.positions[in.triangles[f][k]];
-    m.input_triangle.resize(in.triangles.size());
-    std::iota(m.input_triangle.begin(), m.input_triangle.end(), 0);
-    m.input_vertex.resize(in.positions.size());
-    std::iota(m.input_vertex.begin(), m.input_vertex.end(), 0);
-    return m;
-}
-
-/// Sorts vertices by position and faces by their smallest vertex, so input order does not matter.
 /// Returns, per old face index, its new index.
 std::vector<int> canonicalize(QuadMesh& mesh) {
     const std::size_t nv = mesh.positions.size();
@@ -85,7 +69,7 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
 
 Error validate(const Input& input) {
     if (Error e = detail::validate_input_values(input); e.code != ErrorCode::None) return e;
-    detail::TriMesh m = make_mesh(input);
+    detail::TriMesh m = detail::make_mesh(input);
     return detail::build_topology(m, "input");
 }
 
@@ -194,7 +178,7 @@ Result extract(const Input& input, const Options& options) {
     report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
 
     if ((result.error = detail::validate_input_values(input)).code != ErrorCode::None) return result;
-    detail::TriMesh m = make_mesh(input);
+    detail::TriMesh m = detail::make_mesh(input);
     if ((result.error = detail::build_topology(m, "input")).code != ErrorCode::None) return result;
     timer.done("validate");
     // Collapse of UV-degenerate edges (Section 3): the input's, before any rung changes the map.

@@ -51,6 +51,9 @@ struct TriMesh {
 
 // ============================================================================ stages
 
+/// The working mesh of an input whose values are valid (validate_input_values).
+TriMesh make_mesh(const Input& in);
+
 /// Checks indices, finiteness, magnitudes and isolated vertices of the raw input.
 Error validate_input_values(const Input& in);
 
