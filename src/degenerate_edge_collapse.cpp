@@ -22,6 +22,9 @@ int find(std::vector<int>& parent, int x) {
 Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
     collapsed = 0;
     const int nf = m.num_faces();
+    bool any = false;
+    for (int h = 0; h < 3 * nf && !any; ++h) any = m.uv[h] == m.uv[TriMesh::next(h)];
+    if (!any) return {};
     std::vector<int> parent(m.num_vertices);
     std::iota(parent.begin(), parent.end(), 0);
     // Triangles around each (representative) vertex, and whether a triangle is still alive.

@@ -37,17 +37,19 @@ Error build_topology(TriMesh& m, const char* what) {
         int j = i;
         while (j < nh && keys[j].first == keys[i].first) ++j;
         const int h = keys[i].second;
-        const std::string edge = "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
-                                 std::to_string(m.input_vertex[m.target(h)]) + ")";
+        auto edge = [&] {
+            return "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
+                   std::to_string(m.input_vertex[m.target(h)]) + ")";
+        };
         if (j - i > 2)
             return {ErrorCode::NonManifoldEdge,
-                    edge + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
+                    edge() + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
                     m.input_triangle[TriMesh::face(h)]};
         if (j - i == 2) {
             const int o = keys[i + 1].second;
             if (m.origin(h) == m.origin(o))
                 return {ErrorCode::InconsistentOrientation,
-                        edge + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
+                        edge() + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
                             std::to_string(m.input_triangle[TriMesh::face(o)]) +
                             " traverse it in the same direction (" + what + ")",
                         m.input_triangle[TriMesh::face(o)]};

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 namespace qex {
 namespace {
@@ -91,7 +92,7 @@ IoError parse_obj(const char* data, std::size_t size, Input& out) {
         if (ch == '#') { c.skip_line(); continue; }
         const char* kw = c.p;
         while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
-        const std::string key(kw, c.p);
+        const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
         if (key == "v") {
             std::array<double, 3> p{};
             for (double& x : p)
@@ -149,7 +150,7 @@ IoError parse_obj(const char* data, std::size_t size, Input& out) {
             c.skip_line(); // records without meaning for the map
             continue;
         } else {
-            return err(IoError::Code::Syntax, c.line, "unknown record '" + key.substr(0, 32) + "'");
+            return err(IoError::Code::Syntax, c.line, "unknown record '" + std::string(key.substr(0, 32)) + "'");
         }
         if (!c.at_eol()) return err(IoError::Code::Syntax, c.line, "trailing characters");
         if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }

@@ -61,15 +61,16 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         std::size_t j = i;
         while (j < nc && edges[j].first == edges[i].first) ++j;
         const std::uint32_t c0 = edges[i].second;
-        const std::string name = "(" + std::to_string(edges[i].first >> 32) + ", " +
-                                 std::to_string(edges[i].first & 0xffffffffu) + ")";
+        auto name = [&] {
+            return "(" + std::to_string(edges[i].first >> 32) + ", " + std::to_string(edges[i].first & 0xffffffffu) + ")";
+        };
         if (j - i > 2) {
-            violate(ViolationKind::NonManifoldEdge, "edge " + name + " has " + std::to_string(j - i) + " incident face sides",
+            violate(ViolationKind::NonManifoldEdge, "edge " + name() + " has " + std::to_string(j - i) + " incident face sides",
                     corner_face[c0]);
         } else if (j - i == 2) {
             const std::uint32_t c1 = edges[i + 1].second;
             if (corner_vertex[c0] == corner_vertex[c1])
-                violate(ViolationKind::InconsistentOrientation, "edge " + name + " is traversed twice in the same direction",
+                violate(ViolationKind::InconsistentOrientation, "edge " + name() + " is traversed twice in the same direction",
                         corner_face[c1]);
             else
                 twin[c0] = c1, twin[c1] = c0;
