@@ -324,7 +324,7 @@ std::int64_t count_flipped(const Input& in) {
 }
 
 namespace {
-void split_triangle(Input& in, int f, const std::array<double, 2>& uv) {
+void split_triangle(Input& in, int f, const std::array<double, 2> uv) { // by value: in.uvs grows below
     const auto t = in.triangles[f];
     const std::array<std::array<double, 2>, 3> u{in.uvs[3 * f], in.uvs[3 * f + 1], in.uvs[3 * f + 2]};
     const int w = static_cast<int>(in.positions.size());
