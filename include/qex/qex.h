@@ -143,7 +143,6 @@ struct Report {
     std::int64_t flipped_triangles = 0, degenerate_triangles = 0; ///< after sanitization
     std::int64_t collapsed_edges = 0;     ///< UV-degenerate edges collapsed (before and after sanitization)
     std::int64_t singularities = 0;       ///< interior vertices with non-identity or valence != 4
-    std::int64_t boundary_loops = 0;
     double max_sanitization_displacement = 0.0; ///< largest |sanitized uv - input uv| (inf-norm)
     double sum_sanitization_displacement = 0.0;
     // geometry extraction
