@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     bool benign = true; // only perturbations after which the exact result is required
     for (int ops = b.range(0, 6); ops > 0 && !b.empty(); --ops) {
         const int nf = static_cast<int>(in.triangles.size()), nv = static_cast<int>(in.positions.size());
-        switch (b.range(0, 10)) {
+        switch (b.range(0, 12)) {
             case 0: rechart(in, rng, 1 << b.range(0, 20)); break;
             case 1: shuffle(in, rng); break;
             case 2: translate(in, std::int64_t{1} << b.range(0, 40), -(std::int64_t{1} << b.range(0, 40))); break;
@@ -37,10 +37,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 }
                 break;
             }
-            case 6: insert_collapsed_edge(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); break;
-            case 7: insert_zero_area_triangle(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); benign = false; break;
+            case 6: insert_collapsed_edge(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); in.valences.clear(); break;
+            case 7: insert_zero_area_triangle(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); in.valences.clear(); benign = false; break;
             case 8: in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] = std::numeric_limits<double>::quiet_NaN(); benign = false; break;
             case 9: in.triangles.push_back(in.triangles[b.range(0, nf - 1)]); in.uvs.resize(3 * in.triangles.size()); benign = false; break;
+            case 11: { // a feature edge: an edge of the mesh, or (rarely) an arbitrary pair
+                const int f = b.range(0, nf - 1), k = b.range(0, 2);
+                if (b.byte() < 240) in.feature_edges.push_back({in.triangles[f][k], in.triangles[f][(k + 1) % 3]});
+                else in.feature_edges.push_back({b.range(-1, nv), b.range(-1, nv)}), benign = false;
+                break;
+            }
+            case 12: { // valences given by the caller: 4 everywhere except a few, possibly wrong
+                in.valences.assign(in.positions.size(), 4);
+                for (int i = b.range(0, 4); i > 0; --i) in.valences[b.range(0, nv - 1)] = b.range(0, 9);
+                benign = false; // a wrong valence moves a vertex onto a grid point
+                break;
+            }
             default: {
                 const int f = b.range(0, nf - 1);
                 in.triangles.erase(in.triangles.begin() + f);

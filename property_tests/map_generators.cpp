@@ -246,6 +246,9 @@ void shuffle(Input& in, std::mt19937& rng) {
     }
     in.triangles = tris;
     in.uvs = uvs;
+    for (auto& e : in.feature_edges)
+        for (int& v : e)
+            if (v >= 0 && v < static_cast<int>(perm.size())) v = perm[v];
     if (!in.valences.empty()) {
         std::vector<int> val(in.valences.size());
         for (std::size_t v = 0; v < perm.size(); ++v) val[perm[v]] = in.valences[v];
