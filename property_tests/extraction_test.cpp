@@ -181,37 +181,35 @@ int fold(Input& in, const std::vector<char>& single_chart, double dx, double dy)
     return -1;
 }
 
-TEST(Extraction, FoldOverInsideCell) {
-    // Figure 2 (a)-like: a fold-over that only covers part of a grid cell.
+/// A torus map with n = 2 and lattice k, one single-chart vertex pushed by (dx, dy): the output
+/// must be valid with the map's area.
+Result folded_torus(int k, double dx, double dy) {
     const auto layout = torus_layout();
     std::vector<char> single;
-    Input in = make_map(layout, 2, 8, 1, 1, &single);
-    ASSERT_GE(fold(in, single, 0.21, 0.07), 0);
+    Input in = make_map(layout, 2, k, 1, 1, &single);
+    EXPECT_GE(fold(in, single, dx, dy), 0);
     const Result r = extract_valid(in);
     EXPECT_GT(r.report.flipped_triangles, 0);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
+    return r;
+}
+
+TEST(Extraction, FoldOverInsideCell) {
+    // A fold-over inside a grid cell: no iso-line crosses it, nothing to handle.
+    const Result r = folded_torus(8, 0.21, 0.07);
+    EXPECT_EQ(r.report.orientation_flips_crossed, 0);
 }
 
 TEST(Extraction, FoldOverAcrossIsoLine) {
     // Figure 2 (a): the fold-over covers part of an iso-line; traces reverse inside it.
-    const auto layout = torus_layout();
-    std::vector<char> single;
-    Input in = make_map(layout, 2, 6, 1, 1, &single); // spacing 1/3
-    ASSERT_GE(fold(in, single, 0.45, 0.1), 0);
-    const Result r = extract_valid(in);
-    EXPECT_GT(r.report.flipped_triangles, 0);
-    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
+    const Result r = folded_torus(6, 0.45, 0.1); // spacing 1/3
+    EXPECT_GT(r.report.orientation_flips_crossed, 0);
 }
 
 TEST(Extraction, FoldOverContainingGridPoint) {
-    // Figure 2 (b)/(c): the fold-over covers a grid point, creating clones that are merged.
-    const auto layout = torus_layout();
-    std::vector<char> single;
-    Input in = make_map(layout, 2, 6, 1, 1, &single);
-    ASSERT_GE(fold(in, single, 0.55, 0.3), 0);
-    const Result r = extract_valid(in);
-    EXPECT_GT(r.report.flipped_triangles, 0);
-    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
+    // Figure 2 (b)/(c): the fold-over covers a grid point; its clones are merged.
+    const Result r = folded_torus(5, 0.7, 0.7); // spacing 0.4: a vertex pushed over the grid point
+    EXPECT_GT(r.report.merged_qvertices, 0);
 }
 
 TEST(Extraction, ReportCountsAreConsistent) {
