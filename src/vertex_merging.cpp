@@ -68,13 +68,15 @@ void simplify(Loop loop, std::vector<Loop>& out) {
     }
 }
 
-/// Twice the signed area enclosed by the local UVs of a walk.
-std::int64_t twice_area(const Loop& l) {
-    std::int64_t a = 0;
-    for (std::size_t i = 0; i < l.size(); ++i) {
-        const IPoint& p = l[i].uv;
-        const IPoint& q = l[(i + 1) % l.size()].uv;
-        a += p[0] * q[1] - p[1] * q[0];
+/// Twice the signed area enclosed by the local UVs of a walk, taken relative to its first corner
+/// and accumulated in 128 bits: broken maps give walks whose local UVs lie 2^40 apart.
+__int128 twice_area(const Loop& l) {
+    __int128 a = 0;
+    const IPoint& o = l[0].uv;
+    for (std::size_t i = 1; i + 1 < l.size(); ++i) {
+        const __int128 px = l[i].uv[0] - o[0], py = l[i].uv[1] - o[1];
+        const __int128 qx = l[i + 1].uv[0] - o[0], qy = l[i + 1].uv[1] - o[1];
+        a += px * qy - py * qx;
     }
     return a;
 }
