@@ -1,0 +1,11 @@
+# Runs `qex extract IN -o OUT` and fails unless the exit code is EXPECT and OUT was not written.
+execute_process(COMMAND ${QEX} extract ${IN} -o ${OUT} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL EXPECT)
+  message(FATAL_ERROR "exit code ${rc}, expected ${EXPECT}: ${err}")
+endif()
+if(EXISTS ${OUT} OR EXISTS ${OUT}.tmp)
+  message(FATAL_ERROR "a partial output file was left behind")
+endif()
+if(err STREQUAL "")
+  message(FATAL_ERROR "no error message")
+endif()
