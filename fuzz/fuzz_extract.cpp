@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
             case 6: insert_collapsed_edge(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); in.valences.clear(); break;
             case 7: insert_zero_area_triangle(in, b.range(0, nf - 1), b.range(0, 2)); single_chart.push_back(0); in.valences.clear(); benign = false; break;
-            case 8: in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] = std::numeric_limits<double>::quiet_NaN(); benign = false; break;
+            case 8: in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] = (b.byte() & 1) ? std::numeric_limits<double>::quiet_NaN() : std::numeric_limits<double>::infinity(); benign = false; break;
             case 9: in.triangles.push_back(in.triangles[b.range(0, nf - 1)]); in.uvs.resize(3 * in.triangles.size()); benign = false; break;
             case 11: { // a feature edge: an edge of the mesh, or (rarely) an arbitrary pair
                 const int f = b.range(0, nf - 1), k = b.range(0, 2);
