@@ -15,10 +15,17 @@ struct Case {
 
 // --- iso-lines in general position and in special position -----------------------------------
 
+/// The torus map with n quads per layout edge and a k-step lattice: valid, with the map's area.
+Result torus_case(int n, int k) {
+    const auto layout = torus_layout();
+    const Result r = extract_valid(make_map(layout, n, k));
+    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, n)) << n << "/" << k;
+    return r;
+}
+
 TEST(Extraction, TorusGeneralPosition) {
     const auto layout = torus_layout();
-    const Result r = extract_valid(make_map(layout, 3, 7));
-    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 3));
+    const Result r = torus_case(3, 7);
     // A 3/7 lattice puts no mesh vertex on a grid point except the layout's own vertices.
     EXPECT_EQ(r.report.qvertices_on_vertices, static_cast<std::int64_t>(layout.positions.size()));
     EXPECT_GT(r.report.qvertices_in_faces, 0);
@@ -27,9 +34,7 @@ TEST(Extraction, TorusGeneralPosition) {
 
 TEST(Extraction, IsoLinesThroughVerticesAndAlongEdges) {
     // k = n: every lattice vertex is a grid point and every axis-aligned edge lies on an iso-line.
-    const auto layout = torus_layout();
-    const Result r = extract_valid(make_map(layout, 4, 4));
-    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 4));
+    const Result r = torus_case(4, 4);
     EXPECT_EQ(r.report.qvertices_in_faces, 0);
     EXPECT_EQ(r.report.qvertices_on_edges, 0);
     EXPECT_GT(r.report.qvertices_on_vertices, 0);
@@ -37,14 +42,11 @@ TEST(Extraction, IsoLinesThroughVerticesAndAlongEdges) {
 
 TEST(Extraction, GridPointsOnEdges) {
     // Lattice spacing 2: every grid point off the lattice is the midpoint of an edge.
-    const auto layout = torus_layout();
-    const Result r = extract_valid(make_map(layout, 4, 2));
-    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 4));
+    const Result r = torus_case(4, 2);
     EXPECT_GT(r.report.qvertices_on_edges, 0);
     EXPECT_EQ(r.report.qvertices_in_faces, 0);
     // Spacing 3: grid points on the diagonals and strictly inside triangles.
-    const Result r3 = extract_valid(make_map(layout, 3, 1));
-    EXPECT_EQ(static_cast<std::int64_t>(r3.mesh.faces.size()), expected_quads(layout, 3));
+    const Result r3 = torus_case(3, 1);
     EXPECT_GT(r3.report.qvertices_on_edges, 0);
     EXPECT_GT(r3.report.qvertices_in_faces, 0);
 }
