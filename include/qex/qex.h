@@ -64,8 +64,9 @@ const char* to_string(ErrorCode code);
 // ============================================================================ options
 
 struct Options {
-    /// Upper bound on generated q-vertices; protects callers from maps that are absurdly large.
-    std::int64_t max_qvertices = 50'000'000;
+    /// Upper bound on generated q-vertices (about the output's vertex count); protects callers
+    /// from absurdly scaled maps (each q-vertex costs some 300 bytes during extraction).
+    std::int64_t max_qvertices = 10'000'000;
     /// Upper bound on triangles crossed by one trace before it is declared failed.
     std::int64_t max_trace_steps = 100'000;
     /// Recover q-edges lost at singularities inside fold-overs (Section 5.5).
