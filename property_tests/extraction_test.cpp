@@ -253,16 +253,55 @@ TEST(Extraction, SanitizationIsIdempotent) {
     EXPECT_EQ(rep2.max_sanitization_displacement, 0.0);
 }
 
-TEST(Extraction, GivenValencesAndFeatureEdges) {
-    Input in = make_map(cube_layout(), 2, 3);
-    std::mt19937 rng(9);
-    add_noise(in, 1e-6, rng);
-    in.valences.assign(in.positions.size(), 4);
-    // Layout corners are the vertices with three corners... use computed singularities instead:
-    const Result plain = extract_valid(in);
-    EXPECT_EQ(plain.report.singularities, 8);
-    in.feature_edges.push_back({in.triangles[0][0], in.triangles[0][1]});
-    extract_valid(in);
+TEST(Extraction, FeatureEdgesSnapToIsoLines) {
+    // Edges of the exact map that lie on integer iso-lines become feature edges; after noise,
+    // snapping puts their vertices back on the iso-lines, so grid points on mesh vertices stay
+    // on mesh vertices (without snapping, noise moves them into edges and faces).
+    const Input exact = make_map(torus_layout(), 2, 3);
+    std::vector<std::array<int, 2>> features;
+    for (std::size_t f = 0; f < exact.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const auto &a = exact.uvs[3 * f + k], &b = exact.uvs[3 * f + (k + 1) % 3];
+            for (int axis = 0; axis < 2; ++axis)
+                if (a[axis] == b[axis] && std::floor(a[axis]) == a[axis])
+                    features.push_back({exact.triangles[f][k], exact.triangles[f][(k + 1) % 3]});
+        }
+    ASSERT_FALSE(features.empty());
+    Input noisy = exact;
+    std::mt19937 rng(4);
+    add_noise(noisy, 1e-5, rng);
+    const Result reference = extract_valid(exact), loose = extract_valid(noisy);
+    noisy.feature_edges = features;
+    const Result snapped = extract_valid(noisy);
+    EXPECT_EQ(snapped.report.qvertices_on_vertices, reference.report.qvertices_on_vertices);
+    EXPECT_LT(loose.report.qvertices_on_vertices, reference.report.qvertices_on_vertices);
+    EXPECT_TRUE(same_mesh(snapped.mesh, reference.mesh, 1e-3));
+}
+
+TEST(Extraction, GivenValencesDecideBranchPoints) {
+    // Around a valence-8 vertex the transitions compose to the identity: only the valence tells
+    // it is singular (and must be snapped to its grid point). Given valences are used as given.
+    const Input exact = make_map(prism_layout(8), 2, 3);
+    detail::TriMesh m = detail::make_mesh(exact);
+    ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    std::vector<int> valences(exact.positions.size(), 4);
+    int branch_points = 0;
+    for (int v = 0; v < m.num_vertices; ++v) {
+        valences[m.input_vertex[v]] = m.valence[v];
+        branch_points += m.valence[v] == 8;
+    }
+    ASSERT_EQ(branch_points, 2);
+    Input noisy = exact;
+    std::mt19937 rng(8);
+    add_noise(noisy, 1e-7, rng);
+    noisy.valences = valences;
+    const Result right = extract_valid(noisy);
+    for (int& v : noisy.valences) v = v == 8 ? 4 : v; // claim the branch points are regular
+    const Result wrong = extract_valid(noisy);
+    EXPECT_EQ(right.report.singularities, wrong.report.singularities + 2);
+    EXPECT_EQ(right.report.qvertices_on_vertices, wrong.report.qvertices_on_vertices + 2);
 }
 
 // --- known failures: minimal cases, asserted to be reported rather than silent ------------------
