@@ -115,7 +115,7 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
         report.collapsed_edges += collapsed;
         if (collapsed == 0 || round == 8) break;
     }
-    detail::count_valences(m); // on the sanitized map, for lost-edge detection
+    detail::count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())
         for (int v = 0; v < m.num_vertices; ++v) m.valence[v] = input.valences[m.input_vertex[v]];
     for (int f = 0; f < m.num_faces(); ++f) {
@@ -199,7 +199,15 @@ Result extract(const Input& input, const Options& options) {
         attempt.report.collapsed_edges = collapsed;
         attempt.report.rung = kLadder[r].name;
         attempt.report.rungs_tried = r + 1;
-        if (!run_pipeline(m, input, options, kLadder[r], attempt)) return attempt; // input error: no rung helps
+        // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
+        // rather than every run paying for a copy.
+        if (r > 0) {
+            m = detail::make_mesh(input);
+            (void)detail::build_topology(m, "input");         // succeeded above
+            (void)detail::collapse_degenerate_edges(m, collapsed); // likewise
+        }
+        if (!run_pipeline(std::move(m), input, options, kLadder[r], attempt))
+            return attempt; // input error: no rung helps
         attempt.check = verify(input, attempt.mesh);
         attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
         if (attempt.check.valid) return attempt;

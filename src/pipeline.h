@@ -68,8 +68,9 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed);
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
 
-/// Valence counting robust to fold-overs (Algorithm 8); interior vertices only (boundary: 0).
-void count_valences(TriMesh& m);
+/// Valence counting robust to fold-overs (Algorithm 8) and winding valences; interior vertices
+/// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
+void count_valences(TriMesh& m, bool singular_only = false);
 
 /// Fallback: relaxes regular vertices within `rings` of a flipped triangle towards the average of
 /// their neighbours, through exact transitions. Returns the number of triangles still flipped.

@@ -11,13 +11,14 @@
 
 namespace qex::detail {
 
-void count_valences(TriMesh& m) {
+void count_valences(TriMesh& m, bool singular_only) {
     const int nv = m.num_vertices;
-    m.valence.assign(nv, 0);
+    m.valence.assign(nv, 4);
     m.winding_valence.assign(nv, 4);
     std::vector<std::pair<int, double>> fan; // (orientation sign, signed inner angle)
     for (int v = 0; v < nv; ++v) {
         if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
+        if (singular_only && !m.singular[v]) continue;
         fan.clear();
         double winding = 0.0;
         int h = m.fan_start[v];
