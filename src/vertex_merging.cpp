@@ -5,7 +5,6 @@
 #include "pipeline.h"
 
 #include <algorithm>
-#include <map>
 #include <numeric>
 #include <string>
 
@@ -177,39 +176,43 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     }
 
     // 4. Cancel ghost faces (Figure 2 (c)): a face and its reverse cover the same quad once
-    //    positively and once through a fold-over; together they cover nothing.
+    //    positively and once through a fold-over; together they cover nothing. Faces are keyed
+    //    by their vertex cycle rotated to the smallest vertex; one sort pairs keys with reverses.
     {
         auto normalized = [](std::vector<int> f) {
             std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
             return f;
         };
-        std::map<std::vector<int>, std::vector<std::size_t>> by_key;
+        std::vector<std::pair<std::vector<int>, std::size_t>> keys(simple.size());
         for (std::size_t i = 0; i < simple.size(); ++i) {
             std::vector<int> f;
+            f.reserve(simple[i].size());
             for (const Corner& c : simple[i]) f.push_back(c.v);
-            by_key[normalized(f)].push_back(i);
+            keys[i] = {normalized(std::move(f)), i};
         }
+        std::sort(keys.begin(), keys.end());
         std::vector<char> drop(simple.size(), 0);
-        for (auto& [key, list] : by_key) {
-            std::vector<int> rev(key.rbegin(), key.rend());
-            auto it = by_key.find(normalized(rev));
-            if (it == by_key.end() || it->first == key) continue;
-            // Pair up faces with their reverses one to one.
-            for (std::size_t a = 0, b = 0; a < list.size() && b < it->second.size(); ++a, ++b) {
-                while (a < list.size() && drop[list[a]]) ++a;
-                while (b < it->second.size() && drop[it->second[b]]) ++b;
-                if (a >= list.size() || b >= it->second.size()) break;
-                drop[list[a]] = drop[it->second[b]] = 1;
-                report.ghost_faces_cancelled += 2;
-                const QVertex& v = q.qvertices[simple[list[a]][0].v];
-                report.explanations.push_back({DefectKind::GhostFacesCancelled,
-                                               "a face and its reverse cancelled near grid point (" +
-                                                   std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
-                                                   ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
-                                               m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
-            }
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            const std::size_t i = keys[k].second;
+            if (drop[i]) continue;
+            const std::vector<int>& key = keys[k].first;
+            const std::vector<int> rev = normalized(std::vector<int>(key.rbegin(), key.rend()));
+            if (rev == key) continue;
+            // The first reverse not yet paired.
+            auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(rev, std::size_t{0}));
+            while (it != keys.end() && it->first == rev && drop[it->second]) ++it;
+            if (it == keys.end() || it->first != rev) continue;
+            drop[i] = drop[it->second] = 1;
+            report.ghost_faces_cancelled += 2;
+            const QVertex& v = q.qvertices[simple[i][0].v];
+            report.explanations.push_back({DefectKind::GhostFacesCancelled,
+                                           "a face and its reverse cancelled near grid point (" +
+                                               std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
+                                               ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
+                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
         }
         std::vector<Loop> kept;
+        kept.reserve(simple.size());
         for (std::size_t i = 0; i < simple.size(); ++i)
             if (!drop[i]) kept.push_back(std::move(simple[i]));
         simple.swap(kept);
