@@ -75,6 +75,29 @@ TEST(Checker, RejectsWrongTopology) {
     EXPECT_TRUE(has(verify(torus, f.mesh), ViolationKind::EulerMismatch));
 }
 
+TEST(Checker, VerifiesTheSanitizedMapAndProvenance) {
+    Fixture f;
+    ASSERT_EQ(f.mesh.map_uvs.size(), f.in.uvs.size());
+    EXPECT_TRUE(verify(f.in, f.mesh).valid);
+    // A map that is not an integer-grid map: one corner moved by a tiny amount.
+    QuadMesh broken = f.mesh;
+    broken.map_uvs[7][0] += 1e-9;
+    EXPECT_TRUE(has(verify(f.in, broken), ViolationKind::MapNotIntegerGrid));
+    // A vertex claiming a grid point that is not on its element.
+    QuadMesh moved = f.mesh;
+    moved.provenance[3].grid[0] += 1;
+    EXPECT_TRUE(has(verify(f.in, moved), ViolationKind::NotOnGridPoint));
+    // Noise in the input: the map is sanitized, and the displacement is reported.
+    Input noisy = f.in;
+    std::mt19937 rng(6);
+    add_noise(noisy, 1e-9, rng);
+    const Result r = extract(noisy);
+    const VerifyResult v = verify(noisy, r.mesh);
+    EXPECT_TRUE(v.valid);
+    EXPECT_GT(v.max_map_displacement, 0.0);
+    EXPECT_LE(v.max_map_displacement, 1e-8);
+}
+
 TEST(Checker, RejectsBadIndicesWithoutCrashing) {
     Fixture f;
     f.mesh.faces[0][0] = -7;

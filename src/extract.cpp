@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <iterator>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -61,6 +62,7 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
         out.faces.push_back(std::move(mesh.faces[f]));
         out.face_uvs.push_back(std::move(mesh.face_uvs[f]));
     }
+    out.map_uvs = std::move(mesh.map_uvs);
     mesh = std::move(out);
     return new_index;
 }
@@ -159,6 +161,11 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
     auto faces = detail::extract_faces(m, q, report);
     timer.done("extract_faces");
     detail::merge_and_simplify(m, q, std::move(faces), options, result.mesh, report);
+    // The sanitized map, per input corner, for the checker.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    result.mesh.map_uvs.assign(input.uvs.size(), {nan, nan});
+    for (int f = 0; f < m.num_faces(); ++f)
+        for (int k = 0; k < 3; ++k) result.mesh.map_uvs[3 * static_cast<std::size_t>(m.input_triangle[f]) + k] = m.uv[3 * f + k];
     if (options.canonical_order) {
         const std::vector<int> new_index = canonicalize(result.mesh);
         for (Defect& d : report.defects)

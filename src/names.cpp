@@ -55,6 +55,8 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::ComponentMismatch: return "ComponentMismatch";
         case ViolationKind::LocalUvNotUnitSquare: return "LocalUvNotUnitSquare";
         case ViolationKind::EmptyMesh: return "EmptyMesh";
+        case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";
+        case ViolationKind::NotOnGridPoint: return "NotOnGridPoint";
     }
     return "Unknown";
 }

@@ -30,8 +30,10 @@ std::uint64_t key(int a, int b) { return static_cast<std::uint64_t>(static_cast<
 /// Topology of a polygon mesh with valid indices; appends violations when `out` is given.
 /// Directed edges are sorted once; twins are found by binary search (no hash tables).
 /// `offset` (size F+1) and `corner_vertex` describe the faces as flat arrays.
+using EdgeTable = std::vector<std::pair<std::uint64_t, std::uint32_t>>; // (undirected key, corner), sorted
+
 Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offset, const std::vector<int>& corner_vertex,
-                 std::vector<Violation>* out) {
+                 std::vector<Violation>* out, EdgeTable* edges_out = nullptr) {
     Topology t;
     auto violate = [&](ViolationKind k, std::string msg, std::int64_t e) {
         if (out && out->size() < 1000) out->push_back({k, std::move(msg), e});
@@ -50,7 +52,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     };
     // Undirected edges by one sort; twin[c] is the corner whose outgoing edge is the reverse of
     // c's, or -1 (boundary or non-manifold).
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(nc);
+    EdgeTable edges(nc);
     for (std::size_t c = 0; c < nc; ++c) {
         const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
         edges[c] = {key(std::min(a, b), std::max(a, b)), static_cast<std::uint32_t>(c)};
@@ -130,6 +132,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     for (std::size_t i = 0; i < nc; ++i)
         if (i == 0 || edges[i].first != edges[i - 1].first) ++t.edges;
     t.faces = static_cast<std::int64_t>(nf);
+    if (edges_out) *edges_out = std::move(edges);
     return t;
 }
 
@@ -153,6 +156,107 @@ bool unit_square_ccw(const std::vector<std::array<std::int64_t, 2>>& uv) {
         if (std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) != 1) return false;
     }
     return twice_area(uv) == Rational(2);
+}
+
+Rational det(const Rational& ax, const Rational& ay, const Rational& bx, const Rational& by) { return ax * by - ay * bx; }
+
+/// Exact sign of det(b - a, c - a).
+int orient(const std::array<Rational, 2>& a, const std::array<Rational, 2>& b, const std::array<Rational, 2>& c) {
+    return CGAL::sign(det(b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]));
+}
+
+std::array<Rational, 2> q2(const std::array<double, 2>& p) { return {Rational(p[0]), Rational(p[1])}; }
+
+std::array<double, 2> rot_d(const std::array<double, 2>& p, int r) {
+    switch (r & 3) {
+        case 0: return p;
+        case 1: return {-p[1], p[0]};
+        case 2: return {-p[0], -p[1]};
+        default: return {p[1], -p[0]};
+    }
+}
+
+/// Exactly x + y == z? Knuth's TwoSum gives the rounding error of x + y without error
+/// (round-to-nearest, no contraction: the build uses -ffp-contract=off); both must match.
+bool sums_exactly(double x, double y, double z) {
+    const volatile double s = x + y;
+    const volatile double bb = s - x;
+    const double err = (x - (s - bb)) + (y - bb);
+    return s == z && err == 0.0;
+}
+
+/// The map the mesh claims to come from: an exact integer-grid map (across every interior edge
+/// the two charts differ by a rotation by k*90 degrees and an integer translation), and each
+/// vertex's provenance grid point lies on the element it names, decided with exact rationals.
+void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges, VerifyResult& r,
+               std::vector<Violation>& out) {
+    const auto& U = mesh.map_uvs;
+    auto violate = [&](ViolationKind k, std::string msg, std::int64_t e) {
+        if (out.size() < 1000) out.push_back({k, std::move(msg), e});
+    };
+    const std::size_t nf = input.triangles.size();
+    auto alive = [&](std::size_t f) { return std::isfinite(U[3 * f][0]); };
+    for (std::size_t c = 0; c < U.size(); ++c)
+        if (alive(c / 3))
+            r.max_map_displacement = std::max({r.max_map_displacement, std::abs(U[c][0] - input.uvs[c][0]),
+                                               std::abs(U[c][1] - input.uvs[c][1])});
+    // Interior edges: the input's sorted edge table pairs each half-edge with its opposite.
+    auto next = [](std::size_t c) { return c - c % 3 + (c % 3 + 1) % 3; };
+    for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
+        if (edges[i].first != edges[i + 1].first || (i + 2 < edges.size() && edges[i + 2].first == edges[i].first))
+            continue; // boundary or non-manifold (reported by the topology checks)
+        const std::size_t c = edges[i].second, o = edges[i + 1].second;
+        ++i;
+        if (!alive(c / 3) || !alive(o / 3)) continue;
+        // In c's chart the edge runs a -> b; in o's chart b -> a. Some rotation R and one integer
+        // translation t must give R a + t == a2 and R b + t == b2 exactly.
+        const auto &a = U[c], &b = U[next(c)], &a2 = U[next(o)], &b2 = U[o];
+        bool ok = false;
+        for (int rr = 0; rr < 4 && !ok; ++rr) {
+            const auto ra = rot_d(a, rr), rb = rot_d(b, rr);
+            const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
+            ok = std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
+                 sums_exactly(ra[1], ty, a2[1]) && sums_exactly(rb[0], tx, b2[0]) && sums_exactly(rb[1], ty, b2[1]);
+        }
+        if (!ok)
+            violate(ViolationKind::MapNotIntegerGrid,
+                    "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(o / 3) +
+                        " do not differ by a grid automorphism along their shared edge",
+                    static_cast<std::int64_t>(c / 3));
+    }
+    // Provenance: the grid point on the named vertex, edge or triangle.
+    for (std::size_t i = 0; i < mesh.provenance.size() && i < mesh.positions.size(); ++i) {
+        const Provenance& p = mesh.provenance[i];
+        const std::array<Rational, 2> g{Rational(static_cast<double>(p.grid[0])), Rational(static_cast<double>(p.grid[1]))};
+        const auto T = static_cast<std::size_t>(p.chart_triangle);
+        bool on = p.chart_triangle >= 0 && T < nf && alive(T);
+        if (on) {
+            const std::array<std::array<Rational, 2>, 3> t{q2(U[3 * T]), q2(U[3 * T + 1]), q2(U[3 * T + 2])};
+            if (p.kind == QVertexKind::Vertex) {
+                // A corner of the named triangle sits on the grid point. (Its input vertex may be
+                // one that a collapse of UV-degenerate edges merged into p.element.)
+                on = false;
+                for (int k = 0; k < 3; ++k) on = on || t[k] == g;
+            } else if (p.kind == QVertexKind::Edge) {
+                const int k = p.local_edge;
+                on = k >= 0 && k < 3 && static_cast<std::size_t>(p.element) == T;
+                if (on) {
+                    const auto &e0 = t[k], &e1 = t[(k + 1) % 3];
+                    on = orient(e0, e1, g) == 0 && g != e0 && g != e1 &&
+                         CGAL::sign((g[0] - e0[0]) * (e1[0] - g[0]) + (g[1] - e0[1]) * (e1[1] - g[1])) > 0;
+                }
+            } else {
+                const int s = orient(t[0], t[1], t[2]);
+                on = s != 0 && orient(t[0], t[1], g) == s && orient(t[1], t[2], g) == s && orient(t[2], t[0], g) == s;
+            }
+        }
+        if (!on)
+            violate(ViolationKind::NotOnGridPoint,
+                    "vertex " + std::to_string(i) + ": grid point (" + std::to_string(p.grid[0]) + ", " +
+                        std::to_string(p.grid[1]) + ") is not on the element its provenance names (triangle " +
+                        std::to_string(p.chart_triangle) + ")",
+                    static_cast<std::int64_t>(i));
+    }
 }
 
 } // namespace
@@ -223,8 +327,9 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
             tri_corners.push_back(v);
         }
     }
+    EdgeTable input_edges;
     if (input_ok) {
-        const Topology ti = analyse(input.positions.size(), tri_offset, tri_corners, nullptr);
+        const Topology ti = analyse(input.positions.size(), tri_offset, tri_corners, nullptr, &input_edges);
         r.input_euler = ti.euler();
         r.input_boundary_loops = ti.boundary_loops;
         r.input_components = ti.components;
@@ -274,6 +379,13 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
                 out.push_back({ViolationKind::ComponentMismatch,
                                std::to_string(r.components) + " components, input has " + std::to_string(r.input_components), -1});
         }
+    }
+    if (input_ok && !mesh.map_uvs.empty()) {
+        if (mesh.map_uvs.size() != input.uvs.size())
+            out.push_back({ViolationKind::MapNotIntegerGrid, "the mesh's map has " + std::to_string(mesh.map_uvs.size()) +
+                                                                 " corner UVs, the input " + std::to_string(input.uvs.size()), -1});
+        else
+            check_map(input, mesh, input_edges, r, out);
     }
     r.valid = out.empty();
     return r;

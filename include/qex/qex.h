@@ -111,6 +111,11 @@ struct QuadMesh {
     /// Per face corner: integer local UV (a unit square per quad, counter-clockwise).
     std::vector<std::vector<std::array<std::int64_t, 2>>> face_uvs;
     std::vector<Provenance> provenance;
+    /// The sanitized map the mesh was extracted from: 3 UVs per input triangle, NaN for
+    /// triangles removed by collapsing UV-degenerate edges. Empty for meshes from elsewhere.
+    /// The checker verifies it is an exact integer-grid map and that every vertex's provenance
+    /// names a grid point on the element it claims.
+    std::vector<std::array<double, 2>> map_uvs;
 };
 
 /// A defect of the output that the input made unavoidable, with where it is.
@@ -181,6 +186,8 @@ enum class ViolationKind {
     NotQuad, BadIndex, RepeatedVertex, NonManifoldEdge, InconsistentOrientation, NonManifoldVertex,
     UnreferencedVertex, NonFinitePosition, BoundaryMismatch, EulerMismatch, ComponentMismatch,
     LocalUvNotUnitSquare, EmptyMesh,
+    MapNotIntegerGrid,   ///< map_uvs: across an edge the charts differ by more than a grid automorphism
+    NotOnGridPoint,      ///< provenance: the vertex's grid point is not on the element it names
 };
 const char* to_string(ViolationKind kind);
 
@@ -196,6 +203,8 @@ struct VerifyResult {
     std::int64_t faces = 0, vertices = 0, edges = 0, boundary_loops = 0, components = 0;
     std::int64_t euler = 0;
     std::int64_t input_euler = 0, input_boundary_loops = 0, input_components = 0;
+    /// Largest |map_uvs - input uvs| over all corners (0 when the mesh carries no map).
+    double max_map_displacement = 0.0;
     /// Exact (rational) signed UV area of the input map, as a decimal string, and rounded.
     std::string input_signed_uv_area;
     std::int64_t input_signed_uv_area_rounded = 0;
