@@ -82,7 +82,9 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
         EXPECT_FALSE(r.report.defects.empty()) << path;
         for (const auto& d : r.report.defects) {
             EXPECT_FALSE(d.message.empty());
-            if (d.output_face >= 0) EXPECT_GE(d.input_element, 0) << path << ": " << d.message;
+            if (d.output_face >= 0) {
+                EXPECT_GE(d.input_element, 0) << path << ": " << d.message;
+            }
         }
     }
     std::cout << "MIQ maps: " << valid << "/" << files.size() << " valid\n";
