@@ -96,6 +96,8 @@ TEST(Checker, VerifiesTheSanitizedMapAndProvenance) {
     EXPECT_TRUE(v.valid);
     EXPECT_GT(v.max_map_displacement, 0.0);
     EXPECT_LE(v.max_map_displacement, 1e-8);
+    EXPECT_GE(v.sum_map_displacement, v.max_map_displacement);
+    EXPECT_LE(v.sum_map_displacement, 1e-8 * static_cast<double>(noisy.uvs.size()));
 }
 
 TEST(Checker, RejectsBadIndicesWithoutCrashing) {

@@ -197,9 +197,11 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
     const std::size_t nf = input.triangles.size();
     auto alive = [&](std::size_t f) { return std::isfinite(U[3 * f][0]); };
     for (std::size_t c = 0; c < U.size(); ++c)
-        if (alive(c / 3))
-            r.max_map_displacement = std::max({r.max_map_displacement, std::abs(U[c][0] - input.uvs[c][0]),
-                                               std::abs(U[c][1] - input.uvs[c][1])});
+        if (alive(c / 3)) {
+            const double d = std::max(std::abs(U[c][0] - input.uvs[c][0]), std::abs(U[c][1] - input.uvs[c][1]));
+            r.max_map_displacement = std::max(r.max_map_displacement, d);
+            r.sum_map_displacement += d;
+        }
     // Interior edges: the input's sorted edge table pairs each half-edge with its opposite.
     auto next = [](std::size_t c) { return c - c % 3 + (c % 3 + 1) % 3; };
     for (std::size_t i = 0; i + 1 < edges.size(); ++i) {

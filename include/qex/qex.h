@@ -203,8 +203,8 @@ struct VerifyResult {
     std::int64_t faces = 0, vertices = 0, edges = 0, boundary_loops = 0, components = 0;
     std::int64_t euler = 0;
     std::int64_t input_euler = 0, input_boundary_loops = 0, input_components = 0;
-    /// Largest |map_uvs - input uvs| over all corners (0 when the mesh carries no map).
-    double max_map_displacement = 0.0;
+    /// Largest and summed |map_uvs - input uvs| (inf-norm per corner; 0 without a map).
+    double max_map_displacement = 0.0, sum_map_displacement = 0.0;
     /// Exact (rational) signed UV area of the input map, as a decimal string, and rounded.
     std::string input_signed_uv_area;
     std::int64_t input_signed_uv_area_rounded = 0;

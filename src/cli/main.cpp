@@ -36,7 +36,7 @@ nlohmann::json to_json(const qex::VerifyResult& v) {
     j["euler"] = v.euler;
     j["boundary_loops"] = v.boundary_loops;
     j["components"] = v.components;
-    j["max_map_displacement"] = v.max_map_displacement;
+    j["map_displacement"] = {{"max", v.max_map_displacement}, {"sum", v.sum_map_displacement}};
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},
