@@ -204,11 +204,11 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
         }
     // Interior edges: the input's sorted edge table pairs each half-edge with its opposite.
     auto next = [](std::size_t c) { return c - c % 3 + (c % 3 + 1) % 3; };
-    for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
-        if (edges[i].first != edges[i + 1].first || (i + 2 < edges.size() && edges[i + 2].first == edges[i].first))
-            continue; // boundary or non-manifold (reported by the topology checks)
+    for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+        j = i;
+        while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+        if (j - i != 2) continue; // boundary or non-manifold (reported by the topology checks)
         const std::size_t c = edges[i].second, o = edges[i + 1].second;
-        ++i;
         if (!alive(c / 3) || !alive(o / 3)) continue;
         // In c's chart the edge runs a -> b; in o's chart b -> a. Some rotation R and one integer
         // translation t must give R a + t == a2 and R b + t == b2 exactly.
