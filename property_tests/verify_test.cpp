@@ -100,6 +100,29 @@ TEST(Checker, VerifiesTheSanitizedMapAndProvenance) {
     EXPECT_LE(v.sum_map_displacement, 1e-8 * static_cast<double>(noisy.uvs.size()));
 }
 
+TEST(Checker, SingularitiesSitOnIntegerGridPoints) {
+    Fixture f;
+    const VerifyResult v = verify(f.in, f.mesh);
+    EXPECT_EQ(v.map_singularities, 8); // the cube's corners, valence 3
+    EXPECT_FALSE(has(v, ViolationKind::SingularityOffGrid));
+    // Shifting every chart by (1/2, 1/2) keeps each edge transition an exact grid automorphism
+    // (h - R h is integer for every quarter turn R) but moves the singularities to cell centres.
+    QuadMesh shifted = f.mesh;
+    for (auto& uv : shifted.map_uvs) {
+        uv[0] += 0.5;
+        uv[1] += 0.5;
+    }
+    const VerifyResult s = verify(f.in, shifted);
+    EXPECT_FALSE(has(s, ViolationKind::MapNotIntegerGrid));
+    EXPECT_EQ(s.map_singularities, 8);
+    std::size_t off = 0;
+    for (const auto& x : s.violations) off += x.kind == ViolationKind::SingularityOffGrid;
+    EXPECT_EQ(off, 8u);
+    // A torus has none.
+    const Input torus = make_map(torus_layout(), 2, 3);
+    EXPECT_EQ(verify(torus, extract(torus).mesh).map_singularities, 0);
+}
+
 TEST(Checker, RejectsBadIndicesWithoutCrashing) {
     Fixture f;
     f.mesh.faces[0][0] = -7;

@@ -57,6 +57,7 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::EmptyMesh: return "EmptyMesh";
         case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";
         case ViolationKind::NotOnGridPoint: return "NotOnGridPoint";
+        case ViolationKind::SingularityOffGrid: return "SingularityOffGrid";
     }
     return "Unknown";
 }

@@ -204,6 +204,12 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
         }
     // Interior edges: the input's sorted edge table pairs each half-edge with its opposite.
     auto next = [](std::size_t c) { return c - c % 3 + (c % 3 + 1) % 3; };
+    auto prev = [](std::size_t c) { return c - c % 3 + (c % 3 + 2) % 3; };
+    // opposite[c]: the corner across the edge that starts at corner c, when the two charts were
+    // matched by a unique grid automorphism (rotation[c] quarter turns from c's chart to its
+    // neighbour's); -1 otherwise.
+    std::vector<std::int64_t> opposite(U.size(), -1);
+    std::vector<std::int8_t> rotation(U.size(), 0);
     for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
         j = i;
         while (j < edges.size() && edges[j].first == edges[i].first) ++j;
@@ -214,17 +220,60 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
         // translation t must give R a + t == a2 and R b + t == b2 exactly.
         const auto &a = U[c], &b = U[next(c)], &a2 = U[next(o)], &b2 = U[o];
         bool ok = false;
+        int found = -1;
         for (int rr = 0; rr < 4 && !ok; ++rr) {
             const auto ra = rot_d(a, rr), rb = rot_d(b, rr);
             const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
             ok = std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
                  sums_exactly(ra[1], ty, a2[1]) && sums_exactly(rb[0], tx, b2[0]) && sums_exactly(rb[1], ty, b2[1]);
+            if (ok) found = rr;
+        }
+        // A zero-length edge admits every rotation: the fan check below skips its vertices.
+        if (ok && (a[0] != b[0] || a[1] != b[1])) {
+            opposite[c] = static_cast<std::int64_t>(o);
+            opposite[o] = static_cast<std::int64_t>(c);
+            rotation[c] = found;
+            rotation[o] = (4 - found) & 3;
         }
         if (!ok)
             violate(ViolationKind::MapNotIntegerGrid,
                     "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(o / 3) +
                         " do not differ by a grid automorphism along their shared edge",
                     static_cast<std::int64_t>(c / 3));
+    }
+    // Fans: around every interior vertex whose fan is matched edge by edge, the transitions
+    // compose to a rotation; each edge transition maps the vertex's UV onto itself exactly, so a
+    // composed identity closes the fan, and a composed rotation (a singularity) must have its
+    // fixed point, the vertex's UV, on an integer grid point (Algorithm 2).
+    std::vector<char> seen(U.size(), 0);
+    for (std::size_t c0 = 0; c0 < U.size(); ++c0) {
+        if (seen[c0] || !alive(c0 / 3)) continue;
+        // Walk clockwise: across the edge that ends at this corner's vertex (prev(c) -> c).
+        std::size_t c = c0;
+        int turns = 0;
+        bool closed = false;
+        for (std::size_t steps = 0; steps <= U.size(); ++steps) {
+            seen[c] = 1;
+            const std::int64_t o = opposite[prev(c)];
+            if (o < 0) break; // boundary, unmatched or degenerate edge: the fan is not checked
+            turns += rotation[prev(c)];
+            c = static_cast<std::size_t>(o); // o starts the reverse edge, at the same vertex
+            if (c == c0) {
+                closed = true;
+                break;
+            }
+            if (seen[c]) break; // a non-manifold vertex (reported by validation)
+        }
+        if (!closed || (turns & 3) == 0) continue;
+        ++r.map_singularities;
+        const auto& u = U[c0];
+        if (std::floor(u[0]) != u[0] || std::floor(u[1]) != u[1])
+            violate(ViolationKind::SingularityOffGrid,
+                    "input vertex " + std::to_string(input.triangles[c0 / 3][c0 % 3]) + ": a singularity (" +
+                        std::to_string((turns & 3) * 90) + " degree turn) at (" + std::to_string(u[0]) + ", " +
+                        std::to_string(u[1]) + ") in the chart of triangle " + std::to_string(c0 / 3) +
+                        ", not at an integer grid point",
+                    static_cast<std::int64_t>(input.triangles[c0 / 3][c0 % 3]));
     }
     // Provenance: the grid point on the named vertex, edge or triangle.
     for (std::size_t i = 0; i < mesh.provenance.size() && i < mesh.positions.size(); ++i) {

@@ -188,6 +188,7 @@ enum class ViolationKind {
     LocalUvNotUnitSquare, EmptyMesh,
     MapNotIntegerGrid,   ///< map_uvs: across an edge the charts differ by more than a grid automorphism
     NotOnGridPoint,      ///< provenance: the vertex's grid point is not on the element it names
+    SingularityOffGrid,  ///< map_uvs: a singular vertex is not on an integer grid point
 };
 const char* to_string(ViolationKind kind);
 
@@ -205,6 +206,8 @@ struct VerifyResult {
     std::int64_t input_euler = 0, input_boundary_loops = 0, input_components = 0;
     /// Largest and summed |map_uvs - input uvs| (inf-norm per corner; 0 without a map).
     double max_map_displacement = 0.0, sum_map_displacement = 0.0;
+    /// Interior vertices of the map whose fan composes to a non-trivial rotation.
+    std::int64_t map_singularities = 0;
     /// Exact (rational) signed UV area of the input map, as a decimal string, and rounded.
     std::string input_signed_uv_area;
     std::int64_t input_signed_uv_area_rounded = 0;

@@ -37,6 +37,7 @@ nlohmann::json to_json(const qex::VerifyResult& v) {
     j["boundary_loops"] = v.boundary_loops;
     j["components"] = v.components;
     j["map_displacement"] = {{"max", v.max_map_displacement}, {"sum", v.sum_map_displacement}};
+    j["map_singularities"] = v.map_singularities;
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},
