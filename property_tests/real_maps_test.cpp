@@ -31,6 +31,14 @@ TEST(RealMaps, PaperMapsGiveValidQuadMeshes) {
         ASSERT_TRUE(r.ok()) << path << ": " << r.error.message;
         const VerifyResult v = verify(in, r.mesh);
         EXPECT_TRUE(v.valid) << path << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+        // The oracle for other extractors accepts it too: positions only, located on the raw map.
+        QuadMesh bare = r.mesh;
+        bare.provenance.clear();
+        bare.map_uvs.clear();
+        bare.face_uvs.clear();
+        const VerifyResult located = verify(in, bare);
+        EXPECT_TRUE(located.located);
+        EXPECT_TRUE(located.valid) << path << ": " << (located.violations.empty() ? "" : located.violations[0].message);
         // Quad count equals the signed UV area, or the report explains every missing quad.
         const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
         const auto area = v.input_signed_uv_area_rounded;

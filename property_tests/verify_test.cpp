@@ -123,6 +123,92 @@ TEST(Checker, SingularitiesSitOnIntegerGridPoints) {
     EXPECT_EQ(verify(torus, extract(torus).mesh).map_singularities, 0);
 }
 
+/// The mesh as another extractor (or an OBJ read back) would give it: no provenance, no map.
+QuadMesh without_provenance(QuadMesh m) {
+    m.provenance.clear();
+    m.map_uvs.clear();
+    m.face_uvs.clear();
+    return m;
+}
+
+std::size_t count(const VerifyResult& v, ViolationKind k) {
+    std::size_t n = 0;
+    for (const auto& x : v.violations) n += x.kind == k;
+    return n;
+}
+
+TEST(CheckerLocated, AcceptsCorrectMeshesOfOtherExtractors) {
+    for (const Input& in : {make_map(cube_layout(), 2, 3), make_map(torus_layout(), 3, 2), make_map(annulus_layout(), 2, 3),
+                            make_map(prism_layout(5), 2, 3)}) {
+        const QuadMesh m = without_provenance(extract(in).mesh);
+        const VerifyResult v = verify(in, m);
+        EXPECT_TRUE(v.located);
+        EXPECT_TRUE(v.valid) << (v.violations.empty() ? "" : v.violations[0].message);
+        EXPECT_LT(v.max_grid_distance, 1e-9);
+        EXPECT_EQ(v.coverage_difference, 0);
+        EXPECT_TRUE(v.undecided.empty());
+        // Rounded positions, as a tool writing 7 significant digits would leave them.
+        QuadMesh rounded = m;
+        for (auto& p : rounded.positions)
+            for (double& x : p) x = std::round(x * 1e6) / 1e6;
+        VerifyOptions loose;
+        loose.distance_tolerance = 1e-5;
+        EXPECT_TRUE(verify(in, rounded, loose).valid);
+    }
+}
+
+TEST(CheckerLocated, RejectsVerticesOffTheirGridPoints) {
+    const Input in = make_map(cube_layout(), 2, 3);
+    const QuadMesh good = without_provenance(extract(in).mesh);
+    // Slide a vertex along its (flat) cube face to the middle of one of its edges.
+    QuadMesh slid = good;
+    const auto& f0 = slid.faces[0];
+    for (int k = 0; k < 3; ++k)
+        slid.positions[static_cast<std::size_t>(f0[0])][k] =
+            0.5 * (good.positions[static_cast<std::size_t>(f0[0])][k] + good.positions[static_cast<std::size_t>(f0[1])][k]);
+    const VerifyResult a = verify(in, slid);
+    EXPECT_EQ(count(a, ViolationKind::NotOnGridPoint), 1u);
+    EXPECT_GT(a.max_grid_distance, 0.4);
+    // Lift a vertex off the surface (away from the cube's centre).
+    QuadMesh lifted = good;
+    for (double& x : lifted.positions[5]) x = 0.5 + (x - 0.5) * 1.05;
+    EXPECT_EQ(count(verify(in, lifted), ViolationKind::OffSurface), 1u);
+}
+
+TEST(CheckerLocated, RejectsFacesThatAreNotGridCells) {
+    const Input in = make_map(torus_layout(), 3, 2); // no singularities: every failure is decided
+    const QuadMesh good = without_provenance(extract(in).mesh);
+    // A face whose corners are listed in bow-tie order.
+    QuadMesh bowtie = good;
+    std::swap(bowtie.faces[4][1], bowtie.faces[4][2]);
+    EXPECT_GE(count(verify(in, bowtie), ViolationKind::FaceNotGridCell), 1u);
+    // A face reversed (clockwise in the map) and everything else as it was.
+    QuadMesh reversed = good;
+    std::reverse(reversed.faces[7].begin(), reversed.faces[7].end());
+    const VerifyResult r = verify(in, reversed);
+    EXPECT_GE(count(r, ViolationKind::FaceNotGridCell), 1u);
+    // A whole mesh reversed is consistently oriented, closed and of the right size: only the
+    // map can tell that every face is clockwise.
+    QuadMesh all_reversed = good;
+    for (auto& f : all_reversed.faces) std::reverse(f.begin(), f.end());
+    EXPECT_EQ(count(verify(in, all_reversed), ViolationKind::FaceNotGridCell), all_reversed.faces.size());
+    EXPECT_TRUE(verify(in, all_reversed, VerifyOptions{false}).valid); // topology alone accepts it
+}
+
+TEST(CheckerLocated, RejectsMissingAndExtraQuads) {
+    const Input in = make_map(torus_layout(), 3, 2);
+    const QuadMesh good = without_provenance(extract(in).mesh);
+    QuadMesh missing = good;
+    missing.faces.pop_back();
+    const VerifyResult a = verify(in, missing);
+    EXPECT_EQ(count(a, ViolationKind::CoverageMismatch), 1u);
+    EXPECT_EQ(a.coverage_difference, -1);
+    QuadMesh extra = good;
+    extra.faces.push_back(extra.faces[0]);
+    EXPECT_EQ(verify(in, extra).coverage_difference, 1);
+    EXPECT_TRUE(has(verify(in, extra), ViolationKind::CoverageMismatch));
+}
+
 TEST(Checker, RejectsBadIndicesWithoutCrashing) {
     Fixture f;
     f.mesh.faces[0][0] = -7;

@@ -58,6 +58,9 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";
         case ViolationKind::NotOnGridPoint: return "NotOnGridPoint";
         case ViolationKind::SingularityOffGrid: return "SingularityOffGrid";
+        case ViolationKind::OffSurface: return "OffSurface";
+        case ViolationKind::FaceNotGridCell: return "FaceNotGridCell";
+        case ViolationKind::CoverageMismatch: return "CoverageMismatch";
     }
     return "Unknown";
 }

@@ -312,7 +312,12 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
 
 } // namespace
 
-VerifyResult verify(const Input& input, const QuadMesh& mesh) {
+namespace detail {
+void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
+                   std::vector<Violation>& out);
+}
+
+VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
     VerifyResult r;
     auto& out = r.violations;
     const std::size_t nv = mesh.positions.size();
@@ -438,6 +443,8 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh) {
         else
             check_map(input, mesh, input_edges, r, out);
     }
+    if (input_ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
+        detail::check_located(input, mesh, options, r, out);
     r.valid = out.empty();
     return r;
 }

@@ -218,18 +218,22 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
         simple.swap(kept);
     }
 
-    // 5. Output: referenced representatives, positioned at the centroid of their clones.
-    // Centroids summed in 3D order of the clones, so input order does not change the result.
+    // 5. Output: one vertex per class of merged clones. Every clone is an image of the same grid
+    // point; the output takes one clone's position and provenance, so the vertex lies on the
+    // input surface exactly where its provenance says: a clone on an input vertex first (a
+    // singularity stays on its vertex, not on a fold-over next to it), then on an edge, then
+    // inside a triangle; among equals the first in 3D order, whatever the input order.
     std::vector<std::pair<int, int>> by_rep(nq);
     for (int i = 0; i < nq; ++i) by_rep[i] = {find(parent, i), i};
     std::sort(by_rep.begin(), by_rep.end(), [&](const auto& a, const auto& b) {
         if (a.first != b.first) return a.first < b.first;
-        return q.qvertices[a.second].position < q.qvertices[b.second].position;
+        const QVertex &x = q.qvertices[a.second], &y = q.qvertices[b.second];
+        if (x.kind != y.kind) return x.kind < y.kind;
+        return x.position < y.position;
     });
-    std::vector<std::array<double, 3>> sum(nq, {0, 0, 0});
-    std::vector<int> count(nq, 0);
+    std::vector<int> chosen(nq, -1), count(nq, 0);
     for (const auto& [r, i] : by_rep) {
-        for (int k = 0; k < 3; ++k) sum[r][k] += q.qvertices[i].position[k];
+        if (chosen[r] < 0) chosen[r] = i;
         ++count[r];
     }
     std::vector<int> out_id(nq, -1);
@@ -240,9 +244,8 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
         for (const Corner& c : l) {
             if (out_id[c.v] < 0) {
                 out_id[c.v] = static_cast<int>(out.positions.size());
-                const double n = count[c.v];
-                out.positions.push_back({sum[c.v][0] / n, sum[c.v][1] / n, sum[c.v][2] / n});
-                const QVertex& v = q.qvertices[c.v];
+                const QVertex& v = q.qvertices[chosen[c.v] >= 0 ? chosen[c.v] : c.v];
+                out.positions.push_back(v.position);
                 Provenance pr;
                 pr.kind = v.kind;
                 pr.chart_triangle = m.input_triangle[v.chart];

@@ -189,6 +189,10 @@ enum class ViolationKind {
     MapNotIntegerGrid,   ///< map_uvs: across an edge the charts differ by more than a grid automorphism
     NotOnGridPoint,      ///< provenance: the vertex's grid point is not on the element it names
     SingularityOffGrid,  ///< map_uvs: a singular vertex is not on an integer grid point
+    // Located mode (meshes without provenance, e.g. from other extractors):
+    OffSurface,          ///< a vertex farther from the input surface than the distance tolerance
+    FaceNotGridCell,     ///< a face's corners, carried into one chart, are not a ccw unit grid cell
+    CoverageMismatch,    ///< the faces do not cover the map once (map without fold-overs)
 };
 const char* to_string(ViolationKind kind);
 
@@ -208,6 +212,15 @@ struct VerifyResult {
     double max_map_displacement = 0.0, sum_map_displacement = 0.0;
     /// Interior vertices of the map whose fan composes to a non-trivial rotation.
     std::int64_t map_singularities = 0;
+    /// Located mode (the mesh has no provenance): vertices were located on the input surface.
+    bool located = false;
+    double max_grid_distance = 0.0;    ///< largest UV distance (inf-norm) of a vertex to its grid point
+    double max_surface_distance = 0.0; ///< largest distance to the surface / bounding-box diagonal
+    std::int64_t map_flipped_triangles = 0;
+    std::int64_t coverage_difference = 0; ///< faces - rounded signed UV area
+    /// Located mode: checks that could not be decided because the map folds over there (a
+    /// face's corners carried across flipped triangles); not violations, listed for review.
+    std::vector<Violation> undecided;
     /// Exact (rational) signed UV area of the input map, as a decimal string, and rounded.
     std::string input_signed_uv_area;
     std::int64_t input_signed_uv_area_rounded = 0;
@@ -229,10 +242,25 @@ Result extract(const Input& input, const Options& options = {});
 /// Validates `input` as extract() would; returns an Error with code None when it is acceptable.
 Error validate(const Input& input);
 
+struct VerifyOptions {
+    /// Meshes without provenance are located on the input surface (see below); off: topology only.
+    bool locate = true;
+    /// Located mode: a vertex must map within this UV distance (inf-norm) of an integer grid point
+    /// (the map is the raw input, with its solver noise; qex's own output is within 1e-6).
+    double uv_tolerance = 1e-3;
+    /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface.
+    double distance_tolerance = 1e-6;
+};
+
 /// Judges `mesh` against `input` with its own code (no extraction code is shared) and exact
 /// arithmetic: all-quad, manifold, oriented, boundary and Euler characteristic and components as
-/// the input's, local UVs unit squares (when given). Does not throw on malformed meshes.
-VerifyResult verify(const Input& input, const QuadMesh& mesh);
+/// the input's, local UVs unit squares (when given). With `mesh.map_uvs` and provenance (qex's
+/// own output): the sanitized map is an exact integer-grid map and every vertex is on its grid
+/// point, exactly. Without provenance (any other extractor's mesh, or an OBJ read back), the
+/// vertices are located on the surface: each must be the image of an integer grid point, each
+/// face's corners one counter-clockwise grid cell, and the faces must cover the map.
+/// Does not throw on malformed meshes.
+VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options = {});
 
 // ============================================================================ files
 

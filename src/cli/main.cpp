@@ -38,10 +38,18 @@ nlohmann::json to_json(const qex::VerifyResult& v) {
     j["components"] = v.components;
     j["map_displacement"] = {{"max", v.max_map_displacement}, {"sum", v.sum_map_displacement}};
     j["map_singularities"] = v.map_singularities;
+    if (v.located)
+        j["located"] = {{"max_grid_distance", v.max_grid_distance},
+                        {"max_surface_distance", v.max_surface_distance},
+                        {"map_flipped_triangles", v.map_flipped_triangles},
+                        {"coverage_difference", v.coverage_difference}};
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},
                   {"signed_uv_area", v.input_signed_uv_area}};
+    j["undecided"] = nlohmann::json::array();
+    for (const auto& x : v.undecided)
+        j["undecided"].push_back({{"kind", qex::to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
     j["violations"] = nlohmann::json::array();
     for (const auto& x : v.violations)
         j["violations"].push_back({{"kind", qex::to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
@@ -110,6 +118,9 @@ void print_violations(const qex::VerifyResult& v, std::size_t limit = 20) {
     for (std::size_t i = 0; i < v.violations.size() && i < limit; ++i)
         std::cerr << "  " << qex::to_string(v.violations[i].kind) << ": " << v.violations[i].message << "\n";
     if (v.violations.size() > limit) std::cerr << "  ... and " << v.violations.size() - limit << " more\n";
+    for (std::size_t i = 0; i < v.undecided.size() && i < limit; ++i)
+        std::cerr << "  undecided: " << qex::to_string(v.undecided[i].kind) << ": " << v.undecided[i].message << "\n";
+    if (v.undecided.size() > limit) std::cerr << "  ... and " << v.undecided.size() - limit << " more undecided\n";
 }
 
 int run_extract(const std::string& in_path, const std::string& out_path, const std::string& vval_path,
@@ -173,7 +184,7 @@ int run_extract(const std::string& in_path, const std::string& out_path, const s
     return kOk;
 }
 
-int run_check(const std::string& param_path, const std::string& mesh_path, bool json) {
+int run_check(const std::string& param_path, const std::string& mesh_path, bool json, const qex::VerifyOptions& options) {
     qex::Input input;
     if (const auto e = qex::read_obj(param_path, input); !e.ok()) {
         std::cerr << "qex: " << param_path << ": " << e.message << "\n";
@@ -184,7 +195,7 @@ int run_check(const std::string& param_path, const std::string& mesh_path, bool 
         std::cerr << "qex: " << mesh_path << ": " << e.message << "\n";
         return io_exit(e);
     }
-    const qex::VerifyResult v = qex::verify(input, mesh);
+    const qex::VerifyResult v = qex::verify(input, mesh, options);
     if (json) {
         std::cout << to_json(v).dump(2) << "\n";
     } else {
@@ -195,6 +206,16 @@ int run_check(const std::string& param_path, const std::string& mesh_path, bool 
                     static_cast<long long>(v.boundary_loops), static_cast<long long>(v.input_boundary_loops),
                     static_cast<long long>(v.components), static_cast<long long>(v.input_components),
                     v.input_signed_uv_area.c_str());
+        if (v.located) {
+            std::printf("located on the map: largest distance to a grid point %.3g (UV), to the surface %.3g (of the "
+                        "diagonal); %lld faces against the map's area %lld",
+                        v.max_grid_distance, v.max_surface_distance, static_cast<long long>(v.faces),
+                        static_cast<long long>(v.input_signed_uv_area_rounded));
+            if (v.coverage_difference != 0 && v.map_flipped_triangles > 0)
+                std::printf(" (the map has %lld flipped triangles, so full coverage may be impossible)",
+                            static_cast<long long>(v.map_flipped_triangles));
+            std::printf("\n");
+        }
         print_violations(v);
         std::printf("%s\n", v.valid ? "VALID" : "INVALID");
     }
@@ -223,6 +244,15 @@ int main(int argc, char** argv) {
     check->add_option("--param", param_path, "the map: OBJ with per-corner UVs")->required();
     check->add_option("mesh", mesh_path, "the quad mesh OBJ to judge")->required();
     check->add_flag("--json", json, "print the verdict as JSON");
+    qex::VerifyOptions verify_options;
+    check->add_option("--uv-tolerance", verify_options.uv_tolerance,
+                      "largest UV distance of a vertex to its grid point (default 1e-3)")
+        ->check(CLI::NonNegativeNumber);
+    check->add_option("--distance-tolerance", verify_options.distance_tolerance,
+                      "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
+        ->check(CLI::NonNegativeNumber);
+    check->add_flag("--topology-only", [&](std::int64_t) { verify_options.locate = false; },
+                    "skip locating the vertices on the map");
 
     try {
         app.parse(argc, argv);
@@ -230,7 +260,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? kOk : kUsage;
     }
     if (*extract) return run_extract(in_path, out_path, vval_path, report_path, poly, quiet);
-    if (*check) return run_check(param_path, mesh_path, json);
+    if (*check) return run_check(param_path, mesh_path, json, verify_options);
     std::cout << app.help();
     return kUsage;
 }
