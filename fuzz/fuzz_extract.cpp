@@ -72,5 +72,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const VerifyResult v = verify(in, r.mesh);
     if (!v.valid && r.report.defects.empty()) std::abort();
+    // The oracle for other extractors (no provenance): on a fold-free map it must agree, and on
+    // a damaged copy of the mesh it must not crash.
+    QuadMesh bare = r.mesh;
+    bare.provenance.clear();
+    bare.map_uvs.clear();
+    bare.face_uvs.clear();
+    const VerifyResult located = verify(in, bare);
+    // (Snapped features and boundaries move the map, and explained deficits leave cells uncovered.)
+    if (benign && in.feature_edges.empty() && !opt.snap_boundary && v.valid && r.report.explanations.empty() &&
+        !located.valid)
+        std::abort();
+    for (int ops = b.range(0, 3); ops > 0 && !b.empty() && !bare.faces.empty(); --ops) {
+        auto& face = bare.faces[b.range(0, static_cast<int>(bare.faces.size()) - 1)];
+        if (face.size() < 2) continue;
+        switch (b.range(0, 3)) {
+            case 0: std::swap(face[0], face[b.range(1, static_cast<int>(face.size()) - 1)]); break;
+            case 1: face[b.range(0, static_cast<int>(face.size()) - 1)] = b.range(-1, static_cast<int>(bare.positions.size())); break;
+            case 2: bare.positions[b.range(0, static_cast<int>(bare.positions.size()) - 1)][b.range(0, 2)] += b.unit() - 0.5; break;
+            default: face.pop_back(); break;
+        }
+    }
+    (void)verify(in, bare);
     return 0;
 }

@@ -108,14 +108,24 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
         report.flipped_after_untangling = detail::untangle_fold_overs(m, rung.untangle_rings, rung.untangle_iterations);
         timer.done("untangle");
     }
+    // Branch points (r = 0 singularities) are decided by angles. Without given valences they are
+    // snapped only once the truncated map's degenerate edges are collapsed: before, a noisy
+    // sliver next to a vertex can add a full turn to its angle sum.
+    bool branch_points = !input.valences.empty();
     for (int round = 0;; ++round) {
         detail::compute_transitions(m);
         detail::count_valences(m);
-        if ((result.error = detail::sanitize(m, input.valences, features, report)).code != ErrorCode::None)
+        std::int64_t deferred = 0;
+        if ((result.error = detail::sanitize(m, input.valences, features, report, branch_points, &deferred)).code !=
+            ErrorCode::None)
             return false;
         if ((result.error = detail::collapse_degenerate_edges(m, collapsed)).code != ErrorCode::None) return false;
         report.collapsed_edges += collapsed;
-        if (collapsed == 0 || round == 8) break;
+        if (round == 8) break;
+        if (collapsed == 0) {
+            if (branch_points || deferred == 0) break;
+            branch_points = true; // one more pass, now on the collapsed map
+        }
     }
     detail::count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())

@@ -72,7 +72,16 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
         if (closed) {
             faces.push_back(face);
         } else if (boundary) {
+            // The walk reached the boundary between grid points: the boundary is not on an integer
+            // iso-line here, and the face intersecting it is discarded (Section 5.1).
             ++report.boundary_faces_discarded;
+            const QVertex& v = q.qvertices[face.qv[0]];
+            report.explanations.push_back({DefectKind::BoundaryFaceDiscarded,
+                                           "a face walk from grid point (" + std::to_string(v.grid[0]) + ", " +
+                                               std::to_string(v.grid[1]) + ") of input triangle " +
+                                               std::to_string(m.input_triangle[v.chart]) +
+                                               " ran into the boundary between grid points; the face is left out",
+                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
         } else {
             ++report.open_face_walks;
             report.defects.push_back({DefectKind::OpenFaceWalk,

@@ -25,13 +25,23 @@ TriMesh make_mesh(const Input& in) {
 Error build_topology(TriMesh& m, const char* what) {
     const int nf = m.num_faces();
     const int nh = 3 * nf;
-    // Sort half-edges by undirected edge key; pairs become opposites.
+    // Half-edges ordered by undirected edge key (smaller vertex, larger vertex), then by index;
+    // pairs become opposites. Bucketed by the smaller vertex (counting sort), then each small
+    // bucket sorted by insertion: linear time, and the order std::sort would give.
     std::vector<std::pair<std::uint64_t, int>> keys(nh);
-    for (int h = 0; h < nh; ++h) {
-        const auto a = static_cast<std::uint64_t>(m.origin(h)), b = static_cast<std::uint64_t>(m.target(h));
-        keys[h] = {std::min(a, b) << 32 | std::max(a, b), h};
+    {
+        std::vector<int> bucket(static_cast<std::size_t>(m.num_vertices) + 1, 0);
+        for (int h = 0; h < nh; ++h) ++bucket[static_cast<std::size_t>(std::min(m.origin(h), m.target(h))) + 1];
+        for (int v = 0; v < m.num_vertices; ++v) bucket[v + 1] += bucket[v];
+        std::vector<int> fill(bucket.begin(), bucket.end() - 1);
+        for (int h = 0; h < nh; ++h) {
+            const auto a = static_cast<std::uint64_t>(m.origin(h)), b = static_cast<std::uint64_t>(m.target(h));
+            keys[static_cast<std::size_t>(fill[std::min(a, b)]++)] = {std::min(a, b) << 32 | std::max(a, b), h};
+        }
+        for (int v = 0; v < m.num_vertices; ++v)
+            for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)
+                for (int j = i; j > bucket[v] && keys[j] < keys[j - 1]; --j) std::swap(keys[j], keys[j - 1]);
     }
-    std::sort(keys.begin(), keys.end());
     m.opp.assign(nh, -1);
     for (int i = 0; i < nh;) {
         int j = i;
@@ -78,8 +88,14 @@ Error build_topology(TriMesh& m, const char* what) {
             m.fan_start[v] = h;
         }
     }
-    for (int v = 0; v < nv; ++v) {
-        if (m.fan_start[v] < 0) continue; // unreferenced after a collapse; not part of the mesh
+    m.vertex_order.clear();
+    m.vertex_order.reserve(static_cast<std::size_t>(nv));
+    {
+        std::vector<char> listed(static_cast<std::size_t>(nv), 0);
+        for (int h = 0; h < nh; ++h)
+            if (!listed[m.origin(h)]) listed[m.origin(h)] = 1, m.vertex_order.push_back(m.origin(h));
+    }
+    for (const int v : m.vertex_order) {
         int count = 0;
         for (int h = m.fan_start[v]; h >= 0;) {
             ++count;

@@ -35,6 +35,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::PortlessQVertex: return "PortlessQVertex";
         case DefectKind::CheckerViolation: return "CheckerViolation";
         case DefectKind::FaceCollapsed: return "FaceCollapsed";
+        case DefectKind::BoundaryFaceDiscarded: return "BoundaryFaceDiscarded";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";
     }
     return "Unknown";

@@ -29,6 +29,9 @@ struct TriMesh {
     std::vector<int> fan_start;     ///< per vertex: first corner of its fan in clockwise order
     std::vector<int> fan_size;      ///< per vertex: number of corners
     std::vector<char> on_boundary;  ///< per vertex
+    /// Referenced vertices in the order their first corners appear. Walking fans in this order
+    /// keeps consecutive fans in nearby memory (vertex numbering often has no locality at all).
+    std::vector<int> vertex_order;
 
     // map (transitions, sanitization, valences)
     std::vector<GridAutomorphism> transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
@@ -78,8 +81,13 @@ std::int64_t untangle_fold_overs(TriMesh& m, int rings, int iterations);
 
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
+/// Branch points (r = 0, valence 8 or more) are snapped only when `branch_points` is set; with
+/// it unset they are truncated like regular vertices and counted in `*deferred`. (Their
+/// valence comes from angles, which noise makes meaningless next to an edge that is about to
+/// become degenerate: the caller decides them once such edges are collapsed.)
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
-               const std::vector<std::array<int, 2>>& feature_edges, Report& report);
+               const std::vector<std::array<int, 2>>& feature_edges, Report& report, bool branch_points = true,
+               std::int64_t* deferred = nullptr);
 
 // ============================================================================ q-vertices and q-ports
 

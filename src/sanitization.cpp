@@ -79,7 +79,9 @@ std::vector<std::vector<FeatureConstraint>> feature_constraints(
 } // namespace
 
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
-               const std::vector<std::array<int, 2>>& feature_edges, Report& report) {
+               const std::vector<std::array<int, 2>>& feature_edges, Report& report, bool branch_points,
+               std::int64_t* deferred) {
+    if (deferred) *deferred = 0;
     Error error;
     const auto features = feature_constraints(m, feature_edges, error);
     if (error.code != ErrorCode::None) return error;
@@ -92,7 +94,9 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
     double max_disp = 0.0, sum_disp = 0.0;
     std::int64_t singularities = 0;
 
-    for (int v = 0; v < nv; ++v) {
+    // Fans in corner order (TriMesh::vertex_order); each vertex writes only its own corners, so
+    // the order does not change the result.
+    for (const int v : m.vertex_order) {
         if (m.fan_start[v] < 0) continue;
         fan.clear();
         for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
@@ -111,7 +115,9 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
         // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
         // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
         const int val = !given_valences.empty() ? given_valences[m.input_vertex[v]] : std::abs(m.winding_valence[v]);
-        const bool singular = closed && (loop.r != 0 || val >= 8);
+        const bool branch = closed && loop.r == 0 && val >= 8;
+        if (branch && !branch_points && deferred) ++*deferred;
+        const bool singular = closed && (loop.r != 0 || (branch && branch_points));
         if (closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0))
             return {ErrorCode::InconsistentMap,
                     "the transitions around vertex " + std::to_string(m.input_vertex[v]) +

@@ -16,7 +16,7 @@ void count_valences(TriMesh& m, bool singular_only) {
     m.valence.assign(nv, 4);
     m.winding_valence.assign(nv, 4);
     std::vector<std::pair<int, double>> fan; // (orientation sign, signed inner angle)
-    for (int v = 0; v < nv; ++v) {
+    for (const int v : m.vertex_order) {
         if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
         if (singular_only && !m.singular[v]) continue;
         fan.clear();

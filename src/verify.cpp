@@ -27,6 +27,22 @@ int find(std::vector<int>& parent, int x) {
 
 std::uint64_t key(int a, int b) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b); }
 
+/// Sorts (key, corner) pairs by key, then corner, where key = a << 32 | b with a, b below
+/// `num_vertices`: two stable counting passes (least significant half first) over corners
+/// given in increasing order, which is linear and gives exactly std::sort's order.
+void sort_by_key(std::vector<std::pair<std::uint64_t, std::uint32_t>>& e, std::size_t num_vertices) {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> tmp(e.size());
+    std::vector<std::size_t> count(num_vertices + 1);
+    for (int pass = 0; pass < 2; ++pass) {
+        const int shift = pass == 0 ? 0 : 32;
+        std::fill(count.begin(), count.end(), 0);
+        for (const auto& x : e) ++count[((x.first >> shift) & 0xffffffffu) + 1];
+        for (std::size_t v = 0; v < num_vertices; ++v) count[v + 1] += count[v];
+        for (const auto& x : e) tmp[count[(x.first >> shift) & 0xffffffffu]++] = x;
+        e.swap(tmp);
+    }
+}
+
 /// Topology of a polygon mesh with valid indices; appends violations when `out` is given.
 /// Directed edges are sorted once; twins are found by binary search (no hash tables).
 /// `offset` (size F+1) and `corner_vertex` describe the faces as flat arrays.
@@ -57,7 +73,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
         edges[c] = {key(std::min(a, b), std::max(a, b)), static_cast<std::uint32_t>(c)};
     }
-    std::sort(edges.begin(), edges.end());
+    sort_by_key(edges, num_vertices);
     std::vector<std::int64_t> twin(nc, -1);
     for (std::size_t i = 0; i < nc;) {
         std::size_t j = i;

@@ -130,6 +130,7 @@ enum class DefectKind {
     // Explanations (Report::explanations): why the quad count differs from the UV area.
     FaceCollapsed,      ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
     GhostFacesCancelled,///< a face and its reverse (a fold-over's double cover) were removed together
+    BoundaryFaceDiscarded, ///< a face walk ran into a boundary that is not on an integer iso-line
 };
 const char* to_string(DefectKind kind);
 
