@@ -98,7 +98,7 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
             }
             t[k] = new_id[v];
             out.uv.push_back(m.uv[3 * f + k]);
-            out.corner_pos.push_back(m.corner_pos[3 * f + k]);
+            out.corner_vertex.push_back(m.corner_vertex[3 * f + k]);
         }
         out.tri.push_back(t);
         out.input_triangle.push_back(m.input_triangle[f]);
@@ -106,6 +106,7 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
     if (out.tri.empty())
         return {ErrorCode::CollapseFailed, "every triangle is degenerate in the parameter domain", -1};
     out.num_vertices = nv;
+    out.positions = m.positions;
     m = std::move(out);
     Error e = build_topology(m, "after collapsing UV-degenerate edges");
     if (e.code != ErrorCode::None) e.code = ErrorCode::CollapseFailed;

@@ -12,9 +12,10 @@ TriMesh make_mesh(const Input& in) {
     m.num_vertices = static_cast<int>(in.positions.size());
     m.tri = in.triangles;
     m.uv = in.uvs;
-    m.corner_pos.resize(3 * in.triangles.size());
+    m.positions = &in.positions;
+    m.corner_vertex.resize(3 * in.triangles.size());
     for (std::size_t f = 0; f < in.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) m.corner_pos[3 * f + k] = in.positions[in.triangles[f][k]];
+        for (int k = 0; k < 3; ++k) m.corner_vertex[3 * f + k] = in.triangles[f][k];
     m.input_triangle.resize(in.triangles.size());
     std::iota(m.input_triangle.begin(), m.input_triangle.end(), 0);
     m.input_vertex.resize(in.positions.size());

@@ -78,97 +78,159 @@ bool read_file(const std::string& path, std::string& data) {
 
 } // namespace
 
-IoError parse_obj(const char* data, std::size_t size, Input& out) {
-    out = Input{};
-    std::vector<std::array<double, 2>> vts;
-    struct FaceCorner { std::int64_t v, t; std::int64_t line; };
-    std::vector<std::array<FaceCorner, 3>> faces;
-    Cursor c{data, data + size};
-    while (c.p < c.end) {
-        c.skip_blanks();
-        if (c.p >= c.end) break;
-        const char ch = *c.p;
-        if (ch == '\n') { ++c.p; ++c.line; continue; }
-        if (ch == '#') { c.skip_line(); continue; }
-        const char* kw = c.p;
-        while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
-        const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
-        if (key == "v") {
-            std::array<double, 3> p{};
-            for (double& x : p)
-                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
-            double w;
-            if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'v' record");
-            for (double x : p)
-                if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite vertex coordinate");
-            out.positions.push_back(p);
-        } else if (key == "vt") {
-            std::array<double, 2> t{};
-            for (double& x : t)
-                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 2 numbers after 'vt'");
-            double w;
-            if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'vt' record");
-            for (double x : t)
-                if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite texture coordinate");
-            vts.push_back(t);
-        } else if (key == "f") {
-            std::array<FaceCorner, 3> f{};
-            int n = 0;
-            while (!c.at_eol()) {
-                FaceCorner fc{0, 0, c.line};
-                if (!c.read_int(fc.v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
-                if (c.p >= c.end || *c.p != '/')
-                    return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
-                ++c.p;
-                if (!c.read_int(fc.t))
-                    return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
-                if (c.p < c.end && *c.p == '/') { // normal index, ignored
+namespace {
+
+/// The OBJ reader's state across chunks of a file (each chunk ends at a line end, or is the last).
+/// Triangles are stored as they come; corner UVs are looked up once every `vt` is known.
+class ObjParser {
+public:
+    explicit ObjParser(Input& out) : out_(out) { out_ = Input{}; }
+
+    IoError feed(const char* data, std::size_t size) {
+        Cursor c{data, data + size, line_};
+        IoError e = parse(c);
+        line_ = c.line;
+        return e;
+    }
+
+    void finish() {
+        out_.uvs.resize(tex_.size());
+        for (std::size_t i = 0; i < tex_.size(); ++i) out_.uvs[i] = vts_[static_cast<std::size_t>(tex_[i])];
+        std::vector<int>().swap(tex_);
+        std::vector<std::array<double, 2>>().swap(vts_);
+    }
+
+private:
+    IoError parse(Cursor& c) {
+        Input& out = out_;
+        while (c.p < c.end) {
+            c.skip_blanks();
+            if (c.p >= c.end) break;
+            const char ch = *c.p;
+            if (ch == '\n') { ++c.p; ++c.line; continue; }
+            if (ch == '#') { c.skip_line(); continue; }
+            const char* kw = c.p;
+            while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
+            const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
+            if (key == "v") {
+                std::array<double, 3> p{};
+                for (double& x : p)
+                    if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
+                double w;
+                if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'v' record");
+                for (double x : p)
+                    if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite vertex coordinate");
+                out.positions.push_back(p);
+            } else if (key == "vt") {
+                std::array<double, 2> t{};
+                for (double& x : t)
+                    if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 2 numbers after 'vt'");
+                double w;
+                if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'vt' record");
+                for (double x : t)
+                    if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite texture coordinate");
+                vts_.push_back(t);
+            } else if (key == "f") {
+                std::array<std::int64_t, 3> fv{}, ft{};
+                int n = 0;
+                while (!c.at_eol()) {
+                    std::int64_t v = 0, t = 0;
+                    if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+                    if (c.p >= c.end || *c.p != '/')
+                        return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
                     ++c.p;
-                    std::int64_t nidx;
-                    if (!c.read_int(nidx)) return err(IoError::Code::Syntax, c.line, "malformed normal index");
+                    if (!c.read_int(t))
+                        return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
+                    if (c.p < c.end && *c.p == '/') { // normal index, ignored
+                        ++c.p;
+                        std::int64_t nidx;
+                        if (!c.read_int(nidx)) return err(IoError::Code::Syntax, c.line, "malformed normal index");
+                    }
+                    if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
+                        return err(IoError::Code::Syntax, c.line, "malformed face corner");
+                    if (n == 3) return err(IoError::Code::NonTriangle, c.line, "face with more than 3 corners (only triangles are accepted)");
+                    fv[n] = v;
+                    ft[n++] = t;
                 }
-                if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
-                    return err(IoError::Code::Syntax, c.line, "malformed face corner");
-                if (n == 3) return err(IoError::Code::NonTriangle, c.line, "face with more than 3 corners (only triangles are accepted)");
-                f[n++] = fc;
+                if (n != 3)
+                    return err(IoError::Code::NonTriangle, c.line, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
+                // OBJ allows relative indices: resolve against the counts seen so far.
+                std::array<int, 3> tri{}, tex{};
+                for (int k = 0; k < 3; ++k) {
+                    if (!resolve(fv[k], out.positions.size(), tri[k]))
+                        return err(IoError::Code::IndexOutOfRange, c.line, "vertex index " + std::to_string(fv[k]) + " out of range");
+                    if (!resolve(ft[k], vts_.size(), tex[k]))
+                        return err(IoError::Code::IndexOutOfRange, c.line, "texture index " + std::to_string(ft[k]) + " out of range");
+                }
+                out.triangles.push_back(tri);
+                tex_.insert(tex_.end(), tex.begin(), tex.end());
+            } else if (key == "vn" || key == "vp" || key == "o" || key == "g" || key == "s" || key == "usemtl" ||
+                       key == "mtllib" || key == "l") {
+                c.skip_line(); // records without meaning for the map
+                continue;
+            } else {
+                return err(IoError::Code::Syntax, c.line, "unknown record '" + std::string(key.substr(0, 32)) + "'");
             }
-            if (n != 3)
-                return err(IoError::Code::NonTriangle, c.line, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
-            // OBJ allows relative indices: resolve against the counts seen so far.
-            for (auto& fc : f) {
-                int vi, ti;
-                if (!resolve(fc.v, out.positions.size(), vi))
-                    return err(IoError::Code::IndexOutOfRange, c.line, "vertex index " + std::to_string(fc.v) + " out of range");
-                if (!resolve(fc.t, vts.size(), ti))
-                    return err(IoError::Code::IndexOutOfRange, c.line, "texture index " + std::to_string(fc.t) + " out of range");
-                fc.v = vi;
-                fc.t = ti;
-            }
-            faces.push_back(f);
-        } else if (key == "vn" || key == "vp" || key == "o" || key == "g" || key == "s" || key == "usemtl" ||
-                   key == "mtllib" || key == "l") {
-            c.skip_line(); // records without meaning for the map
-            continue;
-        } else {
-            return err(IoError::Code::Syntax, c.line, "unknown record '" + std::string(key.substr(0, 32)) + "'");
+            if (!c.at_eol()) return err(IoError::Code::Syntax, c.line, "trailing characters");
+            if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
+            if (c.p < c.end) { ++c.p; ++c.line; }
         }
-        if (!c.at_eol()) return err(IoError::Code::Syntax, c.line, "trailing characters");
-        if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
-        if (c.p < c.end) { ++c.p; ++c.line; }
+        return {};
     }
-    out.triangles.reserve(faces.size());
-    out.uvs.reserve(3 * faces.size());
-    for (const auto& f : faces) {
-        out.triangles.push_back({static_cast<int>(f[0].v), static_cast<int>(f[1].v), static_cast<int>(f[2].v)});
-        for (const auto& fc : f) out.uvs.push_back(vts[static_cast<std::size_t>(fc.t)]);
-    }
+
+    Input& out_;
+    std::vector<std::array<double, 2>> vts_;
+    std::vector<int> tex_; // per corner: index into vts_
+    std::int64_t line_ = 1;
+};
+
+} // namespace
+
+IoError parse_obj(const char* data, std::size_t size, Input& out) {
+    ObjParser parser(out);
+    if (IoError e = parser.feed(data, size); !e.ok()) return e;
+    parser.finish();
     return {};
 }
 
 IoError read_obj(const std::string& path, Input& out) {
-    std::string data;
-    if (!read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
-    return parse_obj(data.data(), data.size(), out);
+    // Chunks of about 4 MiB, each cut after its last line end, so a large file is never held
+    // whole in memory.
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    ObjParser parser(out);
+    std::string buf;
+    std::size_t kept = 0; // bytes of an unfinished line carried over
+    IoError result;
+    for (;;) {
+        const std::size_t chunk = std::size_t{1} << 22;
+        buf.resize(kept + chunk);
+        const std::size_t n = std::fread(&buf[kept], 1, chunk, f);
+        const std::size_t have = kept + n;
+        if (n == 0) {
+            if (std::ferror(f)) result = {IoError::Code::CannotOpen, "cannot read '" + path + "'", 0};
+            else if (have > 0) result = parser.feed(buf.data(), have);
+            break;
+        }
+        const void* last = nullptr;
+        for (std::size_t i = have; i > kept && !last; --i)
+            if (buf[i - 1] == '\n') last = &buf[i - 1];
+        if (!last) { // no line end in the new bytes: the line goes on
+            kept = have;
+            continue;
+        }
+        const std::size_t upto = static_cast<std::size_t>(static_cast<const char*>(last) - buf.data()) + 1;
+        if (result = parser.feed(buf.data(), upto); !result.ok()) break;
+        kept = have - upto;
+        std::memmove(&buf[0], &buf[upto], kept);
+    }
+    std::fclose(f);
+    if (!result.ok()) {
+        out = Input{};
+        return result;
+    }
+    parser.finish();
+    return {};
 }
 
 IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {

@@ -20,7 +20,10 @@ struct TriMesh {
     int num_vertices = 0;
     std::vector<std::array<int, 3>> tri;
     std::vector<Point2> uv;                        ///< per corner, in the chart of its triangle
-    std::vector<std::array<double, 3>> corner_pos; ///< per corner: original 3D position (survives collapses)
+    /// Per corner: the input vertex whose 3D position the corner keeps (survives collapses).
+    std::vector<int> corner_vertex;
+    const std::vector<std::array<double, 3>>* positions = nullptr; ///< the input's, outlives the mesh
+    const std::array<double, 3>& pos(int c) const { return (*positions)[static_cast<std::size_t>(corner_vertex[c])]; }
     std::vector<int> input_triangle;               ///< per triangle: index in the input
     std::vector<int> input_vertex;                 ///< per vertex: a representative input vertex
 

@@ -24,7 +24,7 @@ std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Po
 /// the result does not depend on the input's corner order.
 std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
     std::array<int, 3> c{3 * f, 3 * f + 1, 3 * f + 2};
-    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.corner_pos[i] < m.corner_pos[j]; });
+    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.pos(i) < m.pos(j); });
     const auto w = barycentric_raw(x, m.uv[c[0]], m.uv[c[1]], m.uv[c[2]]);
     std::array<double, 3> out{};
     for (int i = 0; i < 3; ++i) out[c[i] - 3 * f] = w[i];
@@ -34,10 +34,10 @@ std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
 /// Position from barycentric weights, summed in 3D order of the corners.
 std::array<double, 3> embed(const TriMesh& m, int f, const std::array<double, 3>& w) {
     std::array<int, 3> c{0, 1, 2};
-    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.corner_pos[3 * f + i] < m.corner_pos[3 * f + j]; });
+    std::sort(c.begin(), c.end(), [&](int i, int j) { return m.pos(3 * f + i) < m.pos(3 * f + j); });
     std::array<double, 3> p{0, 0, 0};
     for (int i : c)
-        for (int d = 0; d < 3; ++d) p[d] += w[i] * m.corner_pos[3 * f + i][d];
+        for (int d = 0; d < 3; ++d) p[d] += w[i] * m.pos(3 * f + i)[d];
     return p;
 }
 
@@ -79,7 +79,7 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
         w[c % 3] = 1.0;
         q.qvertices.push_back({QVertexKind::Vertex, v, TriMesh::face(c),
                                {static_cast<std::int64_t>(m.uv[c][0]), static_cast<std::int64_t>(m.uv[c][1])},
-                               m.corner_pos[c], w});
+                               m.pos(c), w});
     }
     // Edge-q-vertices: on each edge, in the chart of its smaller half-edge.
     q.edge_first.assign(3 * nf, 0);
@@ -106,7 +106,7 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                 if (p == a || p == b || !on_segment(p, a, b)) continue;
                 // Parametrise from the endpoint first in 3D order, so input order does not matter.
                 const int f = TriMesh::face(h), k = h % 3;
-                const bool swap = m.corner_pos[TriMesh::next(h)] < m.corner_pos[h];
+                const bool swap = m.pos(TriMesh::next(h)) < m.pos(h);
                 const double s = swap ? segment_param(p, b, a) : segment_param(p, a, b);
                 std::array<double, 3> w{0, 0, 0};
                 w[k] = swap ? s : 1.0 - s;
