@@ -1,7 +1,9 @@
 // Bad input: every problem gets its own error code and names its place; nothing crashes.
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -147,6 +149,43 @@ TEST(Obj, TruncatedFilesNeverCrash) {
         const IoError e = parse(good.substr(0, n), in);
         if (e.ok()) (void)extract(in); // whatever parsed must be handled cleanly
     }
+}
+
+TEST(Obj, FilesAreReadInChunksLikeOneBuffer) {
+    // read_obj streams 4 MiB chunks cut at line ends; a file of several chunks must read exactly
+    // as parse_obj reads the whole text, and a bad line past the first chunk keeps its number.
+    Input big = subdivide(subdivide(make_map(torus_layout(8, 6), 2, 8)));
+    std::string text = to_obj(big);
+    ASSERT_GT(text.size(), std::size_t{9} << 20); // three chunks at least
+    const std::string path = ::testing::TempDir() + "qex_chunks.obj";
+    auto write = [&](const std::string& t) {
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_NE(f, nullptr);
+        std::fwrite(t.data(), 1, t.size(), f);
+        std::fclose(f);
+    };
+    write(text);
+    Input from_file, from_text;
+    ASSERT_TRUE(read_obj(path, from_file).ok());
+    ASSERT_TRUE(parse_obj(text.data(), text.size(), from_text).ok());
+    EXPECT_EQ(from_file.positions, from_text.positions);
+    EXPECT_EQ(from_file.triangles, from_text.triangles);
+    EXPECT_EQ(from_file.uvs, from_text.uvs);
+    EXPECT_EQ(from_file.uvs, big.uvs);
+    // A malformed record in the last chunk, and a file without a final line end.
+    const std::size_t at = text.rfind("\nf ");
+    ASSERT_NE(at, std::string::npos);
+    std::string broken = text.substr(0, at + 1) + "f 1/1 2/x 3/3\n" + text.substr(at + 1);
+    broken.pop_back();
+    write(broken);
+    Input a, b;
+    const IoError ef = read_obj(path, a), et = parse_obj(broken.data(), broken.size(), b);
+    EXPECT_FALSE(ef.ok());
+    EXPECT_EQ(ef.line, et.line);
+    EXPECT_EQ(ef.message, et.message);
+    EXPECT_EQ(ef.line, static_cast<std::int64_t>(std::count(broken.begin(), broken.begin() + at + 1, '\n')) + 1);
+    EXPECT_TRUE(a.triangles.empty());
+    std::remove(path.c_str());
 }
 
 TEST(Vval, HeaderCountAndValues) {
