@@ -208,6 +208,7 @@ Result extract(const Input& input, const Options& options) {
     const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : 1;
     Result best;
     std::size_t best_violations = SIZE_MAX;
+    std::vector<std::array<double, 2>> given_map; // the first rung's sanitized map
     for (int r = 0; r < rungs; ++r) {
         Result attempt;
         attempt.report.input_vertices = report.input_vertices;
@@ -225,7 +226,24 @@ Result extract(const Input& input, const Options& options) {
         }
         if (!run_pipeline(std::move(m), input, options, kLadder[r], attempt))
             return attempt; // input error: no rung helps
+        if (r == 0) given_map = attempt.mesh.map_uvs;
+        if (kLadder[r].untangle_rings > 0 && !given_map.empty()) {
+            // A relaxed map is not the given one: every vertex moves onto its grid point in the
+            // given (sanitized) map, so the mesh is judged against that map.
+            attempt.report.unplaced_vertices = detail::place_on_given_map(input, given_map, attempt.mesh);
+        }
         attempt.check = verify(input, attempt.mesh);
+        if (kLadder[r].untangle_rings > 0 && attempt.check.valid) {
+            // And it must pass the oracle that judges it against the given map alone (as
+            // `qex check` would), or the rung is rejected.
+            QuadMesh bare;
+            bare.positions = attempt.mesh.positions;
+            bare.faces = attempt.mesh.faces;
+            const VerifyResult located = verify(input, bare);
+            for (const Violation& v : located.violations)
+                attempt.check.violations.push_back({v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
+            attempt.check.valid = attempt.check.violations.empty();
+        }
         attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
         if (attempt.check.valid) return attempt;
         // Untangling moves only vertices near flipped or degenerate triangles: without any,

@@ -82,6 +82,12 @@ void count_valences(TriMesh& m, bool singular_only = false);
 /// their neighbours, through exact transitions. Returns the number of triangles still flipped.
 std::int64_t untangle_fold_overs(TriMesh& m, int rings, int iterations);
 
+/// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
+/// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
+/// by a breadth-first search from its provenance triangle, and sets its provenance and the
+/// mesh's map to that map. Returns the number of vertices it could not place.
+std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
 /// Branch points (r = 0, valence 8 or more) are snapped only when `branch_points` is set; with

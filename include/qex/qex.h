@@ -176,6 +176,9 @@ struct Report {
     std::int64_t check_violations = 0;
     /// Triangles still flipped after untangling (rungs past the first).
     std::int64_t flipped_after_untangling = 0;
+    /// Rungs past the first: output vertices that found no preimage of their grid point in the
+    /// given map (they stay where the relaxed map put them, and the checker rejects them).
+    std::int64_t unplaced_vertices = 0;
     /// Wall time per stage, in the order the stages ran.
     std::vector<std::pair<std::string, double>> stage_seconds;
 };

@@ -86,7 +86,8 @@ nlohmann::json to_json(const qex::Report& r) {
                   {"non_quad", r.non_quad_faces}};
     j["fallback"] = {{"rung", r.rung},
                      {"rungs_tried", r.rungs_tried},
-                     {"flipped_after_untangling", r.flipped_after_untangling}};
+                     {"flipped_after_untangling", r.flipped_after_untangling},
+                     {"unplaced_vertices", r.unplaced_vertices}};
     j["defects"] = nlohmann::json::array();
     for (const auto& d : r.defects)
         j["defects"].push_back({{"kind", qex::to_string(d.kind)},
