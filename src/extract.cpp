@@ -268,6 +268,18 @@ Result extract(const Input& input, const Options& options) {
             if (!best.mesh.faces[v.element].empty()) vertex = best.mesh.faces[v.element][0];
         } else if (v.kind == ViolationKind::NonManifoldVertex) {
             vertex = static_cast<int>(v.element);
+        } else if ((v.kind == ViolationKind::EulerMismatch || v.kind == ViolationKind::BoundaryMismatch ||
+                    v.kind == ViolationKind::ComponentMismatch) &&
+                   !best.report.explanations.empty()) {
+            // A global defect has no single place; the places where faces were removed are where
+            // the topology can have changed.
+            d.message += " (faces were removed at " + std::to_string(best.report.explanations.size()) +
+                         " places, listed in explanations; the first is near grid point (" +
+                         std::to_string(best.report.explanations[0].grid[0]) + ", " +
+                         std::to_string(best.report.explanations[0].grid[1]) + ") of input triangle " +
+                         std::to_string(best.report.explanations[0].input_element) + ")";
+            d.input_element = best.report.explanations[0].input_element;
+            d.grid = best.report.explanations[0].grid;
         }
         if (vertex >= 0 && vertex < static_cast<int>(best.mesh.provenance.size())) {
             const Provenance& p = best.mesh.provenance[vertex];
