@@ -128,12 +128,7 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
             if (u[k] == x) corner = k;
             else if (sign(orient2d(u[k], u[(k + 1) % 3], x)) == 0) edge = k;
         }
-        const double area = (u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0]);
-        std::array<double, 3> w{};
-        for (int k = 0; k < 3; ++k) {
-            const Point2 &e0 = u[(k + 1) % 3], &e1 = u[(k + 2) % 3];
-            w[static_cast<std::size_t>(k)] = ((e0[0] - x[0]) * (e1[1] - x[1]) - (e0[1] - x[1]) * (e1[0] - x[0])) / area;
-        }
+        std::array<double, 3> w = barycentric_exact(x, u[0], u[1], u[2]); // a rare path: exact
         if (corner >= 0) {
             np.kind = QVertexKind::Vertex;
             np.element = tri[static_cast<std::size_t>(corner)];

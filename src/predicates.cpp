@@ -2,6 +2,7 @@
 #include "predicates.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
 
 #include <algorithm>
 
@@ -55,6 +56,16 @@ bool segment_hits_half_open(const Point2& p, const Point2& q, const Point2& a, c
     // The unique intersection point is a itself exactly when a lies on the line of [p, q].
     if (oa == 0) return false;
     return true;
+}
+
+std::array<double, 3> barycentric_exact(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+    using Q = CGAL::Exact_rational;
+    const Q ax(a[0]), ay(a[1]), bx(b[0]), by(b[1]), cx(c[0]), cy(c[1]), px(x[0]), py(x[1]);
+    const Q det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+    if (det == 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    const Q wb = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / det;
+    const Q wc = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / det;
+    return {CGAL::to_double(Q(1) - wb - wc), CGAL::to_double(wb), CGAL::to_double(wc)};
 }
 
 } // namespace qex::detail

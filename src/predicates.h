@@ -24,4 +24,8 @@ bool on_segment(const Point2& x, const Point2& p, const Point2& q);
 /// Exact test: is x in the closed triangle (a, b, c) of any orientation (a segment or point if degenerate)?
 bool in_closed_triangle(const Point2& x, const Point2& a, const Point2& b, const Point2& c);
 
+/// Barycentric coordinates of x in triangle (a, b, c), computed exactly and rounded at the end
+/// (for slivers, where double arithmetic loses them); thirds if the triangle is degenerate.
+std::array<double, 3> barycentric_exact(const Point2& x, const Point2& a, const Point2& b, const Point2& c);
+
 } // namespace qex::detail

@@ -14,7 +14,11 @@ bool is_integer_point(const Point2& p) { return std::floor(p[0]) == p[0] && std:
 /// Barycentric coordinates of x in (a, b, c); only used for embedding, not for decisions.
 std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
     const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    if (det == 0.0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    // A sliver (area below 2^-20 of the product of two edges) loses its barycentric coordinates
+    // to rounding, and the grid point's 3D position with them: computed exactly there.
+    const double scale = std::max(std::abs(b[0] - a[0]), std::abs(b[1] - a[1])) *
+                         std::max(std::abs(c[0] - a[0]), std::abs(c[1] - a[1]));
+    if (!(std::abs(det) > std::ldexp(scale, -20))) return barycentric_exact(x, a, b, c);
     const double wb = ((x[0] - a[0]) * (c[1] - a[1]) - (x[1] - a[1]) * (c[0] - a[0])) / det;
     const double wc = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
     return {1.0 - wb - wc, wb, wc};

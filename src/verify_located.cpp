@@ -51,6 +51,16 @@ std::array<double, 2> rot_f(std::array<double, 2> p, int r) {
     }
 }
 
+/// Grid points far beyond any map (|coordinate| >= 2^60) are not compared: a path through a
+/// broken map can compose translations without bound.
+constexpr std::int64_t kFar = std::int64_t{1} << 60;
+
+bool unit_step(const std::array<std::int64_t, 2>& a, const std::array<std::int64_t, 2>& b) {
+    for (int k = 0; k < 2; ++k)
+        if (a[k] <= -kFar || a[k] >= kFar || b[k] <= -kFar || b[k] >= kFar) return false;
+    return std::llabs(a[0] - b[0]) + std::llabs(a[1] - b[1]) == 1;
+}
+
 std::string point(const std::array<std::int64_t, 2>& g) {
     return "(" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ")";
 }
@@ -355,6 +365,10 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                                        singular[static_cast<std::size_t>(in.triangles[o / 3][(o % 3 + 1) % 3])];
                     const Transition& T = across[o]; // from t's chart to the chart it was reached from
                     const auto q = rot_i(p, T.r);
+                    if (std::llabs(q[0]) >= kFar || std::llabs(q[1]) >= kFar) { // judged as no unit step
+                        p = {kFar, kFar};
+                        break;
+                    }
                     p = {q[0] + T.tx, q[1] + T.ty};
                     t = static_cast<std::uint32_t>(opposite[o] / 3);
                 }
@@ -363,11 +377,14 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
             return ok;
         };
         auto is_cell = [](const std::array<std::array<std::int64_t, 2>, 4>& q) {
+            for (std::size_t i = 0; i < 4; ++i)
+                if (!unit_step(q[i], q[(i + 1) % 4])) return false;
+            // Unit steps keep every corner within 2 of the first: the area in differences is exact.
             std::int64_t twice_area = 0;
-            for (std::size_t i = 0; i < 4; ++i) {
-                const auto &a = q[i], &b = q[(i + 1) % 4];
-                if (std::llabs(a[0] - b[0]) + std::llabs(a[1] - b[1]) != 1) return false;
-                twice_area += a[0] * b[1] - a[1] * b[0];
+            for (std::size_t i = 1; i + 1 < 4; ++i) {
+                const std::int64_t ax = q[i][0] - q[0][0], ay = q[i][1] - q[0][1];
+                const std::int64_t bx = q[i + 1][0] - q[0][0], by = q[i + 1][1] - q[0][1];
+                twice_area += ax * by - ay * bx;
             }
             return twice_area == 2;
         };
@@ -394,7 +411,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                 for (std::size_t e : {i, (i + 3) % 4}) { // edges (i, i+1) and (i-1, i)
                     const auto &a = g[e], &b = g[(e + 1) % 4];
                     edge_seen[e] = true;
-                    edge_ok[e] = edge_ok[e] || std::llabs(a[0] - b[0]) + std::llabs(a[1] - b[1]) == 1;
+                    edge_ok[e] = edge_ok[e] || unit_step(a, b);
                 }
             }
         }
