@@ -3,6 +3,7 @@
 #include "test_support.h"
 
 #include <rapidcheck.h>
+#include <algorithm>
 #include <cmath>
 #include <rapidcheck/gtest.h>
 
@@ -113,6 +114,54 @@ RC_GTEST_PROP(Properties, InjectedFoldOversStillGiveValidQuadMeshes, ()) {
     RC_CLASSIFY(valid, "valid");
     RC_CLASSIFY(!valid, "invalid, reported");
     RC_ASSERT(valid || !r.report.defects.empty());
+}
+
+QuadMesh without_provenance(QuadMesh m) {
+    m.provenance.clear();
+    m.map_uvs.clear();
+    m.face_uvs.clear();
+    return m;
+}
+
+RC_GTEST_PROP(Properties, TheOracleForOtherExtractorsAcceptsCorrectMeshes, ()) {
+    // `qex check` locates a mesh without provenance on the raw map: on fold-free maps, recharted,
+    // translated and noisy, it must accept what the exact checker accepts.
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    Input in = make_map(layout, c.n, c.k, c.diagonals, c.seed);
+    std::mt19937 rng(c.seed);
+    rechart(in, rng);
+    const auto shift = *rc::gen::inRange<std::int64_t>(-(std::int64_t{1} << 20), std::int64_t{1} << 20);
+    translate(in, shift, shift);
+    add_noise(in, std::pow(10.0, -*rc::gen::inRange(7, 13)), rng);
+    Options opt;
+    opt.snap_boundary = true; // noise must not misalign the disk's and annulus' boundaries
+    const Result r = extract(in, opt);
+    RC_ASSERT(valid_quads(in, r));
+    const VerifyResult v = verify(in, without_provenance(r.mesh));
+    RC_ASSERT(v.located);
+    RC_ASSERT(v.valid);
+}
+
+RC_GTEST_PROP(Properties, TheOracleForOtherExtractorsRejectsDamagedMeshes, ()) {
+    // On a torus (no singularities, no fold-overs: every check is decided) a correct mesh with
+    // one face reversed, one vertex slid along its face, or one face dropped is rejected.
+    const int n = *rc::gen::inRange(1, 4), k = *rc::gen::inRange(1, 5);
+    const Input in = make_map(torus_layout(), n, k, 1, *rc::gen::arbitrary<std::uint32_t>());
+    QuadMesh m = without_provenance(extract(in).mesh);
+    const int f = *rc::gen::inRange(0, static_cast<int>(m.faces.size()));
+    switch (*rc::gen::inRange(0, 3)) {
+        case 0: std::reverse(m.faces[f].begin(), m.faces[f].end()); break;
+        case 1: {
+            const double t = *rc::gen::inRange(10, 91) / 100.0; // towards the next corner
+            auto& p = m.positions[static_cast<std::size_t>(m.faces[f][0])];
+            const auto& q = m.positions[static_cast<std::size_t>(m.faces[f][1])];
+            for (int d = 0; d < 3; ++d) p[d] += t * (q[d] - p[d]);
+            break;
+        }
+        default: m.faces.erase(m.faces.begin() + f); break;
+    }
+    RC_ASSERT(!verify(in, m).valid);
 }
 
 RC_GTEST_PROP(Properties, DegeneraciesAreCollapsedOrTolerated, ()) {
