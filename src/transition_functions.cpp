@@ -64,6 +64,10 @@ void compute_transitions(TriMesh& m) {
         const Point2& b2 = m.uv[o];
         const Point2 e{b[0] - a[0], b[1] - a[1]};
         const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
+        if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
+            determined[h] = determined[o] = 0; // a collapsed triangle's missing UVs: no transition
+            continue;
+        }
         // Rotation: the multiple of 90 degrees closest to the angle from e to e2 (largest dot product).
         int best = 0;
         double best_dot = -HUGE_VAL;
