@@ -120,8 +120,12 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         const int v = corner_vertex[c];
         if (start[v] < 0 || twin[prev_corner(c)] < 0) start[v] = static_cast<std::int64_t>(c);
     }
-    for (std::size_t v = 0; v < num_vertices; ++v) {
-        if (start[v] < 0) continue;
+    // Fans in the order of their first corners (vertex numbering may have no locality at all).
+    std::vector<char> walked(num_vertices, 0);
+    for (std::size_t c0 = 0; c0 < nc; ++c0) {
+        const auto v = static_cast<std::size_t>(corner_vertex[c0]);
+        if (walked[v] || start[v] < 0) continue;
+        walked[v] = 1;
         std::size_t c = static_cast<std::size_t>(start[v]);
         int seen = 0;
         do {
