@@ -346,6 +346,42 @@ TEST(Extraction, SqueezedFansOfNeighbouringSingularities) {
     }
 }
 
+TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
+    // Options::threads changes who computes, not what: bit-identical meshes, provenance and maps.
+    std::vector<Input> inputs;
+    for (const auto& layout : {cube_layout(), prism_layout(5), annulus_layout()}) {
+        Input in = make_map(layout, 2, 5, 2, 7);
+        std::mt19937 rng(3);
+        rechart(in, rng);
+        add_noise(in, 1e-9, rng);
+        inputs.push_back(in);
+    }
+    {
+        std::vector<char> single;
+        Input folded = make_map(torus_layout(), 2, 5, 1, 1, &single);
+        for (int v = 0; v < static_cast<int>(folded.positions.size()); ++v)
+            if (single[v] && displace_vertex(folded, v, 0.7, 0.7) > 0) break;
+        inputs.push_back(folded);
+    }
+    for (const Input& in : inputs) {
+        Options serial, parallel;
+        serial.threads = 1;
+        parallel.threads = 2;
+        const Result a = extract(in, serial), b = extract(in, parallel);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+        EXPECT_EQ(a.mesh.faces, b.mesh.faces);
+        EXPECT_EQ(a.mesh.face_uvs, b.mesh.face_uvs);
+        EXPECT_EQ(a.mesh.map_uvs, b.mesh.map_uvs);
+        ASSERT_EQ(a.mesh.provenance.size(), b.mesh.provenance.size());
+        for (std::size_t i = 0; i < a.mesh.provenance.size(); ++i) {
+            EXPECT_EQ(a.mesh.provenance[i].grid, b.mesh.provenance[i].grid);
+            EXPECT_EQ(a.mesh.provenance[i].chart_triangle, b.mesh.provenance[i].chart_triangle);
+        }
+        EXPECT_EQ(a.report.singularities, b.report.singularities);
+    }
+}
+
 TEST(Extraction, ReportCountsAreConsistent) {
     const auto layout = cube_layout();
     const Result r = extract_valid(make_map(layout, 2, 3));

@@ -107,6 +107,7 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
         return {ErrorCode::CollapseFailed, "every triangle is degenerate in the parameter domain", -1};
     out.num_vertices = nv;
     out.positions = m.positions;
+    out.threads = m.threads;
     m = std::move(out);
     Error e = build_topology(m, "after collapsing UV-degenerate edges");
     if (e.code != ErrorCode::None) e.code = ErrorCode::CollapseFailed;

@@ -196,6 +196,7 @@ Result extract(const Input& input, const Options& options) {
 
     if ((result.error = detail::validate_input_values(input)).code != ErrorCode::None) return result;
     detail::TriMesh m = detail::make_mesh(input);
+    m.threads = detail::thread_count(options.threads);
     if ((result.error = detail::build_topology(m, "input")).code != ErrorCode::None) return result;
     timer.done("validate");
     // Collapse of UV-degenerate edges (Section 3): the input's, before any rung changes the map.
@@ -221,6 +222,7 @@ Result extract(const Input& input, const Options& options) {
         // rather than every run paying for a copy.
         if (r > 0) {
             m = detail::make_mesh(input);
+            m.threads = detail::thread_count(options.threads);
             (void)detail::build_topology(m, "input");         // succeeded above
             (void)detail::collapse_degenerate_edges(m, collapsed); // likewise
         }

@@ -2,10 +2,22 @@
 #include "pipeline.h"
 
 #include <algorithm>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 #include <numeric>
 #include <string>
 
 namespace qex::detail {
+
+int thread_count(int requested) {
+#if defined(_OPENMP)
+    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+#else
+    (void)requested;
+    return 1;
+#endif
+}
 
 TriMesh make_mesh(const Input& in) {
     TriMesh m;
@@ -39,6 +51,9 @@ Error build_topology(TriMesh& m, const char* what) {
             const auto a = static_cast<std::uint64_t>(m.origin(h)), b = static_cast<std::uint64_t>(m.target(h));
             keys[static_cast<std::size_t>(fill[std::min(a, b)]++)] = {std::min(a, b) << 32 | std::max(a, b), h};
         }
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#endif
         for (int v = 0; v < m.num_vertices; ++v)
             for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)
                 for (int j = i; j > bucket[v] && keys[j] < keys[j - 1]; --j) std::swap(keys[j], keys[j - 1]);

@@ -35,6 +35,8 @@ struct TriMesh {
     /// Referenced vertices in the order their first corners appear. Walking fans in this order
     /// keeps consecutive fans in nearby memory (vertex numbering often has no locality at all).
     std::vector<int> vertex_order;
+    /// Threads for the parallel loops (Options::threads; 1 = serial). Results do not depend on it.
+    int threads = 1;
 
     // map (transitions, sanitization, valences)
     std::vector<GridAutomorphism> transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
@@ -56,6 +58,9 @@ struct TriMesh {
 };
 
 // ============================================================================ stages
+
+/// Threads to use for Options::threads (0: every core; 1 without OpenMP).
+int thread_count(int requested);
 
 /// The working mesh of an input whose values are valid (validate_input_values).
 TriMesh make_mesh(const Input& in);

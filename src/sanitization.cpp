@@ -88,15 +88,26 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
 
     const int nv = m.num_vertices;
     m.singular.assign(nv, 0);
+    double max_disp = 0.0, sum_disp = 0.0;
+    std::int64_t singularities = 0, deferred_count = 0;
+    // The first vertex (in vertex_order) whose transitions compose to a pure translation.
+    std::int64_t bad = -1;
+    GridAutomorphism bad_loop;
+
+    // Fans in corner order (TriMesh::vertex_order). Each vertex reads and writes only its own
+    // corners, so neither the order nor the parallel loop changes the result.
+    const auto count = static_cast<std::int64_t>(m.vertex_order.size());
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(m.threads) if (m.threads > 1) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
+#endif
+    {
     std::vector<int> fan;                 // corners clockwise
     std::vector<GridAutomorphism> to_c;   // chart of fan[0] -> chart of fan[i]
-    std::vector<Point2> out;
-    double max_disp = 0.0, sum_disp = 0.0;
-    std::int64_t singularities = 0;
-
-    // Fans in corner order (TriMesh::vertex_order); each vertex writes only its own corners, so
-    // the order does not change the result.
-    for (const int v : m.vertex_order) {
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (std::int64_t index = 0; index < count; ++index) {
+        const int v = m.vertex_order[static_cast<std::size_t>(index)];
         if (m.fan_start[v] < 0) continue;
         fan.clear();
         for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
@@ -116,14 +127,15 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
         // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
         const int val = !given_valences.empty() ? given_valences[m.input_vertex[v]] : std::abs(m.winding_valence[v]);
         const bool branch = closed && loop.r == 0 && val >= 8;
-        if (branch && !branch_points && deferred) ++*deferred;
+        if (branch && !branch_points) ++deferred_count;
         const bool singular = closed && (loop.r != 0 || (branch && branch_points));
-        if (closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0))
-            return {ErrorCode::InconsistentMap,
-                    "the transitions around vertex " + std::to_string(m.input_vertex[v]) +
-                        " compose to a pure translation by (" + std::to_string(loop.tx) + ", " +
-                        std::to_string(loop.ty) + "): the map is not an integer-grid map there",
-                    m.input_vertex[v]};
+        if (closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
+#if defined(_OPENMP)
+#pragma omp critical(qex_sanitize_error)
+#endif
+            if (bad < 0 || index < bad) bad = index, bad_loop = loop;
+            continue;
+        }
 
         Point2 u0 = m.uv[fan[0]];
         if (singular) {
@@ -170,11 +182,24 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
             m.uv[fan[i]] = p;
         }
     }
+    } // parallel region
+    if (bad >= 0) {
+        const int v = m.vertex_order[static_cast<std::size_t>(bad)];
+        return {ErrorCode::InconsistentMap,
+                "the transitions around vertex " + std::to_string(m.input_vertex[v]) + " compose to a pure translation by (" +
+                    std::to_string(bad_loop.tx) + ", " + std::to_string(bad_loop.ty) +
+                    "): the map is not an integer-grid map there",
+                m.input_vertex[v]};
+    }
+    if (deferred) *deferred = deferred_count;
     report.max_sanitization_displacement = std::max(report.max_sanitization_displacement, max_disp);
     report.sum_sanitization_displacement += sum_disp;
     report.singularities = singularities;
 
     m.face_sign.resize(m.num_faces());
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#endif
     for (int f = 0; f < m.num_faces(); ++f)
         m.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
     return {};

@@ -55,6 +55,10 @@ void compute_transitions(TriMesh& m) {
         m.transition[h] = g;
         m.transition[o] = g.inverse();
     };
+    // Each interior edge is set from its smaller half-edge, writing only its own two entries.
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#endif
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];
         if (o < h) continue; // boundary, or already set as the inverse of o
@@ -78,10 +82,17 @@ void compute_transitions(TriMesh& m) {
         }
         set(h, best);
         const Point2 re = GridAutomorphism::rotate(e, best);
-        if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
+        if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2))))
             determined[h] = determined[o] = 0;
+    }
+    // Undetermined edges in index order (edges with a missing UV stay without a transition).
+    for (int h = 0; h < nh; ++h) {
+        const int o = m.opp[h];
+        if (o < h || determined[h]) continue;
+        const Point2 &a = m.uv[h], &a2 = m.uv[TriMesh::next(o)];
+        if (std::isfinite(a[0] + a[1] + a2[0] + a2[1] + m.uv[TriMesh::next(h)][0] + m.uv[TriMesh::next(h)][1] +
+                          m.uv[o][0] + m.uv[o][1]))
             undetermined.push_back(h);
-        }
     }
     for (const int h : undetermined) {
         const int o = m.opp[h];

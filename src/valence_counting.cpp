@@ -15,8 +15,17 @@ void count_valences(TriMesh& m, bool singular_only) {
     const int nv = m.num_vertices;
     m.valence.assign(nv, 4);
     m.winding_valence.assign(nv, 4);
+    const auto count = static_cast<std::int64_t>(m.vertex_order.size());
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(m.threads) if (m.threads > 1)
+#endif
+    {
     std::vector<std::pair<int, double>> fan; // (orientation sign, signed inner angle)
-    for (const int v : m.vertex_order) {
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (std::int64_t i = 0; i < count; ++i) {
+        const int v = m.vertex_order[static_cast<std::size_t>(i)];
         if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
         if (singular_only && !m.singular[v]) continue;
         fan.clear();
@@ -63,6 +72,7 @@ void count_valences(TriMesh& m, bool singular_only) {
         total += run_sign < 0 ? 2.0 * M_PI - run : run;
         m.valence[v] = static_cast<int>(std::lround(2.0 * total / M_PI));
     }
+    } // parallel region
 }
 
 } // namespace qex::detail

@@ -81,6 +81,9 @@ struct Options {
     /// When the checker rejects the output of the paper's method, retry on a map whose fold-over
     /// regions are relaxed (keeping transitions and singularities); see Report::rung.
     bool fallback_ladder = true;
+    /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
+    /// serially. The output is identical for every value.
+    int threads = 0;
 };
 
 // ============================================================================ output

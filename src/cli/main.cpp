@@ -125,7 +125,7 @@ void print_violations(const qex::VerifyResult& v, std::size_t limit = 20) {
 }
 
 int run_extract(const std::string& in_path, const std::string& out_path, const std::string& vval_path,
-                const std::string& report_path, bool poly, bool quiet) {
+                const std::string& report_path, bool poly, bool quiet, int threads) {
     const auto t0 = std::chrono::steady_clock::now();
     qex::Input input;
     if (const auto e = qex::read_obj(in_path, input); !e.ok()) {
@@ -138,7 +138,9 @@ int run_extract(const std::string& in_path, const std::string& out_path, const s
             return io_exit(e);
         }
     const auto t1 = std::chrono::steady_clock::now();
-    qex::Result result = qex::extract(input);
+    qex::Options options;
+    options.threads = threads;
+    qex::Result result = qex::extract(input, options);
     if (!result.ok()) {
         std::cerr << "qex: " << in_path << ": invalid input (" << qex::to_string(result.error.code)
                   << "): " << result.error.message << "\n";
@@ -237,6 +239,9 @@ int main(int argc, char** argv) {
     extract->add_option("--valences", vval_path, "VVAL file with per-vertex cross-field valences");
     extract->add_option("--report", report_path, "write a JSON report (counts, defects, timings, check)");
     extract->add_flag("--poly", poly, "write the mesh even if faces are not quads (exit code stays 5)");
+    int threads = 0;
+    extract->add_option("--threads", threads, "threads for the parallel loops (0: every core, 1: serial); same output")
+        ->check(CLI::Range(0, 1024));
     extract->add_flag("-q,--quiet", quiet, "print nothing on success");
 
     std::string param_path, mesh_path;
@@ -260,7 +265,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? kOk : kUsage;
     }
-    if (*extract) return run_extract(in_path, out_path, vval_path, report_path, poly, quiet);
+    if (*extract) return run_extract(in_path, out_path, vval_path, report_path, poly, quiet, threads);
     if (*check) return run_check(param_path, mesh_path, json, verify_options);
     std::cout << app.help();
     return kUsage;
