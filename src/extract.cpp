@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -76,6 +78,53 @@ Error validate(const Input& input) {
 }
 
 namespace {
+
+/// Where the output leaves the input surface bare: the input vertex farthest from every output
+/// vertex, and that distance in median output edge lengths. A lost handle or a hole shows up as
+/// a bare region. A uniform grid of cells one median edge wide holds the output vertices, and
+/// each input vertex searches up to 4 rings of cells around its own.
+std::pair<int, double> barest_input_vertex(const Input& input, const QuadMesh& mesh) {
+    std::vector<double> lengths;
+    for (const auto& f : mesh.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const auto &a = mesh.positions[static_cast<std::size_t>(f[i])],
+                       &b = mesh.positions[static_cast<std::size_t>(f[(i + 1) % f.size()])];
+            lengths.push_back(std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])));
+        }
+    if (lengths.empty() || mesh.positions.empty()) return {-1, 0.0};
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    const double cell = lengths[lengths.size() / 2];
+    if (!(cell > 0) || !std::isfinite(cell)) return {-1, 0.0};
+    auto key = [&](const std::array<double, 3>& p, int dx, int dy, int dz) {
+        const auto c = [&](double x, int d) { return static_cast<std::int64_t>(std::floor(x / cell)) + d; };
+        return std::array<std::int64_t, 3>{c(p[0], dx), c(p[1], dy), c(p[2], dz)};
+    };
+    std::vector<std::pair<std::array<std::int64_t, 3>, int>> grid;
+    grid.reserve(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) grid.push_back({key(mesh.positions[i], 0, 0, 0), static_cast<int>(i)});
+    std::sort(grid.begin(), grid.end());
+    const int rings = 4;
+    int worst = -1;
+    double worst_d = -1;
+    for (std::size_t v = 0; v < input.positions.size(); ++v) {
+        const auto& p = input.positions[v];
+        double best = HUGE_VAL;
+        for (int dx = -rings; dx <= rings; ++dx)
+            for (int dy = -rings; dy <= rings; ++dy)
+                for (int dz = -rings; dz <= rings; ++dz) {
+                    const auto k = key(p, dx, dy, dz);
+                    auto it = std::lower_bound(grid.begin(), grid.end(), std::make_pair(k, -1));
+                    for (; it != grid.end() && it->first == k; ++it) {
+                        const auto& q = mesh.positions[static_cast<std::size_t>(it->second)];
+                        best = std::min(best, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                                        (p[2] - q[2]) * (p[2] - q[2])));
+                    }
+                }
+        best = std::min(best, (rings + 1) * cell); // beyond the searched rings
+        if (best > worst_d) worst_d = best, worst = static_cast<int>(v);
+    }
+    return {worst, worst_d / cell};
+}
 
 /// The fallback ladder. Each rung re-runs the pipeline from the validated mesh.
 struct Rung {
@@ -282,6 +331,16 @@ Result extract(const Input& input, const Options& options) {
                          std::to_string(best.report.explanations[0].input_element) + ")";
             d.input_element = best.report.explanations[0].input_element;
             d.grid = best.report.explanations[0].grid;
+        }
+        if (v.kind == ViolationKind::EulerMismatch || v.kind == ViolationKind::BoundaryMismatch ||
+            v.kind == ViolationKind::ComponentMismatch) {
+            const auto [bare, distance] = barest_input_vertex(input, best.mesh);
+            if (bare >= 0) {
+                char figure[32];
+                std::snprintf(figure, sizeof figure, "%.1f", distance);
+                d.message += "; the input surface farthest from the output is at input vertex " + std::to_string(bare) +
+                             ", " + figure + " median edge lengths from every output vertex";
+            }
         }
         if (vertex >= 0 && vertex < static_cast<int>(best.mesh.provenance.size())) {
             const Provenance& p = best.mesh.provenance[vertex];
