@@ -349,8 +349,10 @@ TEST(Extraction, SqueezedFansOfNeighbouringSingularities) {
 TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
     // Options::threads changes who computes, not what: bit-identical meshes, provenance and maps.
     std::vector<Input> inputs;
-    for (const auto& layout : {cube_layout(), prism_layout(5), annulus_layout()}) {
-        Input in = make_map(layout, 2, 5, 2, 7);
+    // Loops run in parallel from 2^16 corners on; the large torus and its subdivided cube are
+    // above that, the others below.
+    for (const auto& layout : {cube_layout(), prism_layout(5), annulus_layout(), torus_layout(32, 16)}) {
+        Input in = make_map(layout, 2, layout.quads.size() > 100 ? 6 : 5, 2, 7);
         std::mt19937 rng(3);
         rechart(in, rng);
         add_noise(in, 1e-9, rng);
@@ -362,7 +364,10 @@ TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
         for (int v = 0; v < static_cast<int>(folded.positions.size()); ++v)
             if (single[v] && displace_vertex(folded, v, 0.7, 0.7) > 0) break;
         inputs.push_back(folded);
+        inputs.push_back(subdivide(subdivide(subdivide(subdivide(make_map(cube_layout(), 3, 3, 2, 5))))));
     }
+    ASSERT_GE(3 * inputs[3].triangles.size(), std::size_t{1} << 16);
+    ASSERT_GE(3 * inputs.back().triangles.size(), std::size_t{1} << 16);
     for (const Input& in : inputs) {
         Options serial, parallel;
         serial.threads = 1;

@@ -52,7 +52,7 @@ Error build_topology(TriMesh& m, const char* what) {
             keys[static_cast<std::size_t>(fill[std::min(a, b)]++)] = {std::min(a, b) << 32 | std::max(a, b), h};
         }
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
         for (int v = 0; v < m.num_vertices; ++v)
             for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)

@@ -37,6 +37,9 @@ struct TriMesh {
     std::vector<int> vertex_order;
     /// Threads for the parallel loops (Options::threads; 1 = serial). Results do not depend on it.
     int threads = 1;
+    /// Whether a loop over `n` elements runs in parallel: small meshes stay serial, where
+    /// starting threads costs more than it saves.
+    bool parallel(std::int64_t n) const { return threads > 1 && n >= (1 << 16); }
 
     // map (transitions, sanitization, valences)
     std::vector<GridAutomorphism> transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)

@@ -98,7 +98,7 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
     // corners, so neither the order nor the parallel loop changes the result.
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
 #if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.threads > 1) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
+#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
 #endif
     {
     std::vector<int> fan;                 // corners clockwise
@@ -198,7 +198,7 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
 
     m.face_sign.resize(m.num_faces());
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
     for (int f = 0; f < m.num_faces(); ++f)
         m.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));

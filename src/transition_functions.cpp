@@ -57,7 +57,7 @@ void compute_transitions(TriMesh& m) {
     };
     // Each interior edge is set from its smaller half-edge, writing only its own two entries.
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.threads > 1)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];

@@ -17,7 +17,7 @@ void count_valences(TriMesh& m, bool singular_only) {
     m.winding_valence.assign(nv, 4);
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
 #if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.threads > 1)
+#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
     {
     std::vector<std::pair<int, double>> fan; // (orientation sign, signed inner angle)
