@@ -277,7 +277,6 @@ Result extract(const Input& input, const Options& options) {
         }
         if (!run_pipeline(std::move(m), input, options, kLadder[r], attempt))
             return attempt; // input error: no rung helps
-        if (r == 0) given_map = attempt.mesh.map_uvs;
         if (kLadder[r].untangle_rings > 0 && !given_map.empty()) {
             // A relaxed map is not the given one: every vertex moves onto its grid point in the
             // given (sanitized) map, so the mesh is judged against that map.
@@ -297,6 +296,7 @@ Result extract(const Input& input, const Options& options) {
         }
         attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
         if (attempt.check.valid) return attempt;
+        if (r == 0) given_map = attempt.mesh.map_uvs; // only a failed first rung needs it
         // Untangling moves only vertices near flipped or degenerate triangles: without any,
         // the further rungs would repeat this one.
         const bool untangling_can_help = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;

@@ -109,43 +109,44 @@ void compute_transitions(TriMesh& m) {
     // opposite index on its two ends. An edge much shorter than its triangles (an eighth of their
     // longest edge) whose ends turn by opposite amounts takes the rotation that makes both
     // regular. Shortest edges first, so the outcome does not depend on the input's order.
-    const int nv = m.num_vertices;
-    std::vector<int> turns(static_cast<std::size_t>(nv), 0);
-    std::vector<char> closed(static_cast<std::size_t>(nv), 0);
-    for (const int v : m.vertex_order) {
-        if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
-        int c = m.fan_start[v], sum = 0, n = 0;
-        do {
-            sum += m.transition[c].r;
-            c = m.cw(c);
-        } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
-        closed[v] = c == m.fan_start[v];
-        turns[v] = sum & 3;
-    }
+    auto len = [&](int c) {
+        const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
+        return norm_inf({q[0] - p[0], q[1] - p[1]});
+    };
     std::vector<std::pair<double, int>> short_edges;
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];
         if (o < h) continue;
-        const int a = m.origin(h), b = m.target(h);
-        if (!closed[a] || !closed[b] || turns[a] == 0 || ((turns[a] + turns[b]) & 3) != 0) continue;
-        auto len = [&](int c) {
-            const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
-            return norm_inf({q[0] - p[0], q[1] - p[1]});
-        };
         double longest = 0;
         for (const int c : {h, o})
             for (int k = 0; k < 3; ++k) longest = std::max(longest, len(3 * TriMesh::face(c) + k));
         const double l = std::max(len(h), len(o));
         if (8 * l < longest) short_edges.push_back({l, h});
     }
+    if (short_edges.empty()) return;
+    // The turn of each short edge's ends (fans of interior vertices only; -1: open fan).
+    std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2); // -2: not yet walked
+    auto turn = [&](int v) -> int& {
+        int& t = turns[static_cast<std::size_t>(v)];
+        if (t != -2) return t;
+        t = -1;
+        if (m.fan_start[v] < 0 || m.on_boundary[v]) return t;
+        int c = m.fan_start[v], sum = 0, n = 0;
+        do {
+            sum += m.transition[c].r;
+            c = m.cw(c);
+        } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
+        if (c == m.fan_start[v]) t = sum & 3;
+        return t;
+    };
     std::sort(short_edges.begin(), short_edges.end());
     for (const auto& [l, h] : short_edges) {
-        const int a = m.origin(h), b = m.target(h);
-        if (turns[a] == 0 || ((turns[a] + turns[b]) & 3) != 0) continue; // fixed by an earlier edge
-        const int delta = (4 - turns[a]) & 3; // a's walk crosses h, b's walk crosses opp(h)
+        int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
+        if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite
+        const int delta = (4 - ta) & 3; // a's walk crosses h, b's walk crosses opp(h)
         set(h, (m.transition[h].r + delta) & 3);
-        turns[a] = 0;
-        turns[b] = 0;
+        ta = 0;
+        tb = 0;
     }
 }
 
