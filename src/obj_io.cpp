@@ -101,6 +101,19 @@ public:
     }
 
 private:
+    /// The N numbers of a `v` or `vt` record, an optional weight after them, all finite.
+    template <std::size_t N>
+    static IoError read_record(Cursor& c, std::array<double, N>& x, const char* key, const char* what) {
+        for (double& xi : x)
+            if (!c.read_double(xi))
+                return err(IoError::Code::Syntax, c.line, "expected " + std::to_string(N) + " numbers after '" + key + "'");
+        double w;
+        if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, std::string("malformed '") + key + "' record");
+        for (double xi : x)
+            if (!std::isfinite(xi)) return err(IoError::Code::NonFinite, c.line, std::string("non-finite ") + what);
+        return {};
+    }
+
     IoError parse(Cursor& c) {
         Input& out = out_;
         while (c.p < c.end) {
@@ -114,21 +127,11 @@ private:
             const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
             if (key == "v") {
                 std::array<double, 3> p{};
-                for (double& x : p)
-                    if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
-                double w;
-                if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'v' record");
-                for (double x : p)
-                    if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite vertex coordinate");
+                if (IoError e = read_record(c, p, "v", "vertex coordinate"); !e.ok()) return e;
                 out.positions.push_back(p);
             } else if (key == "vt") {
                 std::array<double, 2> t{};
-                for (double& x : t)
-                    if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 2 numbers after 'vt'");
-                double w;
-                if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, "malformed 'vt' record");
-                for (double x : t)
-                    if (!std::isfinite(x)) return err(IoError::Code::NonFinite, c.line, "non-finite texture coordinate");
+                if (IoError e = read_record(c, t, "vt", "texture coordinate"); !e.ok()) return e;
                 vts_.push_back(t);
             } else if (key == "f") {
                 std::array<std::int64_t, 3> fv{}, ft{};
