@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
             const Input* s2 = keep(qex::testing::subdivide(*s1));
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub1").c_str(), BM_Extract, s1)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub2").c_str(), BM_Extract, s2)->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark(("BM_Verify/" + name + "_sub2").c_str(), BM_Verify, s2)->Unit(benchmark::kMillisecond);
             if (std::getenv("QEX_BENCH_LARGE")) {
                 const Input* s3 = keep(qex::testing::subdivide(*s2));
                 const Input* s4 = keep(qex::testing::subdivide(*s3));

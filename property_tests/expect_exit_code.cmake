@@ -1,5 +1,10 @@
-# Runs `qex extract IN -o OUT` and fails unless the exit code is EXPECT and OUT was not written.
-execute_process(COMMAND ${QEX} extract ${IN} -o ${OUT} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+# Runs `qex extract IN -o OUT` (or, with MESH given, `qex check --param IN MESH`) and fails
+# unless the exit code is EXPECT, an error message was printed and OUT was not written.
+if(DEFINED MESH)
+  execute_process(COMMAND ${QEX} check --param ${IN} ${MESH} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+else()
+  execute_process(COMMAND ${QEX} extract ${IN} -o ${OUT} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+endif()
 if(NOT rc EQUAL EXPECT)
   message(FATAL_ERROR "exit code ${rc}, expected ${EXPECT}: ${err}")
 endif()

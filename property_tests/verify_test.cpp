@@ -16,6 +16,12 @@ bool has(const VerifyResult& v, ViolationKind k) {
     return false;
 }
 
+std::size_t count(const VerifyResult& v, ViolationKind k) {
+    std::size_t n = 0;
+    for (const auto& x : v.violations) n += x.kind == k;
+    return n;
+}
+
 TEST(Checker, AcceptsExtraction) {
     Fixture f;
     const VerifyResult v = verify(f.in, f.mesh);
@@ -123,18 +129,56 @@ TEST(Checker, SingularitiesSitOnIntegerGridPoints) {
     EXPECT_EQ(verify(torus, extract(torus).mesh).map_singularities, 0);
 }
 
+TEST(Checker, ParallelLoopsGiveTheSerialVerdict) {
+    // VerifyOptions::threads changes who computes, not what: the same violations in the same
+    // order. The checker's loops run in parallel from 2^16 corners on (input or mesh).
+    VerifyOptions serial, parallel;
+    serial.threads = 1;
+    parallel.threads = 2;
+    auto same = [&](const Input& in, const QuadMesh& mesh) -> VerifyResult {
+        const VerifyResult a = verify(in, mesh, serial), b = verify(in, mesh, parallel);
+        EXPECT_EQ(a.valid, b.valid);
+        EXPECT_EQ(a.map_singularities, b.map_singularities);
+        EXPECT_EQ(a.edges, b.edges);
+        EXPECT_EQ(a.euler, b.euler);
+        EXPECT_EQ(a.violations.size(), b.violations.size());
+        for (std::size_t i = 0; i < std::min(a.violations.size(), b.violations.size()); ++i) {
+            EXPECT_EQ(a.violations[i].kind, b.violations[i].kind);
+            EXPECT_EQ(a.violations[i].message, b.violations[i].message);
+            EXPECT_EQ(a.violations[i].element, b.violations[i].element);
+        }
+        return a;
+    };
+    // A large input: the subdivided cube, its map shifted off the grid and one corner moved.
+    const Input cube = subdivide(subdivide(subdivide(subdivide(make_map(cube_layout(), 3, 3, 2, 5)))));
+    ASSERT_GE(3 * cube.triangles.size(), std::size_t{1} << 16);
+    const QuadMesh cube_mesh = extract(cube).mesh;
+    EXPECT_TRUE(same(cube, cube_mesh).valid);
+    QuadMesh shifted = cube_mesh;
+    for (auto& uv : shifted.map_uvs) uv[0] += 0.5, uv[1] += 0.5;
+    shifted.map_uvs[1000][1] += 1e-7;
+    const VerifyResult s = same(cube, shifted);
+    EXPECT_EQ(count(s, ViolationKind::SingularityOffGrid), 8u);
+    EXPECT_GE(count(s, ViolationKind::MapNotIntegerGrid), 1u);
+    // A large mesh: a torus with many quads, one face reversed and one doubled.
+    const Input torus = make_map(torus_layout(32, 16), 8, 2);
+    QuadMesh quads = extract(torus).mesh;
+    ASSERT_GE(4 * quads.faces.size(), std::size_t{1} << 16);
+    EXPECT_TRUE(same(torus, quads).valid);
+    std::reverse(quads.faces[5].begin(), quads.faces[5].end());
+    quads.faces.push_back(quads.faces[900]);
+    quads.face_uvs.push_back(quads.face_uvs[900]);
+    const VerifyResult q = same(torus, quads);
+    EXPECT_GE(count(q, ViolationKind::InconsistentOrientation), 1u);
+    EXPECT_GE(count(q, ViolationKind::NonManifoldEdge), 1u);
+}
+
 /// The mesh as another extractor (or an OBJ read back) would give it: no provenance, no map.
 QuadMesh without_provenance(QuadMesh m) {
     m.provenance.clear();
     m.map_uvs.clear();
     m.face_uvs.clear();
     return m;
-}
-
-std::size_t count(const VerifyResult& v, ViolationKind k) {
-    std::size_t n = 0;
-    for (const auto& x : v.violations) n += x.kind == k;
-    return n;
 }
 
 TEST(CheckerLocated, AcceptsCorrectMeshesOfOtherExtractors) {

@@ -282,14 +282,16 @@ Result extract(const Input& input, const Options& options) {
             // given (sanitized) map, so the mesh is judged against that map.
             attempt.report.unplaced_vertices = detail::place_on_given_map(input, given_map, attempt.mesh);
         }
-        attempt.check = verify(input, attempt.mesh);
+        VerifyOptions verify_options;
+        verify_options.threads = options.threads;
+        attempt.check = verify(input, attempt.mesh, verify_options);
         if (kLadder[r].untangle_rings > 0 && attempt.check.valid) {
             // And it must pass the oracle that judges it against the given map alone (as
             // `qex check` would), or the rung is rejected.
             QuadMesh bare;
             bare.positions = attempt.mesh.positions;
             bare.faces = attempt.mesh.faces;
-            const VerifyResult located = verify(input, bare);
+            const VerifyResult located = verify(input, bare, verify_options);
             for (const Violation& v : located.violations)
                 attempt.check.violations.push_back({v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
             attempt.check.valid = attempt.check.violations.empty();

@@ -54,6 +54,7 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::BoundaryMismatch: return "BoundaryMismatch";
         case ViolationKind::EulerMismatch: return "EulerMismatch";
         case ViolationKind::ComponentMismatch: return "ComponentMismatch";
+        case ViolationKind::TooLarge: return "TooLarge";
         case ViolationKind::LocalUvNotUnitSquare: return "LocalUvNotUnitSquare";
         case ViolationKind::EmptyMesh: return "EmptyMesh";
         case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";

@@ -3,8 +3,12 @@
 #include "qex/qex.h"
 
 #include <CGAL/Exact_rational.h>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -25,85 +29,112 @@ int find(std::vector<int>& parent, int x) {
     return x;
 }
 
-std::uint64_t key(int a, int b) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b); }
-
-/// Sorts (key, corner) pairs by key, then corner, where key = a << 32 | b with a, b below
-/// `num_vertices`: two stable counting passes (least significant half first) over corners
-/// given in increasing order, which is linear and gives exactly std::sort's order.
-void sort_by_key(std::vector<std::pair<std::uint64_t, std::uint32_t>>& e, std::size_t num_vertices) {
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> tmp(e.size());
-    std::vector<std::size_t> count(num_vertices + 1);
-    for (int pass = 0; pass < 2; ++pass) {
-        const int shift = pass == 0 ? 0 : 32;
-        std::fill(count.begin(), count.end(), 0);
-        for (const auto& x : e) ++count[((x.first >> shift) & 0xffffffffu) + 1];
-        for (std::size_t v = 0; v < num_vertices; ++v) count[v + 1] += count[v];
-        for (const auto& x : e) tmp[count[(x.first >> shift) & 0xffffffffu]++] = x;
-        e.swap(tmp);
-    }
+/// Threads for the checker's parallel loops (VerifyOptions::threads; 0: every core).
+int checker_threads(int requested) {
+#if defined(_OPENMP)
+    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+#else
+    (void)requested;
+    return 1;
+#endif
 }
 
-/// Topology of a polygon mesh with valid indices; appends violations when `out` is given.
-/// Directed edges are sorted once; twins are found by binary search (no hash tables).
-/// `offset` (size F+1) and `corner_vertex` describe the faces as flat arrays.
-using EdgeTable = std::vector<std::pair<std::uint64_t, std::uint32_t>>; // (undirected key, corner), sorted
+/// Per corner c: the other corner whose outgoing edge joins the same two vertices, when exactly
+/// two face sides share that edge (in either direction); -1 otherwise.
+using EdgePairs = std::vector<std::int32_t>;
 
+/// Topology of a polygon mesh with valid indices (at most 2^31 - 1 corners); appends violations
+/// when `out` is given. `offset` (size F+1) and `corner_vertex` describe the faces as flat
+/// arrays. Edges are found without hashing or a global sort: the corners are bucketed by the
+/// smaller vertex of their outgoing edge (a counting pass), and each bucket is ordered by the
+/// larger one. Everything is decided in the order (smaller vertex, larger vertex, corner),
+/// whatever the thread count.
 Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offset, const std::vector<int>& corner_vertex,
-                 std::vector<Violation>* out, EdgeTable* edges_out = nullptr) {
+                 std::vector<Violation>* out, int threads, EdgePairs* pairs_out = nullptr,
+                 std::vector<char>* single_fan_out = nullptr) {
     Topology t;
     auto violate = [&](ViolationKind k, std::string msg, std::int64_t e) {
         if (out && out->size() < 1000) out->push_back({k, std::move(msg), e});
     };
     const std::size_t nf = offset.size() - 1, nc = offset.back();
-    std::vector<int> corner_face(nc);
+    std::vector<std::int32_t> corner_face(nc);
     for (std::size_t f = 0; f < nf; ++f)
-        for (std::size_t c = offset[f]; c < offset[f + 1]; ++c) corner_face[c] = static_cast<int>(f);
+        for (std::size_t c = offset[f]; c < offset[f + 1]; ++c) corner_face[c] = static_cast<std::int32_t>(f);
+    const bool triangles = nc == 3 * nf; // then offset[f] == 3f and no lookups are needed
     auto next_corner = [&](std::size_t c) {
-        const int f = corner_face[c];
+        if (triangles) return c % 3 == 2 ? c - 2 : c + 1;
+        const auto f = static_cast<std::size_t>(corner_face[c]);
         return c + 1 == offset[f + 1] ? offset[f] : c + 1;
     };
     auto prev_corner = [&](std::size_t c) {
-        const int f = corner_face[c];
+        if (triangles) return c % 3 == 0 ? c + 2 : c - 1;
+        const auto f = static_cast<std::size_t>(corner_face[c]);
         return c == offset[f] ? offset[f + 1] - 1 : c - 1;
     };
-    // Undirected edges by one sort; twin[c] is the corner whose outgoing edge is the reverse of
-    // c's, or -1 (boundary or non-manifold).
-    EdgeTable edges(nc);
+    // The vertex each corner's outgoing edge ends at.
+    std::vector<std::int32_t> head(nc);
+    for (std::size_t c = 0; c < nc; ++c) head[c] = corner_vertex[next_corner(c)];
+    // Buckets by the smaller vertex; after the placing pass, bucket v is [end[v-1], end[v]).
+    // An entry is (larger vertex) << 32 | corner.
+    std::vector<std::uint32_t> end(num_vertices + 1, 0);
+    std::vector<std::uint64_t> bucket(nc);
+    for (std::size_t c = 0; c < nc; ++c) ++end[static_cast<std::size_t>(std::min(corner_vertex[c], head[c])) + 1];
+    for (std::size_t v = 0; v < num_vertices; ++v) end[v + 1] += end[v];
     for (std::size_t c = 0; c < nc; ++c) {
-        const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
-        edges[c] = {key(std::min(a, b), std::max(a, b)), static_cast<std::uint32_t>(c)};
+        const int a = corner_vertex[c], b = head[c];
+        bucket[end[static_cast<std::size_t>(std::min(a, b))]++] =
+            static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::max(a, b))) << 32 | static_cast<std::uint32_t>(c);
     }
-    sort_by_key(edges, num_vertices);
-    std::vector<std::int64_t> twin(nc, -1);
-    for (std::size_t i = 0; i < nc;) {
-        std::size_t j = i;
-        while (j < nc && edges[j].first == edges[i].first) ++j;
-        const std::uint32_t c0 = edges[i].second;
-        auto name = [&] {
-            return "(" + std::to_string(edges[i].first >> 32) + ", " + std::to_string(edges[i].first & 0xffffffffu) + ")";
-        };
-        if (j - i > 2) {
-            violate(ViolationKind::NonManifoldEdge, "edge " + name() + " has " + std::to_string(j - i) + " incident face sides",
-                    corner_face[c0]);
-        } else if (j - i == 2) {
-            const std::uint32_t c1 = edges[i + 1].second;
-            if (corner_vertex[c0] == corner_vertex[c1])
-                violate(ViolationKind::InconsistentOrientation, "edge " + name() + " is traversed twice in the same direction",
-                        corner_face[c1]);
-            else
-                twin[c0] = c1, twin[c1] = c0;
+    auto bucket_begin = [&](std::size_t v) { return v == 0 ? 0 : static_cast<std::size_t>(end[v - 1]); };
+    const auto nv64 = static_cast<std::int64_t>(num_vertices);
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
+    for (std::int64_t v = 0; v < nv64; ++v) {
+        std::uint64_t* b = bucket.data() + bucket_begin(static_cast<std::size_t>(v));
+        std::uint64_t* e = bucket.data() + end[static_cast<std::size_t>(v)];
+        if (e - b > 24) {
+            std::sort(b, e);
+            continue;
         }
-        i = j;
+        for (std::uint64_t* i = b + 1; i < e; ++i)
+            for (std::uint64_t* j = i; j > b && j[0] < j[-1]; --j) std::swap(j[0], j[-1]);
     }
+    // Runs of equal (smaller, larger) vertex are the undirected edges. twin[c] is the corner
+    // whose outgoing edge is the reverse of c's, or -1 (boundary or non-manifold).
+    std::vector<std::int32_t> twin(nc, -1);
+    EdgePairs pair;
+    if (pairs_out) pair.assign(nc, -1);
+    for (std::size_t v = 0; v < num_vertices; ++v)
+        for (std::size_t i = bucket_begin(v), stop = end[v]; i < stop;) {
+            const std::uint64_t h = bucket[i] >> 32;
+            std::size_t j = i + 1;
+            while (j < stop && bucket[j] >> 32 == h) ++j;
+            ++t.edges;
+            const auto c0 = static_cast<std::uint32_t>(bucket[i]);
+            auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
+            if (j - i > 2) {
+                violate(ViolationKind::NonManifoldEdge, "edge " + name() + " has " + std::to_string(j - i) + " incident face sides",
+                        corner_face[c0]);
+            } else if (j - i == 2) {
+                const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]);
+                if (pairs_out) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
+                if (corner_vertex[c0] == corner_vertex[c1])
+                    violate(ViolationKind::InconsistentOrientation,
+                            "edge " + name() + " is traversed twice in the same direction", corner_face[c1]);
+                else
+                    twin[c0] = static_cast<std::int32_t>(c1), twin[c1] = static_cast<std::int32_t>(c0);
+            }
+            i = j;
+        }
+    std::vector<std::uint64_t>().swap(bucket);
     std::vector<int> boundary_next(num_vertices, -1), boundary_count(num_vertices, 0), corners(num_vertices, 0);
     std::vector<char> referenced(num_vertices, 0);
     std::vector<int> parent(num_vertices);
     std::iota(parent.begin(), parent.end(), 0);
     for (std::size_t c = 0; c < nc; ++c) {
-        const int a = corner_vertex[c], b = corner_vertex[next_corner(c)];
+        const int a = corner_vertex[c], b = head[c];
         referenced[a] = 1;
         ++corners[a];
-        parent[find(parent, a)] = find(parent, b);
+        if (next_corner(c) > c) parent[find(parent, a)] = find(parent, b); // a face's last side joins nothing new
         if (twin[c] < 0) {
             ++boundary_count[a];
             if (boundary_next[a] < 0) boundary_next[a] = b;
@@ -115,12 +146,13 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
                     "vertex " + std::to_string(v) + " has " + std::to_string(boundary_count[v]) + " boundary fans",
                     static_cast<std::int64_t>(v));
     // Fans: from a corner, cross its outgoing edge to the twin's face; the corner there follows the twin.
-    std::vector<std::int64_t> start(num_vertices, -1);
+    std::vector<std::int32_t> start(num_vertices, -1);
     for (std::size_t c = 0; c < nc; ++c) {
         const int v = corner_vertex[c];
-        if (start[v] < 0 || twin[prev_corner(c)] < 0) start[v] = static_cast<std::int64_t>(c);
+        if (start[v] < 0 || twin[prev_corner(c)] < 0) start[v] = static_cast<std::int32_t>(c);
     }
     // Fans in the order of their first corners (vertex numbering may have no locality at all).
+    if (single_fan_out) single_fan_out->assign(num_vertices, 0);
     std::vector<char> walked(num_vertices, 0);
     for (std::size_t c0 = 0; c0 < nc; ++c0) {
         const auto v = static_cast<std::size_t>(corner_vertex[c0]);
@@ -133,6 +165,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
             if (twin[c] < 0) break;
             c = next_corner(static_cast<std::size_t>(twin[c]));
         } while (c != static_cast<std::size_t>(start[v]) && seen <= corners[v]);
+        if (single_fan_out) (*single_fan_out)[v] = seen == corners[v];
         if (seen != corners[v])
             violate(ViolationKind::NonManifoldVertex,
                     "the faces around vertex " + std::to_string(v) + " do not form a single fan", static_cast<std::int64_t>(v));
@@ -149,10 +182,8 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         ++t.vertices;
         if (find(parent, static_cast<int>(v)) == static_cast<int>(v)) ++t.components;
     }
-    for (std::size_t i = 0; i < nc; ++i)
-        if (i == 0 || edges[i].first != edges[i - 1].first) ++t.edges;
     t.faces = static_cast<std::int64_t>(nf);
-    if (edges_out) *edges_out = std::move(edges);
+    if (pairs_out) *pairs_out = std::move(pair);
     return t;
 }
 
@@ -199,8 +230,8 @@ std::array<double, 2> rot_d(const std::array<double, 2>& p, int r) {
 /// Exactly x + y == z? Knuth's TwoSum gives the rounding error of x + y without error
 /// (round-to-nearest, no contraction: the build uses -ffp-contract=off); both must match.
 bool sums_exactly(double x, double y, double z) {
-    const volatile double s = x + y;
-    const volatile double bb = s - x;
+    const double s = x + y;
+    const double bb = s - x;
     const double err = (x - (s - bb)) + (y - bb);
     return s == z && err == 0.0;
 }
@@ -208,8 +239,8 @@ bool sums_exactly(double x, double y, double z) {
 /// The map the mesh claims to come from: an exact integer-grid map (across every interior edge
 /// the two charts differ by a rotation by k*90 degrees and an integer translation), and each
 /// vertex's provenance grid point lies on the element it names, decided with exact rationals.
-void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges, VerifyResult& r,
-               std::vector<Violation>& out) {
+void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs, const std::vector<char>& single_fan,
+               int threads, VerifyResult& r, std::vector<Violation>& out) {
     const auto& U = mesh.map_uvs;
     auto violate = [&](ViolationKind k, std::string msg, std::int64_t e) {
         if (out.size() < 1000) out.push_back({k, std::move(msg), e});
@@ -222,26 +253,33 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
             r.max_map_displacement = std::max(r.max_map_displacement, d);
             r.sum_map_displacement += d;
         }
-    // Interior edges: the input's sorted edge table pairs each half-edge with its opposite.
+    // Interior edges: the input's edge pairs give each half-edge its opposite.
     auto next = [](std::size_t c) { return c - c % 3 + (c % 3 + 1) % 3; };
     auto prev = [](std::size_t c) { return c - c % 3 + (c % 3 + 2) % 3; };
     // opposite[c]: the corner across the edge that starts at corner c, when the two charts were
     // matched by a unique grid automorphism (rotation[c] quarter turns from c's chart to its
-    // neighbour's); -1 otherwise.
-    std::vector<std::int64_t> opposite(U.size(), -1);
+    // neighbour's); -1 otherwise. rotation[c] == -1 marks an edge (found from its smaller
+    // corner c) whose charts no grid automorphism matches.
+    const auto nc = static_cast<std::int64_t>(U.size());
+    std::vector<std::int32_t> opposite(U.size(), -1);
     std::vector<std::int8_t> rotation(U.size(), 0);
-    for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
-        j = i;
-        while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-        if (j - i != 2) continue; // boundary or non-manifold (reported by the topology checks)
-        const std::size_t c = edges[i].second, o = edges[i + 1].second;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1 << 16))
+    for (std::int64_t ci = 0; ci < nc; ++ci) {
+        const auto c = static_cast<std::size_t>(ci);
+        if (pairs[c] < static_cast<std::int32_t>(ci)) continue; // boundary, non-manifold, or done from the pair's other corner
+        const auto o = static_cast<std::size_t>(pairs[c]);
         if (!alive(c / 3) || !alive(o / 3)) continue;
-        // In c's chart the edge runs a -> b; in o's chart b -> a. Some rotation R and one integer
-        // translation t must give R a + t == a2 and R b + t == b2 exactly.
+        // In c's chart the edge runs a -> b; in o's chart b -> a (for a consistently oriented
+        // pair). Some rotation R and one integer translation t must give R a + t == a2 and
+        // R b + t == b2 exactly.
         const auto &a = U[c], &b = U[next(c)], &a2 = U[next(o)], &b2 = U[o];
         bool ok = false;
         int found = -1;
+        // Necessary: R (b - a) == b2 - a2 in doubles (a rotation commutes with the rounding
+        // of a difference), which leaves one candidate for an edge of non-zero length.
+        const std::array<double, 2> d{b[0] - a[0], b[1] - a[1]}, d2{b2[0] - a2[0], b2[1] - a2[1]};
         for (int rr = 0; rr < 4 && !ok; ++rr) {
+            if (rot_d(d, rr) != d2) continue;
             const auto ra = rot_d(a, rr), rb = rot_d(b, rr);
             const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
             ok = std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
@@ -250,50 +288,50 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgeTable& edges,
         }
         // A zero-length edge admits every rotation: the fan check below skips its vertices.
         if (ok && (a[0] != b[0] || a[1] != b[1])) {
-            opposite[c] = static_cast<std::int64_t>(o);
-            opposite[o] = static_cast<std::int64_t>(c);
-            rotation[c] = found;
-            rotation[o] = (4 - found) & 3;
+            opposite[c] = static_cast<std::int32_t>(o);
+            opposite[o] = static_cast<std::int32_t>(c);
+            rotation[c] = static_cast<std::int8_t>(found);
+            rotation[o] = static_cast<std::int8_t>((4 - found) & 3);
         }
-        if (!ok)
+        if (!ok) rotation[c] = -1;
+    }
+    for (std::size_t c = 0; c < U.size(); ++c)
+        if (rotation[c] < 0)
             violate(ViolationKind::MapNotIntegerGrid,
-                    "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(o / 3) +
+                    "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(pairs[c] / 3) +
                         " do not differ by a grid automorphism along their shared edge",
                     static_cast<std::int64_t>(c / 3));
-    }
     // Fans: around every interior vertex whose fan is matched edge by edge, the transitions
     // compose to a rotation; each edge transition maps the vertex's UV onto itself exactly, so a
     // composed identity closes the fan, and a composed rotation (a singularity) must have its
-    // fixed point, the vertex's UV, on an integer grid point (Algorithm 2).
-    std::vector<char> seen(U.size(), 0);
+    // fixed point, the vertex's UV, on an integer grid point (Algorithm 2). Walking the fan
+    // crosses, once each, the edges that end at the vertex's corners (prev(c) -> c), so the
+    // composed turn is a sum over the corners, taken in one pass. A fan is left unchecked when
+    // an edge in it is unmatched (boundary, degenerate or not a grid automorphism), a triangle
+    // in it was collapsed, or the vertex is non-manifold.
+    const std::size_t nv = single_fan.size();
+    std::vector<std::int32_t> first(nv, -1);
+    std::vector<std::int8_t> turns(nv, 0); // quarter turns mod 4; -1: the fan is not checked
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
+        if (first[v] < 0) first[v] = static_cast<std::int32_t>(c);
+        if (turns[v] < 0) continue;
+        if (!alive(c / 3) || opposite[prev(c)] < 0 || !single_fan[v])
+            turns[v] = -1;
+        else
+            turns[v] = static_cast<std::int8_t>((turns[v] + rotation[prev(c)]) & 3);
+    }
     for (std::size_t c0 = 0; c0 < U.size(); ++c0) {
-        if (seen[c0] || !alive(c0 / 3)) continue;
-        // Walk clockwise: across the edge that ends at this corner's vertex (prev(c) -> c).
-        std::size_t c = c0;
-        int turns = 0;
-        bool closed = false;
-        for (std::size_t steps = 0; steps <= U.size(); ++steps) {
-            seen[c] = 1;
-            const std::int64_t o = opposite[prev(c)];
-            if (o < 0) break; // boundary, unmatched or degenerate edge: the fan is not checked
-            turns += rotation[prev(c)];
-            c = static_cast<std::size_t>(o); // o starts the reverse edge, at the same vertex
-            if (c == c0) {
-                closed = true;
-                break;
-            }
-            if (seen[c]) break; // a non-manifold vertex (reported by validation)
-        }
-        if (!closed || (turns & 3) == 0) continue;
+        const auto v = static_cast<std::size_t>(input.triangles[c0 / 3][c0 % 3]);
+        if (first[v] != static_cast<std::int32_t>(c0) || turns[v] <= 0) continue;
         ++r.map_singularities;
         const auto& u = U[c0];
         if (std::floor(u[0]) != u[0] || std::floor(u[1]) != u[1])
             violate(ViolationKind::SingularityOffGrid,
-                    "input vertex " + std::to_string(input.triangles[c0 / 3][c0 % 3]) + ": a singularity (" +
-                        std::to_string((turns & 3) * 90) + " degree turn) at (" + std::to_string(u[0]) + ", " +
-                        std::to_string(u[1]) + ") in the chart of triangle " + std::to_string(c0 / 3) +
-                        ", not at an integer grid point",
-                    static_cast<std::int64_t>(input.triangles[c0 / 3][c0 % 3]));
+                    "input vertex " + std::to_string(v) + ": a singularity (" + std::to_string(turns[v] * 90) +
+                        " degree turn) at (" + std::to_string(u[0]) + ", " + std::to_string(u[1]) +
+                        ") in the chart of triangle " + std::to_string(c0 / 3) + ", not at an integer grid point",
+                    static_cast<std::int64_t>(v));
     }
     // Provenance: the grid point on the named vertex, edge or triangle.
     for (std::size_t i = 0; i < mesh.provenance.size() && i < mesh.positions.size(); ++i) {
@@ -341,6 +379,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     VerifyResult r;
     auto& out = r.violations;
     const std::size_t nv = mesh.positions.size();
+    const int threads = checker_threads(options.threads);
     if (mesh.faces.empty()) out.push_back({ViolationKind::EmptyMesh, "the mesh has no faces", -1});
     bool indices_ok = true;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
@@ -373,6 +412,13 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
                 out.push_back({ViolationKind::LocalUvNotUnitSquare,
                                "the local UVs of face " + std::to_string(f) + " are not a counter-clockwise unit square",
                                static_cast<std::int64_t>(f)});
+    std::size_t total_corners = 0;
+    for (const auto& face : mesh.faces) total_corners += face.size();
+    if (total_corners > static_cast<std::size_t>(INT32_MAX) || 3 * input.triangles.size() > static_cast<std::size_t>(INT32_MAX)) {
+        out.push_back({ViolationKind::TooLarge, "more than 2^31 - 1 face corners (mesh or input): beyond the checker's tables", -1});
+        r.valid = false;
+        return r;
+    }
     if (indices_ok) {
         std::vector<std::size_t> offset(mesh.faces.size() + 1, 0);
         std::vector<int> corners;
@@ -380,7 +426,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
             offset[f + 1] = offset[f] + mesh.faces[f].size();
             corners.insert(corners.end(), mesh.faces[f].begin(), mesh.faces[f].end());
         }
-        const Topology t = analyse(nv, offset, corners, &out);
+        const Topology t = analyse(nv, offset, corners, &out, threads);
         r.faces = t.faces;
         r.vertices = t.vertices;
         r.edges = t.edges;
@@ -403,9 +449,10 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
             tri_corners.push_back(v);
         }
     }
-    EdgeTable input_edges;
+    EdgePairs input_pairs;
+    std::vector<char> input_single_fan;
     if (input_ok) {
-        const Topology ti = analyse(input.positions.size(), tri_offset, tri_corners, nullptr, &input_edges);
+        const Topology ti = analyse(input.positions.size(), tri_offset, tri_corners, nullptr, threads, &input_pairs, &input_single_fan);
         r.input_euler = ti.euler();
         r.input_boundary_loops = ti.boundary_loops;
         r.input_components = ti.components;
@@ -461,7 +508,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
             out.push_back({ViolationKind::MapNotIntegerGrid, "the mesh's map has " + std::to_string(mesh.map_uvs.size()) +
                                                                  " corner UVs, the input " + std::to_string(input.uvs.size()), -1});
         else
-            check_map(input, mesh, input_edges, r, out);
+            check_map(input, mesh, input_pairs, input_single_fan, threads, r, out);
     }
     if (input_ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
         detail::check_located(input, mesh, options, r, out);

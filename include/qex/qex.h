@@ -200,6 +200,7 @@ enum class ViolationKind {
     OffSurface,          ///< a vertex farther from the input surface than the distance tolerance
     FaceNotGridCell,     ///< a face's corners, carried into one chart, are not a ccw unit grid cell
     CoverageMismatch,    ///< the faces do not cover the map once (map without fold-overs)
+    TooLarge,            ///< more face corners (mesh or input) than the checker's 32-bit tables hold
 };
 const char* to_string(ViolationKind kind);
 
@@ -257,6 +258,9 @@ struct VerifyOptions {
     double uv_tolerance = 1e-3;
     /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface.
     double distance_tolerance = 1e-6;
+    /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
+    /// violations do not depend on it.
+    int threads = 0;
 };
 
 /// Judges `mesh` against `input` with its own code (no extraction code is shared) and exact

@@ -193,6 +193,11 @@ int run_check(const std::string& param_path, const std::string& mesh_path, bool 
         std::cerr << "qex: " << param_path << ": " << e.message << "\n";
         return io_exit(e);
     }
+    // The map is the judge's reference: one that extraction would reject judges nothing.
+    if (const qex::Error e = qex::validate(input); e.code != qex::ErrorCode::None) {
+        std::cerr << "qex: " << param_path << ": invalid input (" << qex::to_string(e.code) << "): " << e.message << "\n";
+        return kBadInput;
+    }
     qex::QuadMesh mesh;
     if (const auto e = qex::read_polygon_obj(mesh_path, mesh); !e.ok()) {
         std::cerr << "qex: " << mesh_path << ": " << e.message << "\n";
