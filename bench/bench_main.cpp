@@ -37,13 +37,41 @@ void BM_Verify(benchmark::State& state, const Input* in) {
     for (auto _ : state) benchmark::DoNotOptimize(qex::verify(*in, r.mesh).valid);
 }
 
-void BM_ReadObj(benchmark::State& state, std::string path) {
+/// Reads an OBJ file with `threads` (0: every core).
+void BM_ReadObj(benchmark::State& state, std::string path, int threads) {
     const auto bytes = fs::file_size(path);
     for (auto _ : state) {
         Input in;
-        benchmark::DoNotOptimize(qex::read_obj(path, in).ok());
+        benchmark::DoNotOptimize(qex::read_obj(path, in, threads).ok());
     }
     state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes));
+}
+
+/// Writes the extraction of `in` as OBJ; bytes per second of the written file.
+void BM_WriteObj(benchmark::State& state, const Input* in, std::string path) {
+    const qex::QuadMesh mesh = qex::extract(*in).mesh;
+    for (auto _ : state) benchmark::DoNotOptimize(qex::write_obj(path, mesh).ok());
+    state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * fs::file_size(path)));
+    state.counters["quads"] = static_cast<double>(mesh.faces.size());
+    fs::remove(path);
+}
+
+/// A scratch file in the system's temporary directory, removed at exit.
+std::string scratch(const std::string& name, const std::string& text) {
+    static std::vector<std::string> files;
+    static const struct Cleanup {
+        ~Cleanup() {
+            std::error_code ec;
+            for (const auto& f : files) fs::remove(f, ec);
+        }
+    } cleanup;
+    const std::string path = (fs::temp_directory_path() / ("qex_bench_" + name)).string();
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return {};
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+    files.push_back(path);
+    return path;
 }
 
 std::vector<std::unique_ptr<Input>> inputs; // kept alive for the registered benchmarks
@@ -67,7 +95,7 @@ int main(int argc, char** argv) {
         const std::string name = path.stem().string();
         Input in;
         if (!qex::read_obj(path.string(), in).ok()) continue;
-        benchmark::RegisterBenchmark(("BM_ReadObj/" + name).c_str(), BM_ReadObj, path.string())->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("BM_ReadObj/" + name).c_str(), BM_ReadObj, path.string(), 0)->Unit(benchmark::kMillisecond);
         const Input* base = keep(std::move(in));
         benchmark::RegisterBenchmark(("BM_Extract/" + name).c_str(), BM_Extract, base)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("BM_Verify/" + name).c_str(), BM_Verify, base)->Unit(benchmark::kMillisecond);
@@ -77,6 +105,12 @@ int main(int argc, char** argv) {
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub1").c_str(), BM_Extract, s1)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub2").c_str(), BM_Extract, s2)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("BM_Verify/" + name + "_sub2").c_str(), BM_Verify, s2)->Unit(benchmark::kMillisecond);
+            // The reader on the twice-subdivided duck as a file (61 MB), serial and on 2 threads.
+            if (const std::string file = scratch(name + "_sub2.obj", qex::testing::to_obj(*s2)); !file.empty())
+                for (int t : {1, 2})
+                    benchmark::RegisterBenchmark(("BM_ReadObj/" + name + "_sub2/threads:" + std::to_string(t)).c_str(),
+                                                 BM_ReadObj, file, t)
+                        ->Unit(benchmark::kMillisecond);
             if (std::getenv("QEX_BENCH_LARGE")) {
                 const Input* s3 = keep(qex::testing::subdivide(*s2));
                 const Input* s4 = keep(qex::testing::subdivide(*s3));
@@ -90,6 +124,10 @@ int main(int argc, char** argv) {
         const Input* g = keep(qex::testing::make_map(qex::testing::torus_layout(32, 16), n, 8));
         benchmark::RegisterBenchmark(("BM_Extract/torus_512quads_x" + std::to_string(n * n)).c_str(), BM_Extract, g)
             ->Unit(benchmark::kMillisecond);
+        if (n == 32)
+            benchmark::RegisterBenchmark("BM_WriteObj/torus_512quads_x1024", BM_WriteObj, g,
+                                         (fs::temp_directory_path() / "qex_bench_write.obj").string())
+                ->Unit(benchmark::kMillisecond);
     }
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();

@@ -188,6 +188,70 @@ TEST(Obj, FilesAreReadInChunksLikeOneBuffer) {
     std::remove(path.c_str());
 }
 
+TEST(Obj, PiecesParsedInParallelReadLikeASerialRead) {
+    // Large texts are cut into pieces at line ends, parsed in parallel and committed in order.
+    // Relative indices resolve across pieces, and the first problem in file order is reported
+    // with its line, whatever the thread count. Here v, vt and f records interleave, and every
+    // face refers to the records just before it by negative indices.
+    const Input base = subdivide(make_map(torus_layout(8, 6), 2, 8));
+    std::string text;
+    char line[160];
+    for (std::size_t f = 0; f < base.triangles.size(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const auto& p = base.positions[static_cast<std::size_t>(base.triangles[f][k])];
+            std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\nvt %.17g %.17g\n", p[0], p[1], p[2], base.uvs[3 * f + k][0],
+                          base.uvs[3 * f + k][1]);
+            text += line;
+        }
+        text += f % 7 == 0 ? "# a comment\nf -3/-3 -2/-2 -1/-1\n" : "f -3/-3 -2/-2 -1/-1\n";
+    }
+    ASSERT_GT(text.size(), std::size_t{3} << 20); // several pieces of at least 256 KiB
+    Input serial;
+    ASSERT_TRUE(parse_obj(text.data(), text.size(), serial, 1).ok());
+    ASSERT_EQ(serial.triangles.size(), base.triangles.size());
+    EXPECT_EQ(serial.uvs, base.uvs);
+    for (int threads : {2, 3, 8}) {
+        Input in;
+        ASSERT_TRUE(parse_obj(text.data(), text.size(), in, threads).ok());
+        EXPECT_EQ(in.positions, serial.positions);
+        EXPECT_EQ(in.triangles, serial.triangles);
+        EXPECT_EQ(in.uvs, serial.uvs);
+    }
+    // Problems at several places; each text has two, and the earlier one must be reported.
+    auto insert_at = [&](std::string t, double where, const std::string& record) {
+        const std::size_t at = t.find('\n', static_cast<std::size_t>(where * static_cast<double>(t.size())));
+        return t.insert(at + 1, record);
+    };
+    const std::vector<std::string> broken = {
+        insert_at(insert_at(text, 0.7, "f 1/1 2/x 3/3\n"), 0.2, "f -3/-3 -2/-2 -100000000/-1\n"),
+        insert_at(insert_at(text, 0.7, "vt 1 nan\n"), 0.45, "f 1/1 2/2 99999999/3\n"),
+        insert_at(insert_at(text, 0.9, "f 1/1 2/2\n"), 0.55, "v 1 2\n"),
+        insert_at(text, 0.999, "f 1/1 2/2 3/3 4/4\n"),
+    };
+    for (const std::string& t : broken) {
+        Input in;
+        const IoError e1 = parse_obj(t.data(), t.size(), in, 1);
+        ASSERT_FALSE(e1.ok());
+        EXPECT_TRUE(in.triangles.empty() && in.positions.empty() && in.uvs.empty());
+        for (int threads : {2, 3, 8}) {
+            const IoError e = parse_obj(t.data(), t.size(), in, threads);
+            EXPECT_EQ(e.code, e1.code);
+            EXPECT_EQ(e.line, e1.line);
+            EXPECT_EQ(e.message, e1.message);
+            EXPECT_TRUE(in.triangles.empty());
+        }
+    }
+    // The reported lines are the earlier insertions'.
+    auto line_of = [](const std::string& t, const std::string& record) {
+        return static_cast<std::int64_t>(std::count(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.find(record)), '\n')) + 1;
+    };
+    Input in;
+    EXPECT_EQ(parse_obj(broken[0].data(), broken[0].size(), in, 2).line, line_of(broken[0], "-100000000/-1"));
+    EXPECT_EQ(parse_obj(broken[1].data(), broken[1].size(), in, 2).line, line_of(broken[1], "99999999/3"));
+    EXPECT_EQ(parse_obj(broken[2].data(), broken[2].size(), in, 2).line, line_of(broken[2], "v 1 2\n"));
+    EXPECT_EQ(parse_obj(broken[3].data(), broken[3].size(), in, 2).code, IoError::Code::NonTriangle);
+}
+
 TEST(Vval, HeaderCountAndValues) {
     std::vector<int> val;
     const std::string ok = "{\"file_format\":\"VVAL\",\"version\":1}\n3\n4\n5\n3\n";

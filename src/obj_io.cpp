@@ -3,7 +3,12 @@
 #include "qex/qex.h"
 
 #include <fast_float/fast_float.h>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -80,128 +85,261 @@ bool read_file(const std::string& path, std::string& data) {
 
 namespace {
 
+/// What one piece of a file (a run of whole lines) holds, parsed without knowing what came
+/// before it: face indices are kept as written, with the piece's own vertex counts at the face,
+/// and lines are counted from the piece's start. Pieces are committed in file order.
+struct Piece {
+    struct Face {
+        std::array<std::int64_t, 3> v, t; // as written (1-based or negative, relative)
+        std::int32_t line;                // line in the piece (1 = its first)
+        std::int32_t nv, nvt;             // `v` and `vt` records of the piece before the face
+    };
+    std::vector<std::array<double, 3>> positions;
+    std::vector<std::array<double, 2>> vts;
+    std::vector<Face> faces;
+    std::int64_t lines = 0; ///< line ends consumed
+    /// The piece's first problem (parsing stopped there), its line counted in the piece.
+    bool failed = false;
+    IoError::Code code = IoError::Code::Syntax;
+    std::int64_t error_line = 0;
+    std::string error;
+
+    void clear() {
+        positions.clear();
+        vts.clear();
+        faces.clear();
+        lines = 0;
+        failed = false;
+        error.clear();
+    }
+};
+
+/// The N numbers of a `v` or `vt` record, an optional weight after them, all finite. Returns
+/// the problem, or an empty string.
+template <std::size_t N>
+std::string read_record(Cursor& c, std::array<double, N>& x, const char* key, IoError::Code& code) {
+    code = IoError::Code::Syntax;
+    for (double& xi : x)
+        if (!c.read_double(xi)) return "expected " + std::to_string(N) + " numbers after '" + key + "'";
+    double w;
+    if (!c.at_eol() && !c.read_double(w)) return std::string("malformed '") + key + "' record";
+    code = IoError::Code::NonFinite;
+    for (double xi : x)
+        if (!std::isfinite(xi)) return N == 3 ? "non-finite vertex coordinate" : "non-finite texture coordinate";
+    return {};
+}
+
+/// Parses whole lines [begin, end) into `piece`, stopping at the first problem.
+void parse_piece(const char* begin, const char* end, Piece& piece) {
+    Cursor c{begin, end, 1};
+    auto fail = [&](IoError::Code code, std::string msg) {
+        piece.failed = true;
+        piece.code = code;
+        piece.error_line = c.line;
+        piece.error = std::move(msg);
+    };
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p >= c.end) break;
+        const char ch = *c.p;
+        if (ch == '\n') { ++c.p; ++c.line; continue; }
+        if (ch == '#') { c.skip_line(); continue; }
+        const char* kw = c.p;
+        while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
+        const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
+        if (key == "v") {
+            std::array<double, 3> p{};
+            IoError::Code code;
+            if (std::string e = read_record(c, p, "v", code); !e.empty()) return fail(code, std::move(e));
+            piece.positions.push_back(p);
+        } else if (key == "vt") {
+            std::array<double, 2> t{};
+            IoError::Code code;
+            if (std::string e = read_record(c, t, "vt", code); !e.empty()) return fail(code, std::move(e));
+            piece.vts.push_back(t);
+        } else if (key == "f") {
+            Piece::Face face{};
+            int n = 0;
+            while (!c.at_eol()) {
+                std::int64_t v = 0, t = 0;
+                if (!c.read_int(v)) return fail(IoError::Code::Syntax, "malformed face corner");
+                if (c.p >= c.end || *c.p != '/')
+                    return fail(IoError::Code::MissingUv, "face corner without a texture coordinate (expected v/vt)");
+                ++c.p;
+                if (!c.read_int(t))
+                    return fail(IoError::Code::MissingUv, "face corner without a texture coordinate (expected v/vt)");
+                if (c.p < c.end && *c.p == '/') { // normal index, ignored
+                    ++c.p;
+                    std::int64_t nidx;
+                    if (!c.read_int(nidx)) return fail(IoError::Code::Syntax, "malformed normal index");
+                }
+                if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
+                    return fail(IoError::Code::Syntax, "malformed face corner");
+                if (n == 3) return fail(IoError::Code::NonTriangle, "face with more than 3 corners (only triangles are accepted)");
+                face.v[n] = v;
+                face.t[n++] = t;
+            }
+            if (n != 3)
+                return fail(IoError::Code::NonTriangle, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
+            face.line = static_cast<std::int32_t>(c.line);
+            face.nv = static_cast<std::int32_t>(piece.positions.size());
+            face.nvt = static_cast<std::int32_t>(piece.vts.size());
+            piece.faces.push_back(face);
+        } else if (key == "vn" || key == "vp" || key == "o" || key == "g" || key == "s" || key == "usemtl" ||
+                   key == "mtllib" || key == "l") {
+            c.skip_line(); // records without meaning for the map
+            continue;
+        } else {
+            return fail(IoError::Code::Syntax, "unknown record '" + std::string(key.substr(0, 32)) + "'");
+        }
+        if (!c.at_eol()) return fail(IoError::Code::Syntax, "trailing characters");
+        if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
+        if (c.p < c.end) { ++c.p; ++c.line; }
+    }
+    piece.lines = c.line - 1;
+}
+
 /// The OBJ reader's state across chunks of a file (each chunk ends at a line end, or is the last).
-/// Triangles are stored as they come; corner UVs are looked up once every `vt` is known.
+/// A large chunk is cut into pieces at line ends, parsed in parallel and committed in order, so
+/// the result and the first problem reported are those of a serial read. Triangles are stored
+/// as they come; corner UVs are looked up once every `vt` is known.
 class ObjParser {
 public:
-    explicit ObjParser(Input& out) : out_(out) { out_ = Input{}; }
+    ObjParser(Input& out, int threads) : out_(out), threads_(threads) { out_ = Input{}; }
 
     IoError feed(const char* data, std::size_t size) {
-        Cursor c{data, data + size, line_};
-        IoError e = parse(c);
-        line_ = c.line;
-        return e;
+        // Pieces of 256 KiB to 64 MiB, cut after a line end (a piece's line and record counts
+        // then fit 32 bits), parsed `threads_` at a time and committed in file order.
+        constexpr std::size_t kMinPiece = std::size_t{1} << 18, kMaxPiece = std::size_t{1} << 26;
+        const std::size_t threads = static_cast<std::size_t>(threads_);
+        std::size_t piece_size = std::max(kMinPiece, (size + threads - 1) / threads);
+        piece_size = std::min(piece_size, kMaxPiece);
+        const char* const end = data + size;
+        for (const char* from = data; from < end;) {
+            std::vector<const char*> cut{from};
+            while (cut.size() <= threads && cut.back() < end) {
+                const char* at = static_cast<std::size_t>(end - cut.back()) <= piece_size ? end : cut.back() + piece_size;
+                if (at < end) {
+                    const void* nl = std::memchr(at, '\n', static_cast<std::size_t>(end - at));
+                    at = nl ? static_cast<const char*>(nl) + 1 : end;
+                }
+                cut.push_back(at);
+            }
+            const auto pieces = static_cast<std::int64_t>(cut.size() - 1);
+            if (pieces_.size() < cut.size() - 1) pieces_.resize(cut.size() - 1);
+#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (pieces > 1)
+            for (std::int64_t i = 0; i < pieces; ++i) {
+                const auto k = static_cast<std::size_t>(i);
+                pieces_[k].clear();
+                parse_piece(cut[k], cut[k + 1], pieces_[k]);
+            }
+            if (IoError e = commit(static_cast<std::size_t>(pieces)); !e.ok()) return e;
+            from = cut.back();
+        }
+        return {};
     }
 
     void finish() {
+        std::vector<Piece>().swap(pieces_);
         out_.uvs.resize(tex_.size());
-        for (std::size_t i = 0; i < tex_.size(); ++i) out_.uvs[i] = vts_[static_cast<std::size_t>(tex_[i])];
+        const auto n = static_cast<std::int64_t>(tex_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1 && n >= (1 << 16))
+        for (std::int64_t i = 0; i < n; ++i)
+            out_.uvs[static_cast<std::size_t>(i)] = vts_[static_cast<std::size_t>(tex_[static_cast<std::size_t>(i)])];
         std::vector<int>().swap(tex_);
         std::vector<std::array<double, 2>>().swap(vts_);
     }
 
 private:
-    /// The N numbers of a `v` or `vt` record, an optional weight after them, all finite.
-    template <std::size_t N>
-    static IoError read_record(Cursor& c, std::array<double, N>& x, const char* key, const char* what) {
-        for (double& xi : x)
-            if (!c.read_double(xi))
-                return err(IoError::Code::Syntax, c.line, "expected " + std::to_string(N) + " numbers after '" + key + "'");
-        double w;
-        if (!c.at_eol() && !c.read_double(w)) return err(IoError::Code::Syntax, c.line, std::string("malformed '") + key + "' record");
-        for (double xi : x)
-            if (!std::isfinite(xi)) return err(IoError::Code::NonFinite, c.line, std::string("non-finite ") + what);
-        return {};
-    }
-
-    IoError parse(Cursor& c) {
-        Input& out = out_;
-        while (c.p < c.end) {
-            c.skip_blanks();
-            if (c.p >= c.end) break;
-            const char ch = *c.p;
-            if (ch == '\n') { ++c.p; ++c.line; continue; }
-            if (ch == '#') { c.skip_line(); continue; }
-            const char* kw = c.p;
-            while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') ++c.p;
-            const std::string_view key(kw, static_cast<std::size_t>(c.p - kw));
-            if (key == "v") {
-                std::array<double, 3> p{};
-                if (IoError e = read_record(c, p, "v", "vertex coordinate"); !e.ok()) return e;
-                out.positions.push_back(p);
-            } else if (key == "vt") {
-                std::array<double, 2> t{};
-                if (IoError e = read_record(c, t, "vt", "texture coordinate"); !e.ok()) return e;
-                vts_.push_back(t);
-            } else if (key == "f") {
-                std::array<std::int64_t, 3> fv{}, ft{};
-                int n = 0;
-                while (!c.at_eol()) {
-                    std::int64_t v = 0, t = 0;
-                    if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
-                    if (c.p >= c.end || *c.p != '/')
-                        return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
-                    ++c.p;
-                    if (!c.read_int(t))
-                        return err(IoError::Code::MissingUv, c.line, "face corner without a texture coordinate (expected v/vt)");
-                    if (c.p < c.end && *c.p == '/') { // normal index, ignored
-                        ++c.p;
-                        std::int64_t nidx;
-                        if (!c.read_int(nidx)) return err(IoError::Code::Syntax, c.line, "malformed normal index");
-                    }
-                    if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
-                        return err(IoError::Code::Syntax, c.line, "malformed face corner");
-                    if (n == 3) return err(IoError::Code::NonTriangle, c.line, "face with more than 3 corners (only triangles are accepted)");
-                    fv[n] = v;
-                    ft[n++] = t;
-                }
-                if (n != 3)
-                    return err(IoError::Code::NonTriangle, c.line, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
-                // OBJ allows relative indices: resolve against the counts seen so far.
-                std::array<int, 3> tri{}, tex{};
-                for (int k = 0; k < 3; ++k) {
-                    if (!resolve(fv[k], out.positions.size(), tri[k]))
-                        return err(IoError::Code::IndexOutOfRange, c.line, "vertex index " + std::to_string(fv[k]) + " out of range");
-                    if (!resolve(ft[k], vts_.size(), tex[k]))
-                        return err(IoError::Code::IndexOutOfRange, c.line, "texture index " + std::to_string(ft[k]) + " out of range");
-                }
-                out.triangles.push_back(tri);
-                tex_.insert(tex_.end(), tex.begin(), tex.end());
-            } else if (key == "vn" || key == "vp" || key == "o" || key == "g" || key == "s" || key == "usemtl" ||
-                       key == "mtllib" || key == "l") {
-                c.skip_line(); // records without meaning for the map
-                continue;
-            } else {
-                return err(IoError::Code::Syntax, c.line, "unknown record '" + std::string(key.substr(0, 32)) + "'");
-            }
-            if (!c.at_eol()) return err(IoError::Code::Syntax, c.line, "trailing characters");
-            if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
-            if (c.p < c.end) { ++c.p; ++c.line; }
+    /// Appends the first `count` parsed pieces, up to the first that failed: each piece's records
+    /// go to their places (known from the counts of the pieces before it), and its face indices
+    /// are resolved against the counts at each face. Returns the first problem in file order,
+    /// with its line in the file.
+    IoError commit(std::size_t count) {
+        struct Place { std::size_t nv, nvt, nf; std::int64_t first_line; };
+        std::vector<Place> at(count + 1);
+        at[0] = {out_.positions.size(), vts_.size(), out_.triangles.size(), line_};
+        std::size_t used = 0;
+        while (used < count) {
+            const Piece& p = pieces_[used++];
+            at[used] = {at[used - 1].nv + p.positions.size(), at[used - 1].nvt + p.vts.size(),
+                        at[used - 1].nf + p.faces.size(), at[used - 1].first_line + p.lines};
+            if (p.failed) break;
         }
+        out_.positions.resize(at[used].nv);
+        vts_.resize(at[used].nvt);
+        out_.triangles.resize(at[used].nf);
+        tex_.resize(3 * at[used].nf);
+        std::vector<IoError> problem(used);
+#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (used > 1)
+        for (std::int64_t i = 0; i < static_cast<std::int64_t>(used); ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            const Piece& p = pieces_[k];
+            const Place& place = at[k];
+            std::copy(p.positions.begin(), p.positions.end(), out_.positions.begin() + static_cast<std::ptrdiff_t>(place.nv));
+            std::copy(p.vts.begin(), p.vts.end(), vts_.begin() + static_cast<std::ptrdiff_t>(place.nvt));
+            const std::int64_t base = place.first_line - 1;
+            for (std::size_t j = 0; j < p.faces.size() && problem[k].ok(); ++j) {
+                const Piece::Face& f = p.faces[j];
+                std::array<int, 3>& tri = out_.triangles[place.nf + j];
+                int* tex = &tex_[3 * (place.nf + j)];
+                for (int c = 0; c < 3; ++c) {
+                    // OBJ allows relative indices: resolved against the counts seen so far.
+                    if (!resolve(f.v[c], place.nv + static_cast<std::size_t>(f.nv), tri[c])) {
+                        problem[k] = err(IoError::Code::IndexOutOfRange, base + f.line,
+                                         "vertex index " + std::to_string(f.v[c]) + " out of range");
+                        break;
+                    }
+                    if (!resolve(f.t[c], place.nvt + static_cast<std::size_t>(f.nvt), tex[c])) {
+                        problem[k] = err(IoError::Code::IndexOutOfRange, base + f.line,
+                                         "texture index " + std::to_string(f.t[c]) + " out of range");
+                        break;
+                    }
+                }
+            }
+            if (problem[k].ok() && p.failed) problem[k] = err(p.code, base + p.error_line, p.error);
+        }
+        for (IoError& e : problem)
+            if (!e.ok()) return std::move(e);
+        line_ = at[used].first_line;
         return {};
     }
 
     Input& out_;
+    int threads_;
+    std::vector<Piece> pieces_;
     std::vector<std::array<double, 2>> vts_;
     std::vector<int> tex_; // per corner: index into vts_
     std::int64_t line_ = 1;
 };
 
+int reader_threads(int requested) {
+#if defined(_OPENMP)
+    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+#else
+    (void)requested;
+    return 1;
+#endif
+}
+
 } // namespace
 
-IoError parse_obj(const char* data, std::size_t size, Input& out) {
-    ObjParser parser(out);
-    if (IoError e = parser.feed(data, size); !e.ok()) return e;
+IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
+    ObjParser parser(out, reader_threads(threads));
+    if (IoError e = parser.feed(data, size); !e.ok()) {
+        out = Input{};
+        return e;
+    }
     parser.finish();
     return {};
 }
 
-IoError read_obj(const std::string& path, Input& out) {
+IoError read_obj(const std::string& path, Input& out, int threads) {
     // Chunks of about 4 MiB, each cut after its last line end, so a large file is never held
     // whole in memory.
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
-    ObjParser parser(out);
+    ObjParser parser(out, reader_threads(threads));
     std::string buf;
     std::size_t kept = 0; // bytes of an unfinished line carried over
     IoError result;
@@ -279,38 +417,49 @@ IoError write_obj(const std::string& path, const QuadMesh& mesh) {
     const std::string tmp = path + ".tmp";
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) return {IoError::Code::CannotWrite, "cannot write '" + tmp + "'", 0};
-    std::string buf;
-    buf.reserve(1 << 16);
-    char line[160];
+    // Numbers go through std::to_chars: the shortest text that reads back to the same double.
+    constexpr std::size_t kBlock = std::size_t{1} << 16, kRecord = 512; // a record is far shorter
+    std::vector<char> buf(kBlock + kRecord);
+    char* p = buf.data();
     auto flush = [&](bool force) {
-        if (buf.size() > (1 << 15) || force) {
-            std::fwrite(buf.data(), 1, buf.size(), f);
-            buf.clear();
+        if (static_cast<std::size_t>(p - buf.data()) >= kBlock || force) {
+            std::fwrite(buf.data(), 1, static_cast<std::size_t>(p - buf.data()), f);
+            p = buf.data();
         }
     };
-    buf += "# qex quad mesh: " + std::to_string(mesh.positions.size()) + " vertices, " +
-           std::to_string(mesh.faces.size()) + " faces\n";
-    for (const auto& p : mesh.positions) {
-        buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p[0], p[1], p[2])));
+    auto put = [&](const char* text) { while (*text) *p++ = *text++; };
+    auto number = [&](auto x) { p = std::to_chars(p, buf.data() + buf.size(), x).ptr; };
+    put("# qex quad mesh: ");
+    number(mesh.positions.size());
+    put(" vertices, ");
+    number(mesh.faces.size());
+    put(" faces\n");
+    for (const auto& x : mesh.positions) {
+        put("v");
+        for (double c : x) *p++ = ' ', number(c);
+        *p++ = '\n';
         flush(false);
     }
     const bool uvs = mesh.face_uvs.size() == mesh.faces.size();
     for (std::size_t i = 0; uvs && i < mesh.faces.size(); ++i)
         for (const auto& t : mesh.face_uvs[i]) {
-            buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, "vt %lld %lld\n",
-                                                                    static_cast<long long>(t[0]), static_cast<long long>(t[1]))));
+            put("vt ");
+            number(static_cast<long long>(t[0]));
+            *p++ = ' ';
+            number(static_cast<long long>(t[1]));
+            *p++ = '\n';
             flush(false);
         }
     std::size_t t = 1;
     for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-        buf += 'f';
+        *p++ = 'f';
         for (std::size_t k = 0; k < mesh.faces[i].size(); ++k) {
-            if (uvs && k < mesh.face_uvs[i].size())
-                buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, " %d/%zu", mesh.faces[i][k] + 1, t++)));
-            else
-                buf.append(line, static_cast<std::size_t>(std::snprintf(line, sizeof line, " %d", mesh.faces[i][k] + 1)));
+            *p++ = ' ';
+            number(mesh.faces[i][k] + 1);
+            if (uvs && k < mesh.face_uvs[i].size()) *p++ = '/', number(t++);
+            flush(false); // a face may have many corners
         }
-        buf += '\n';
+        *p++ = '\n';
         flush(false);
     }
     flush(true);

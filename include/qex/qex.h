@@ -285,8 +285,10 @@ struct IoError {
 };
 
 /// Parses an OBJ with `v`, `vt` and `f a/ta b/tb c/tc` records (one UV per face corner).
-IoError parse_obj(const char* data, std::size_t size, Input& out);
-IoError read_obj(const std::string& path, Input& out);
+/// `threads` parse large inputs in pieces (0: every core, 1: serial); the result, and the first
+/// problem reported with its line, are those of a serial read. On a problem `out` is left empty.
+IoError parse_obj(const char* data, std::size_t size, Input& out, int threads = 0);
+IoError read_obj(const std::string& path, Input& out, int threads = 0);
 /// Reads a VVAL valence file: `{"file_format":"VVAL","version":1}`, vertex count, one integer each.
 IoError read_vval(const std::string& path, std::vector<int>& valences);
 IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences);

@@ -128,7 +128,7 @@ int run_extract(const std::string& in_path, const std::string& out_path, const s
                 const std::string& report_path, bool poly, bool quiet, int threads) {
     const auto t0 = std::chrono::steady_clock::now();
     qex::Input input;
-    if (const auto e = qex::read_obj(in_path, input); !e.ok()) {
+    if (const auto e = qex::read_obj(in_path, input, threads); !e.ok()) {
         std::cerr << "qex: " << in_path << ": " << e.message << "\n";
         return io_exit(e);
     }
