@@ -114,6 +114,35 @@ TEST(Extraction, DiskAndAnnulus) {
 
 // --- charts, order and precision ------------------------------------------------------------------
 
+TEST(Extraction, VertexOfVeryHighValence) {
+    // A disk made of one fan of 60,000 thin triangles around its centre (a cone apex, or a
+    // pole of a latitude-longitude sphere, looks like this), numbered at random. Every stage
+    // walks this one fan; the edge tables sort its 60,000 edges with std::sort rather than by
+    // insertion (speed is measured by the benchmarks, not here).
+    const int n = 60000;
+    Input in;
+    in.positions.push_back({0, 0, 0});
+    for (int i = 0; i < n; ++i) {
+        const double a = 2 * M_PI * i / n;
+        in.positions.push_back({6.5 * std::cos(a), 6.5 * std::sin(a), 0});
+    }
+    for (int i = 0; i < n; ++i) {
+        const std::array<int, 3> t{0, 1 + i, 1 + (i + 1) % n};
+        in.triangles.push_back(t);
+        for (int v : t) in.uvs.push_back({in.positions[v][0], in.positions[v][1]});
+    }
+    std::mt19937 rng(8);
+    shuffle(in, rng); // the centre's edges in random order
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    // The disk of radius 6.5 holds the grid cells inside it; the boundary cells are cut off by
+    // the round rim and discarded, each explained.
+    EXPECT_GT(r.mesh.faces.size(), 80u);
+    EXPECT_FALSE(r.report.explanations.empty());
+    const VerifyResult v = verify(in, r.mesh);
+    EXPECT_EQ(v.input_euler, 1);
+}
+
 TEST(Extraction, RechartShuffleTranslateRotate) {
     const auto layout = cube_layout();
     const Input base = make_map(layout, 3, 4);

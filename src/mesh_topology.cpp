@@ -38,54 +38,63 @@ TriMesh make_mesh(const Input& in) {
 Error build_topology(TriMesh& m, const char* what) {
     const int nf = m.num_faces();
     const int nh = 3 * nf;
-    // Half-edges ordered by undirected edge key (smaller vertex, larger vertex), then by index;
-    // pairs become opposites. Bucketed by the smaller vertex (counting sort), then each small
-    // bucket sorted by insertion: linear time, and the order std::sort would give.
-    std::vector<std::pair<std::uint64_t, int>> keys(nh);
+    // Half-edges ordered by undirected edge (smaller vertex, larger vertex), then by index; pairs
+    // become opposites. Bucketed by the smaller vertex (counting sort); each bucket holds
+    // (larger vertex) << 32 | half-edge and is sorted by insertion: linear time, 8 bytes per
+    // half-edge. (Large buckets, at vertices of high valence, are sorted by std::sort.)
+    const int nv = m.num_vertices;
+    std::vector<int> bucket(static_cast<std::size_t>(nv) + 1, 0); // bucket v: [bucket[v], bucket[v+1])
+    std::vector<std::uint64_t> entry(static_cast<std::size_t>(nh));
     {
-        std::vector<int> bucket(static_cast<std::size_t>(m.num_vertices) + 1, 0);
         for (int h = 0; h < nh; ++h) ++bucket[static_cast<std::size_t>(std::min(m.origin(h), m.target(h))) + 1];
-        for (int v = 0; v < m.num_vertices; ++v) bucket[v + 1] += bucket[v];
+        for (int v = 0; v < nv; ++v) bucket[v + 1] += bucket[v];
         std::vector<int> fill(bucket.begin(), bucket.end() - 1);
         for (int h = 0; h < nh; ++h) {
-            const auto a = static_cast<std::uint64_t>(m.origin(h)), b = static_cast<std::uint64_t>(m.target(h));
-            keys[static_cast<std::size_t>(fill[std::min(a, b)]++)] = {std::min(a, b) << 32 | std::max(a, b), h};
+            const int a = m.origin(h), b = m.target(h);
+            entry[static_cast<std::size_t>(fill[std::min(a, b)]++)] =
+                static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
         }
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
-        for (int v = 0; v < m.num_vertices; ++v)
+        for (int v = 0; v < nv; ++v) {
+            if (bucket[v + 1] - bucket[v] > 32) { // a vertex of high valence: no quadratic sort
+                std::sort(entry.begin() + bucket[v], entry.begin() + bucket[v + 1]);
+                continue;
+            }
             for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)
-                for (int j = i; j > bucket[v] && keys[j] < keys[j - 1]; --j) std::swap(keys[j], keys[j - 1]);
+                for (int j = i; j > bucket[v] && entry[j] < entry[j - 1]; --j) std::swap(entry[j], entry[j - 1]);
+        }
     }
     m.opp.assign(nh, -1);
-    for (int i = 0; i < nh;) {
-        int j = i;
-        while (j < nh && keys[j].first == keys[i].first) ++j;
-        const int h = keys[i].second;
-        auto edge = [&] {
-            return "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
-                   std::to_string(m.input_vertex[m.target(h)]) + ")";
-        };
-        if (j - i > 2)
-            return {ErrorCode::NonManifoldEdge,
-                    edge() + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
-                    m.input_triangle[TriMesh::face(h)]};
-        if (j - i == 2) {
-            const int o = keys[i + 1].second;
-            if (m.origin(h) == m.origin(o))
-                return {ErrorCode::InconsistentOrientation,
-                        edge() + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
-                            std::to_string(m.input_triangle[TriMesh::face(o)]) +
-                            " traverse it in the same direction (" + what + ")",
-                        m.input_triangle[TriMesh::face(o)]};
-            m.opp[h] = o;
-            m.opp[o] = h;
+    for (int v = 0; v < nv; ++v)
+        for (int i = bucket[v]; i < bucket[v + 1];) {
+            int j = i + 1;
+            while (j < bucket[v + 1] && entry[j] >> 32 == entry[i] >> 32) ++j;
+            const auto h = static_cast<int>(entry[i] & 0xffffffffu);
+            auto edge = [&] {
+                return "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
+                       std::to_string(m.input_vertex[m.target(h)]) + ")";
+            };
+            if (j - i > 2)
+                return {ErrorCode::NonManifoldEdge,
+                        edge() + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
+                        m.input_triangle[TriMesh::face(h)]};
+            if (j - i == 2) {
+                const auto o = static_cast<int>(entry[i + 1] & 0xffffffffu);
+                if (m.origin(h) == m.origin(o))
+                    return {ErrorCode::InconsistentOrientation,
+                            edge() + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
+                                std::to_string(m.input_triangle[TriMesh::face(o)]) +
+                                " traverse it in the same direction (" + what + ")",
+                            m.input_triangle[TriMesh::face(o)]};
+                m.opp[h] = o;
+                m.opp[o] = h;
+            }
+            i = j;
         }
-        i = j;
-    }
+    std::vector<std::uint64_t>().swap(entry);
     // Fans: the start of a boundary vertex's fan is its most counter-clockwise corner.
-    const int nv = m.num_vertices;
     m.fan_start.assign(nv, -1);
     m.fan_size.assign(nv, 0);
     m.on_boundary.assign(nv, 0);
