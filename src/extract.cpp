@@ -40,6 +40,8 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
     std::vector<int> rank(nv);
     for (std::size_t i = 0; i < nv; ++i) rank[order[i]] = static_cast<int>(i);
     QuadMesh out;
+    out.positions.reserve(nv);
+    out.provenance.reserve(nv);
     for (int i : order) {
         out.positions.push_back(mesh.positions[i]);
         out.provenance.push_back(mesh.provenance[i]);
@@ -55,10 +57,30 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
         const auto o = uv.empty() ? std::array<std::int64_t, 2>{0, 0} : uv[0];
         for (auto& x : uv) x = {x[0] - o[0], x[1] - o[1]};
     }
+    // Faces in the order of their vertex lists (as std::vector's operator< orders them). The
+    // first four entries, padded with -1, are compared in place; longer faces that tie on them
+    // are compared in full.
+    struct FaceKey {
+        std::array<int, 4> head;
+        int face;
+    };
+    std::vector<FaceKey> fkeys(mesh.faces.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        fkeys[f] = {{-1, -1, -1, -1}, static_cast<int>(f)};
+        for (std::size_t k = 0; k < 4 && k < mesh.faces[f].size(); ++k) fkeys[f].head[k] = mesh.faces[f][k];
+    }
+    std::sort(fkeys.begin(), fkeys.end(), [&](const FaceKey& a, const FaceKey& b) {
+        if (a.head != b.head) return a.head < b.head;
+        const auto &fa = mesh.faces[static_cast<std::size_t>(a.face)], &fb = mesh.faces[static_cast<std::size_t>(b.face)];
+        if (fa.size() > 4 || fb.size() > 4)
+            if (fa != fb) return fa < fb;
+        return a.face < b.face;
+    });
     std::vector<int> forder(mesh.faces.size());
-    std::iota(forder.begin(), forder.end(), 0);
-    std::sort(forder.begin(), forder.end(), [&](int a, int b) { return mesh.faces[a] < mesh.faces[b]; });
+    for (std::size_t i = 0; i < fkeys.size(); ++i) forder[i] = fkeys[i].face;
     std::vector<int> new_index(mesh.faces.size());
+    out.faces.reserve(mesh.faces.size());
+    out.face_uvs.reserve(mesh.faces.size());
     for (int f : forder) {
         new_index[f] = static_cast<int>(out.faces.size());
         out.faces.push_back(std::move(mesh.faces[f]));

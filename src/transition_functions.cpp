@@ -39,6 +39,12 @@ void compute_transitions(TriMesh& m) {
     const int nh = 3 * m.num_faces();
     m.transition.assign(nh, GridAutomorphism{});
     std::vector<char> determined(nh, 1);
+    // Per edge (its smaller half-edge): much shorter than its triangles (the dipole pass below).
+    std::vector<char> is_short(nh, 0);
+    auto len = [&](int c) {
+        const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
+        return norm_inf({q[0] - p[0], q[1] - p[1]});
+    };
     std::vector<int> undetermined;
     auto set = [&](int h, int r) {
         const int o = m.opp[h];
@@ -84,6 +90,11 @@ void compute_transitions(TriMesh& m) {
         const Point2 re = GridAutomorphism::rotate(e, best);
         if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2))))
             determined[h] = determined[o] = 0;
+        // An eighth of the longest edge of its two triangles.
+        double longest = 0;
+        for (const int c : {h, o})
+            for (int k = 0; k < 3; ++k) longest = std::max(longest, len(3 * TriMesh::face(c) + k));
+        is_short[h] = 8 * std::max(len(h), len(o)) < longest;
     }
     // Undetermined edges in index order (edges with a missing UV stay without a transition).
     for (int h = 0; h < nh; ++h) {
@@ -109,20 +120,9 @@ void compute_transitions(TriMesh& m) {
     // opposite index on its two ends. An edge much shorter than its triangles (an eighth of their
     // longest edge) whose ends turn by opposite amounts takes the rotation that makes both
     // regular. Shortest edges first, so the outcome does not depend on the input's order.
-    auto len = [&](int c) {
-        const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
-        return norm_inf({q[0] - p[0], q[1] - p[1]});
-    };
     std::vector<std::pair<double, int>> short_edges;
-    for (int h = 0; h < nh; ++h) {
-        const int o = m.opp[h];
-        if (o < h) continue;
-        double longest = 0;
-        for (const int c : {h, o})
-            for (int k = 0; k < 3; ++k) longest = std::max(longest, len(3 * TriMesh::face(c) + k));
-        const double l = std::max(len(h), len(o));
-        if (8 * l < longest) short_edges.push_back({l, h});
-    }
+    for (int h = 0; h < nh; ++h)
+        if (is_short[h]) short_edges.push_back({std::max(len(h), len(m.opp[h])), h});
     if (short_edges.empty()) return;
     // The turn of each short edge's ends (fans of interior vertices only; -1: open fan).
     std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2); // -2: not yet walked

@@ -1,7 +1,9 @@
 // The checker: judges a polygon mesh against the input map with its own code (nothing from the
-// extraction pipeline) and exact rational arithmetic (CGAL) wherever a number is compared.
+// extraction pipeline) and exact arithmetic wherever a number is compared: CGAL's exact
+// predicates and rationals for doubles, 128-bit integers for integer grid coordinates.
 #include "qex/qex.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
 #if defined(_OPENMP)
 #include <omp.h>
@@ -187,36 +189,24 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     return t;
 }
 
-/// Twice the signed area of a polygon, exactly.
-Rational twice_area(const std::vector<std::array<std::int64_t, 2>>& p) {
-    Rational a = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const auto& x = p[i];
-        const auto& y = p[(i + 1) % p.size()];
-        a += Rational(static_cast<double>(x[0])) * Rational(static_cast<double>(y[1])) -
-             Rational(static_cast<double>(x[1])) * Rational(static_cast<double>(y[0]));
-    }
-    return a;
-}
-
+/// A counter-clockwise unit grid cell: every side one unit step along an axis, and each step a
+/// quarter turn to the left of the one before (then the four close the cell and enclose area 1).
+/// Decided on 128-bit integer differences, exactly.
 bool unit_square_ccw(const std::vector<std::array<std::int64_t, 2>>& uv) {
     if (uv.size() != 4) return false;
+    std::array<std::array<__int128, 2>, 4> step;
     for (std::size_t i = 0; i < 4; ++i) {
-        const auto& a = uv[i];
-        const auto& b = uv[(i + 1) % 4];
-        if (std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) != 1) return false;
+        const auto &a = uv[i], &b = uv[(i + 1) % 4];
+        step[i] = {static_cast<__int128>(b[0]) - a[0], static_cast<__int128>(b[1]) - a[1]};
+        const __int128 manhattan = (step[i][0] < 0 ? -step[i][0] : step[i][0]) + (step[i][1] < 0 ? -step[i][1] : step[i][1]);
+        if (manhattan != 1) return false;
     }
-    return twice_area(uv) == Rational(2);
+    for (std::size_t i = 0; i < 4; ++i) {
+        const auto &d = step[i], &e = step[(i + 1) % 4];
+        if (e[0] != -d[1] || e[1] != d[0]) return false;
+    }
+    return true;
 }
-
-Rational det(const Rational& ax, const Rational& ay, const Rational& bx, const Rational& by) { return ax * by - ay * bx; }
-
-/// Exact sign of det(b - a, c - a).
-int orient(const std::array<Rational, 2>& a, const std::array<Rational, 2>& b, const std::array<Rational, 2>& c) {
-    return CGAL::sign(det(b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]));
-}
-
-std::array<Rational, 2> q2(const std::array<double, 2>& p) { return {Rational(p[0]), Rational(p[1])}; }
 
 std::array<double, 2> rot_d(const std::array<double, 2>& p, int r) {
     switch (r & 3) {
@@ -333,30 +323,33 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
                         ") in the chart of triangle " + std::to_string(c0 / 3) + ", not at an integer grid point",
                     static_cast<std::int64_t>(v));
     }
-    // Provenance: the grid point on the named vertex, edge or triangle.
+    // Provenance: the grid point on the named vertex, edge or triangle, decided by CGAL's exact
+    // predicates (the grid point is exact in doubles: the map's values are below 2^52).
+    using P = CGAL::Epick::Point_2;
     for (std::size_t i = 0; i < mesh.provenance.size() && i < mesh.positions.size(); ++i) {
         const Provenance& p = mesh.provenance[i];
-        const std::array<Rational, 2> g{Rational(static_cast<double>(p.grid[0])), Rational(static_cast<double>(p.grid[1]))};
         const auto T = static_cast<std::size_t>(p.chart_triangle);
-        bool on = p.chart_triangle >= 0 && T < nf && alive(T);
+        constexpr std::int64_t kExact = std::int64_t{1} << 53;
+        bool on = p.chart_triangle >= 0 && T < nf && alive(T) && std::abs(p.grid[0]) < kExact && std::abs(p.grid[1]) < kExact;
         if (on) {
-            const std::array<std::array<Rational, 2>, 3> t{q2(U[3 * T]), q2(U[3 * T + 1]), q2(U[3 * T + 2])};
+            const P g(static_cast<double>(p.grid[0]), static_cast<double>(p.grid[1]));
+            const std::array<P, 3> t{P(U[3 * T][0], U[3 * T][1]), P(U[3 * T + 1][0], U[3 * T + 1][1]),
+                                     P(U[3 * T + 2][0], U[3 * T + 2][1])};
             if (p.kind == QVertexKind::Vertex) {
                 // A corner of the named triangle sits on the grid point. (Its input vertex may be
                 // one that a collapse of UV-degenerate edges merged into p.element.)
-                on = false;
-                for (int k = 0; k < 3; ++k) on = on || t[k] == g;
+                on = t[0] == g || t[1] == g || t[2] == g;
             } else if (p.kind == QVertexKind::Edge) {
                 const int k = p.local_edge;
                 on = k >= 0 && k < 3 && static_cast<std::size_t>(p.element) == T;
                 if (on) {
-                    const auto &e0 = t[k], &e1 = t[(k + 1) % 3];
-                    on = orient(e0, e1, g) == 0 && g != e0 && g != e1 &&
-                         CGAL::sign((g[0] - e0[0]) * (e1[0] - g[0]) + (g[1] - e0[1]) * (e1[1] - g[1])) > 0;
+                    const P &e0 = t[static_cast<std::size_t>(k)], &e1 = t[static_cast<std::size_t>((k + 1) % 3)];
+                    on = CGAL::collinear(e0, e1, g) && CGAL::collinear_are_strictly_ordered_along_line(e0, g, e1);
                 }
             } else {
-                const int s = orient(t[0], t[1], t[2]);
-                on = s != 0 && orient(t[0], t[1], g) == s && orient(t[1], t[2], g) == s && orient(t[2], t[0], g) == s;
+                const auto s = CGAL::orientation(t[0], t[1], t[2]);
+                on = s != CGAL::COLLINEAR && CGAL::orientation(t[0], t[1], g) == s && CGAL::orientation(t[1], t[2], g) == s &&
+                     CGAL::orientation(t[2], t[0], g) == s;
             }
         }
         if (!on)

@@ -31,6 +31,14 @@ void split(const Loop& loop, std::size_t i, std::size_t j, Loop& first, Loop& se
 
 /// Removes repeated consecutive vertices and spikes (x y x); splits walks visiting a vertex twice.
 void simplify(Loop loop, std::vector<Loop>& out) {
+    // Most faces visit distinct vertices and are kept as they are.
+    bool distinct = true;
+    for (std::size_t i = 0; i < loop.size() && distinct; ++i)
+        for (std::size_t j = i + 1; j < loop.size() && distinct; ++j) distinct = loop[i].v != loop[j].v;
+    if (distinct) {
+        out.push_back(std::move(loop));
+        return;
+    }
     std::vector<Loop> work{std::move(loop)};
     while (!work.empty()) {
         Loop l = std::move(work.back());
@@ -153,9 +161,11 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
 
     // 3. Simplify faces.
     std::vector<Loop> simple;
+    simple.reserve(loops.size());
+    std::vector<Loop> parts;
     for (Loop& l : loops) {
         for (Corner& c : l) c.v = find(parent, c.v);
-        std::vector<Loop> parts;
+        parts.clear();
         simplify(std::move(l), parts);
         for (Loop& p : parts) {
             if (p.size() < 3) {
@@ -179,30 +189,51 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     //    positively and once through a fold-over; together they cover nothing. Faces are keyed
     //    by their vertex cycle rotated to the smallest vertex; one sort pairs keys with reverses.
     {
-        auto normalized = [](std::vector<int> f) {
-            std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-            return f;
-        };
-        std::vector<std::pair<std::vector<int>, std::size_t>> keys(simple.size());
-        for (std::size_t i = 0; i < simple.size(); ++i) {
-            std::vector<int> f;
-            f.reserve(simple[i].size());
-            for (const Corner& c : simple[i]) f.push_back(c.v);
-            keys[i] = {normalized(std::move(f)), i};
+        // Keys in one arena: key i is cycle[first[i] .. first[i+1]), ordered by length, then
+        // lexicographically.
+        std::vector<int> cycle;
+        std::vector<std::size_t> first{0};
+        cycle.reserve(4 * simple.size());
+        first.reserve(simple.size() + 1);
+        for (const Loop& l : simple) {
+            std::size_t m0 = 0;
+            for (std::size_t k = 1; k < l.size(); ++k)
+                if (l[k].v < l[m0].v) m0 = k;
+            for (std::size_t k = 0; k < l.size(); ++k) cycle.push_back(l[(m0 + k) % l.size()].v);
+            first.push_back(cycle.size());
         }
-        std::sort(keys.begin(), keys.end());
+        auto key_less = [&](const int* a, std::size_t na, const int* b, std::size_t nb) {
+            if (na != nb) return na < nb;
+            return std::lexicographical_compare(a, a + na, b, b + nb);
+        };
+        auto key_of = [&](std::size_t i) { return cycle.data() + first[i]; };
+        auto size_of = [&](std::size_t i) { return first[i + 1] - first[i]; };
+        std::vector<std::size_t> order(simple.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+            if (key_less(key_of(x), size_of(x), key_of(y), size_of(y))) return true;
+            if (key_less(key_of(y), size_of(y), key_of(x), size_of(x))) return false;
+            return x < y;
+        });
         std::vector<char> drop(simple.size(), 0);
-        for (std::size_t k = 0; k < keys.size(); ++k) {
-            const std::size_t i = keys[k].second;
+        std::vector<int> rev;
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            const std::size_t i = order[k];
             if (drop[i]) continue;
-            const std::vector<int>& key = keys[k].first;
-            const std::vector<int> rev = normalized(std::vector<int>(key.rbegin(), key.rend()));
-            if (rev == key) continue;
+            // The reverse cycle, rotated to start at the same (smallest) vertex.
+            const int* key = key_of(i);
+            const std::size_t n = size_of(i);
+            rev.assign(1, key[0]);
+            for (std::size_t j = n - 1; j >= 1; --j) rev.push_back(key[j]);
+            if (std::equal(rev.begin(), rev.end(), key)) continue;
             // The first reverse not yet paired.
-            auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(rev, std::size_t{0}));
-            while (it != keys.end() && it->first == rev && drop[it->second]) ++it;
-            if (it == keys.end() || it->first != rev) continue;
-            drop[i] = drop[it->second] = 1;
+            auto it = std::lower_bound(order.begin(), order.end(), std::size_t{0}, [&](std::size_t x, std::size_t) {
+                return key_less(key_of(x), size_of(x), rev.data(), rev.size());
+            });
+            auto is_rev = [&](std::size_t x) { return size_of(x) == n && std::equal(rev.begin(), rev.end(), key_of(x)); };
+            while (it != order.end() && is_rev(*it) && drop[*it]) ++it;
+            if (it == order.end() || !is_rev(*it)) continue;
+            drop[i] = drop[*it] = 1;
             report.ghost_faces_cancelled += 2;
             const QVertex& v = q.qvertices[simple[i][0].v];
             report.explanations.push_back({DefectKind::GhostFacesCancelled,
@@ -241,6 +272,8 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     for (const Loop& l : simple) {
         std::vector<int> face;
         std::vector<std::array<std::int64_t, 2>> uvs;
+        face.reserve(l.size());
+        uvs.reserve(l.size());
         for (const Corner& c : l) {
             if (out_id[c.v] < 0) {
                 out_id[c.v] = static_cast<int>(out.positions.size());
