@@ -242,11 +242,25 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
     auto faces = detail::extract_faces(m, q, report);
     timer.done("extract_faces");
     detail::merge_and_simplify(m, q, std::move(faces), options, result.mesh, report);
-    // The sanitized map, per input corner, for the checker.
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    result.mesh.map_uvs.assign(input.uvs.size(), {nan, nan});
-    for (int f = 0; f < m.num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) result.mesh.map_uvs[3 * static_cast<std::size_t>(m.input_triangle[f]) + k] = m.uv[3 * f + k];
+    q = detail::QState{};
+    // The sanitized map, per input corner, for the checker. Only the map and the triangle
+    // numbering of the working mesh are still needed: the rest is released first, and when no
+    // triangle was collapsed away the map is handed over without a copy.
+    std::vector<detail::Point2> uv = std::move(m.uv);
+    std::vector<int> input_triangle = std::move(m.input_triangle);
+    m = detail::TriMesh{};
+    bool same_numbering = input_triangle.size() == input.triangles.size();
+    for (std::size_t f = 0; f < input_triangle.size() && same_numbering; ++f)
+        same_numbering = input_triangle[f] == static_cast<int>(f);
+    if (same_numbering) {
+        result.mesh.map_uvs = std::move(uv);
+    } else {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        result.mesh.map_uvs.assign(input.uvs.size(), {nan, nan});
+        for (std::size_t f = 0; f < input_triangle.size(); ++f)
+            for (std::size_t k = 0; k < 3; ++k)
+                result.mesh.map_uvs[3 * static_cast<std::size_t>(input_triangle[f]) + k] = uv[3 * f + k];
+    }
     if (options.canonical_order) {
         const std::vector<int> new_index = canonicalize(result.mesh);
         for (Defect& d : report.defects)
