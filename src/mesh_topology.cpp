@@ -2,22 +2,10 @@
 #include "pipeline.h"
 
 #include <algorithm>
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
 #include <numeric>
 #include <string>
 
 namespace qex::detail {
-
-int thread_count(int requested) {
-#if defined(_OPENMP)
-    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
-#else
-    (void)requested;
-    return 1;
-#endif
-}
 
 TriMesh make_mesh(const Input& in) {
     TriMesh m;

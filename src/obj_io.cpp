@@ -3,9 +3,7 @@
 #include "qex/qex.h"
 
 #include <fast_float/fast_float.h>
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
+#include "thread_count.h"
 
 #include <algorithm>
 #include <charconv>
@@ -313,19 +311,10 @@ private:
     std::int64_t line_ = 1;
 };
 
-int reader_threads(int requested) {
-#if defined(_OPENMP)
-    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
-#else
-    (void)requested;
-    return 1;
-#endif
-}
-
 } // namespace
 
 IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
-    ObjParser parser(out, reader_threads(threads));
+    ObjParser parser(out, detail::thread_count(threads));
     if (IoError e = parser.feed(data, size); !e.ok()) {
         out = Input{};
         return e;
@@ -339,7 +328,7 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
     // whole in memory.
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
-    ObjParser parser(out, reader_threads(threads));
+    ObjParser parser(out, detail::thread_count(threads));
     std::string buf;
     std::size_t kept = 0; // bytes of an unfinished line carried over
     IoError result;

@@ -4,6 +4,7 @@
 
 #include "grid_automorphism.h"
 #include "predicates.h"
+#include "thread_count.h"
 #include "qex/qex.h"
 
 #include <array>
@@ -62,8 +63,6 @@ struct TriMesh {
 
 // ============================================================================ stages
 
-/// Threads to use for Options::threads (0: every core; 1 without OpenMP).
-int thread_count(int requested);
 
 /// The working mesh of an input whose values are valid (validate_input_values).
 TriMesh make_mesh(const Input& in);

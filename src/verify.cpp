@@ -5,9 +5,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
+#include "thread_count.h"
 
 #include <algorithm>
 #include <climits>
@@ -29,16 +27,6 @@ struct Topology {
 int find(std::vector<int>& parent, int x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
-}
-
-/// Threads for the checker's parallel loops (VerifyOptions::threads; 0: every core).
-int checker_threads(int requested) {
-#if defined(_OPENMP)
-    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
-#else
-    (void)requested;
-    return 1;
-#endif
 }
 
 /// Per corner c: the other corner whose outgoing edge joins the same two vertices, when exactly
@@ -372,7 +360,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     VerifyResult r;
     auto& out = r.violations;
     const std::size_t nv = mesh.positions.size();
-    const int threads = checker_threads(options.threads);
+    const int threads = detail::thread_count(options.threads);
     if (mesh.faces.empty()) out.push_back({ViolationKind::EmptyMesh, "the mesh has no faces", -1});
     bool indices_ok = true;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
