@@ -129,6 +129,19 @@ TEST(Checker, SingularitiesSitOnIntegerGridPoints) {
     EXPECT_EQ(verify(torus, extract(torus).mesh).map_singularities, 0);
 }
 
+TEST(Checker, MixedPolygonsAreWalkedFaceByFace) {
+    // A quad and a 2-gon have 6 corners, as two triangles would: the edges must still come
+    // from the faces as given ({0,1}, {1,2}, {2,3}, {3,0}), not from corners taken in threes.
+    const Input in = make_map(cube_layout(), 2, 3);
+    QuadMesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    mesh.faces = {{0, 1, 2, 3}, {3, 2}};
+    const VerifyResult v = verify(in, mesh);
+    EXPECT_EQ(v.edges, 4);
+    EXPECT_EQ(count(v, ViolationKind::NotQuad), 1u);
+    EXPECT_FALSE(v.valid);
+}
+
 TEST(Checker, ParallelLoopsGiveTheSerialVerdict) {
     // VerifyOptions::threads changes who computes, not what: the same violations in the same
     // order. The checker's loops run in parallel from 2^16 corners on (input or mesh).

@@ -47,10 +47,13 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         if (out && out->size() < 1000) out->push_back({k, std::move(msg), e});
     };
     const std::size_t nf = offset.size() - 1, nc = offset.back();
-    std::vector<std::int32_t> corner_face(nc);
-    for (std::size_t f = 0; f < nf; ++f)
+    // Every face a triangle: then offset[f] == 3f, and corners need no face lookup.
+    bool triangles = true;
+    for (std::size_t f = 0; f < nf && triangles; ++f) triangles = offset[f + 1] - offset[f] == 3;
+    std::vector<std::int32_t> corner_face(triangles ? 0 : nc);
+    for (std::size_t f = 0; f < nf && !triangles; ++f)
         for (std::size_t c = offset[f]; c < offset[f + 1]; ++c) corner_face[c] = static_cast<std::int32_t>(f);
-    const bool triangles = nc == 3 * nf; // then offset[f] == 3f and no lookups are needed
+    auto face_of = [&](std::size_t c) { return triangles ? static_cast<std::int64_t>(c / 3) : corner_face[c]; };
     auto next_corner = [&](std::size_t c) {
         if (triangles) return c % 3 == 2 ? c - 2 : c + 1;
         const auto f = static_cast<std::size_t>(corner_face[c]);
@@ -103,13 +106,13 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
             auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
             if (j - i > 2) {
                 violate(ViolationKind::NonManifoldEdge, "edge " + name() + " has " + std::to_string(j - i) + " incident face sides",
-                        corner_face[c0]);
+                        face_of(c0));
             } else if (j - i == 2) {
                 const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]);
                 if (pairs_out) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
                 if (corner_vertex[c0] == corner_vertex[c1])
                     violate(ViolationKind::InconsistentOrientation,
-                            "edge " + name() + " is traversed twice in the same direction", corner_face[c1]);
+                            "edge " + name() + " is traversed twice in the same direction", face_of(c1));
                 else
                     twin[c0] = static_cast<std::int32_t>(c1), twin[c1] = static_cast<std::int32_t>(c0);
             }
