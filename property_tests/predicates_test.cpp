@@ -1,4 +1,6 @@
-// The core's predicates against exact rational arithmetic on near-degenerate inputs.
+// The core's predicates against exact rational arithmetic on near-degenerate inputs, and the
+// packed transition table.
+#include "pipeline.h"
 #include "predicates.h"
 
 #include <CGAL/Exact_rational.h>
@@ -41,6 +43,26 @@ TEST(Predicates, SegmentAndTriangleTests) {
     EXPECT_FALSE(in_closed_triangle({0.5, -1e-300}, {0, 0}, {1, 0}, {0, 1}));
     EXPECT_TRUE(on_segment({0.25, 0.25}, {0, 0}, {1, 1}));
     EXPECT_FALSE(on_segment({0.25, 0.2500000000000001}, {0, 0}, {1, 1}));
+}
+
+TEST(Transitions, PackedTableKeepsEveryTransitionExactly) {
+    // The table keeps rotation and translation in 16 bytes; every rotation, sign and magnitude
+    // up to 2^60 (beyond the 2^54 that validated maps reach) must come back unchanged.
+    TransitionTable table;
+    std::vector<GridAutomorphism> all;
+    const std::int64_t big = std::int64_t{1} << 60;
+    for (int r = 0; r < 4; ++r)
+        for (std::int64_t tx : {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, std::int64_t{-7}, big - 1, -big, std::int64_t{1} << 53})
+            for (std::int64_t ty : {std::int64_t{0}, std::int64_t{-3}, big, -big, std::int64_t{5}})
+                all.push_back({r, tx, ty});
+    table.assign(all.size());
+    EXPECT_TRUE(table[0] == GridAutomorphism{});
+    for (std::size_t i = 0; i < all.size(); ++i) table.set(i, all[i]);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(table[i].r, all[i].r) << i;
+        EXPECT_EQ(table[i].tx, all[i].tx) << i;
+        EXPECT_EQ(table[i].ty, all[i].ty) << i;
+    }
 }
 
 } // namespace

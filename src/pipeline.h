@@ -15,6 +15,31 @@ namespace qex::detail {
 
 // ============================================================================ triangle mesh
 
+/// Transitions per half-edge, 16 bytes each instead of GridAutomorphism's 24: the rotation sits
+/// in the two low bits of 4 * tx. Exact while |tx| < 2^61; transitions between charts of a map
+/// whose values are below 2^52 (input validation) stay below 2^54.
+class TransitionTable {
+public:
+    void assign(std::size_t n) { data_.assign(n, Packed{0, 0}); }
+    std::size_t size() const { return data_.size(); }
+    GridAutomorphism operator[](std::size_t h) const {
+        const Packed& p = data_[h];
+        return {static_cast<int>(p.tx_r & 3), p.tx_r >> 2, p.ty};
+    }
+    void set(std::size_t h, const GridAutomorphism& g) {
+        // 4 * tx as an unsigned product: no signed overflow, and exact in the stated range.
+        const auto scaled = static_cast<std::int64_t>(static_cast<std::uint64_t>(g.tx) << 2);
+        data_[h] = {scaled | (g.r & 3), g.ty};
+    }
+
+private:
+    struct Packed {
+        std::int64_t tx_r; ///< 4 * tx + r
+        std::int64_t ty;
+    };
+    std::vector<Packed> data_;
+};
+
 /// Corner-based triangle mesh. Corner h = 3f + k is vertex tri[f][k] in triangle f, and also the
 /// half-edge from that vertex to tri[f][(k+1)%3].
 struct TriMesh {
@@ -43,7 +68,7 @@ struct TriMesh {
     bool parallel(std::int64_t n) const { return threads > 1 && n >= (1 << 16); }
 
     // map (transitions, sanitization, valences)
-    std::vector<GridAutomorphism> transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
+    TransitionTable transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
     std::vector<signed char> face_sign;       ///< per triangle: sign of its UV area (exact)
     std::vector<int> valence;                 ///< per vertex: valence (Algorithm 8 or given)
     std::vector<int> winding_valence;         ///< per vertex: signed angle sum / (pi/2), rounded

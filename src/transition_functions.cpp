@@ -37,7 +37,7 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
 
 void compute_transitions(TriMesh& m) {
     const int nh = 3 * m.num_faces();
-    m.transition.assign(nh, GridAutomorphism{});
+    m.transition.assign(static_cast<std::size_t>(nh));
     std::vector<char> determined(nh, 1);
     // Per edge (its smaller half-edge): much shorter than its triangles (the dipole pass below).
     std::vector<char> is_short(nh, 0);
@@ -58,8 +58,8 @@ void compute_transitions(TriMesh& m) {
         g.r = r;
         g.tx = static_cast<std::int64_t>(std::llround(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0]))));
         g.ty = static_cast<std::int64_t>(std::llround(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1]))));
-        m.transition[h] = g;
-        m.transition[o] = g.inverse();
+        m.transition.set(static_cast<std::size_t>(h), g);
+        m.transition.set(static_cast<std::size_t>(o), g.inverse());
     };
     // Each interior edge is set from its smaller half-edge, writing only its own two entries.
 #if defined(_OPENMP)
