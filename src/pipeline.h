@@ -106,6 +106,13 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed);
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
 
+/// The angle atan2(y, x) for y >= 0, within kApproximateAngleError of it (a polynomial, no
+/// libm call); NaN when x and y are both 0 or not finite.
+double approximate_angle(double y, double x);
+/// A bound on |approximate_angle - atan2|, with a margin of 10 over the polynomial's 1e-5 (the
+/// unit test samples the whole range).
+inline constexpr double kApproximateAngleError = 1e-4;
+
 /// Valence counting robust to fold-overs (Algorithm 8) and winding valences; interior vertices
 /// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
 void count_valences(TriMesh& m, bool singular_only = false);
