@@ -31,6 +31,14 @@ void count_valences(TriMesh& m, bool singular_only) {
     m.valence.assign(nv, 4);
     m.winding_valence.assign(nv, 4);
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
+    // Each triangle's orientation once (a corner's is its triangle's: the exact sign does not
+    // change under a cyclic shift of the corners).
+    std::vector<signed char> tri_sign(static_cast<std::size_t>(m.num_faces()));
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#endif
+    for (int f = 0; f < m.num_faces(); ++f)
+        tri_sign[static_cast<std::size_t>(f)] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
 #if defined(_OPENMP)
 #pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
@@ -56,7 +64,7 @@ void count_valences(TriMesh& m, bool singular_only) {
             const Point2& u = m.uv[h];
             const Point2& p = m.uv[TriMesh::next(h)];
             const Point2& w = m.uv[TriMesh::prev(h)];
-            const int s = sign(orient2d(u, p, w));
+            const int s = tri_sign[static_cast<std::size_t>(TriMesh::face(h))];
             const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
             corners.push_back({s, std::abs(ax * by - ay * bx), ax * bx + ay * by});
             all_positive = all_positive && s > 0;
