@@ -416,6 +416,53 @@ TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
     }
 }
 
+TEST(Extraction, ParallelTopologyReportsTheSerialError) {
+    // The edge table is filled and checked on several threads; a broken large input must get
+    // the error (kind, message, element) a serial run reports: the first in the serial order.
+    const Input base = subdivide(subdivide(subdivide(subdivide(make_map(cube_layout(), 3, 3, 2, 5)))));
+    ASSERT_GE(3 * base.triangles.size(), std::size_t{1} << 16);
+    ASSERT_GT(base.triangles.size(), std::size_t{25000});
+    // Two defects of one kind per input; the serial order reports the one on the edge whose
+    // smaller vertex comes first, so each is also extracted alone to know its message.
+    auto doubled = [&](std::vector<std::size_t> faces) {
+        Input in = base;
+        for (std::size_t f : faces) {
+            in.triangles.push_back(in.triangles[f]);
+            for (std::size_t k = 0; k < 3; ++k) in.uvs.push_back(in.uvs[3 * f + k]);
+        }
+        return in;
+    };
+    auto flipped = [&](std::vector<std::size_t> faces) {
+        Input in = base;
+        for (std::size_t f : faces) {
+            std::swap(in.triangles[f][1], in.triangles[f][2]);
+            std::swap(in.uvs[3 * f + 1], in.uvs[3 * f + 2]);
+        }
+        return in;
+    };
+    auto smaller_vertex = [](const std::string& message) {
+        int a = -1, b = -1;
+        EXPECT_EQ(std::sscanf(message.c_str(), "edge (%d, %d)", &a, &b), 2) << message;
+        return std::min(a, b);
+    };
+    Options serial, parallel;
+    serial.threads = 1;
+    parallel.threads = 2;
+    for (int kind = 0; kind < 2; ++kind) {
+        const std::size_t f1 = kind == 0 ? 20000 : 25000, f2 = kind == 0 ? 7 : 123;
+        auto make = [&](std::vector<std::size_t> faces) { return kind == 0 ? doubled(faces) : flipped(faces); };
+        const Input both = make({f1, f2});
+        const Result a = extract(both, serial), b = extract(both, parallel);
+        ASSERT_FALSE(a.ok());
+        EXPECT_EQ(a.error.code, b.error.code);
+        EXPECT_EQ(a.error.message, b.error.message);
+        EXPECT_EQ(a.error.element, b.error.element);
+        const Result one = extract(make({f1}), parallel), two = extract(make({f2}), parallel);
+        const Result& first = smaller_vertex(one.error.message) < smaller_vertex(two.error.message) ? one : two;
+        EXPECT_EQ(b.error.message, first.error.message);
+    }
+}
+
 TEST(Extraction, ReportCountsAreConsistent) {
     const auto layout = cube_layout();
     const Result r = extract_valid(make_map(layout, 2, 3));

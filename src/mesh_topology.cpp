@@ -34,53 +34,81 @@ Error build_topology(TriMesh& m, const char* what) {
     std::vector<int> bucket(static_cast<std::size_t>(nv) + 1, 0); // bucket v: [bucket[v], bucket[v+1])
     std::vector<std::uint64_t> entry(static_cast<std::size_t>(nh));
     {
-        for (int h = 0; h < nh; ++h) ++bucket[static_cast<std::size_t>(std::min(m.origin(h), m.target(h))) + 1];
+        // Counting and placing may run on several threads: where in its bucket an entry lands
+        // does not matter, since the buckets are sorted (by larger vertex, then half-edge) next.
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
+#endif
+        for (int h = 0; h < nh; ++h) {
+            int& c = bucket[static_cast<std::size_t>(std::min(m.origin(h), m.target(h))) + 1];
+#if defined(_OPENMP)
+#pragma omp atomic
+#endif
+            ++c;
+        }
         for (int v = 0; v < nv; ++v) bucket[v + 1] += bucket[v];
         std::vector<int> fill(bucket.begin(), bucket.end() - 1);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
+#endif
         for (int h = 0; h < nh; ++h) {
             const int a = m.origin(h), b = m.target(h);
-            entry[static_cast<std::size_t>(fill[std::min(a, b)]++)] =
-                static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
-        }
+            int slot;
+            int& f = fill[static_cast<std::size_t>(std::min(a, b))];
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#pragma omp atomic capture
 #endif
-        for (int v = 0; v < nv; ++v) {
-            if (bucket[v + 1] - bucket[v] > 32) { // a vertex of high valence: no quadratic sort
-                std::sort(entry.begin() + bucket[v], entry.begin() + bucket[v + 1]);
-                continue;
-            }
-            for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)
-                for (int j = i; j > bucket[v] && entry[j] < entry[j - 1]; --j) std::swap(entry[j], entry[j - 1]);
+            slot = f++;
+            entry[static_cast<std::size_t>(slot)] = static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
         }
     }
+    // Per bucket: sort, then pair runs of equal larger vertex into opposites. A bucket with a
+    // problem only marks itself; the first such bucket is reported below, as a serial scan would.
     m.opp.assign(nh, -1);
-    for (int v = 0; v < nv; ++v)
+    auto problem = [&](int v, Error* error) {
         for (int i = bucket[v]; i < bucket[v + 1];) {
             int j = i + 1;
             while (j < bucket[v + 1] && entry[j] >> 32 == entry[i] >> 32) ++j;
             const auto h = static_cast<int>(entry[i] & 0xffffffffu);
-            auto edge = [&] {
-                return "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
-                       std::to_string(m.input_vertex[m.target(h)]) + ")";
-            };
-            if (j - i > 2)
-                return {ErrorCode::NonManifoldEdge,
-                        edge() + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
-                        m.input_triangle[TriMesh::face(h)]};
-            if (j - i == 2) {
-                const auto o = static_cast<int>(entry[i + 1] & 0xffffffffu);
-                if (m.origin(h) == m.origin(o))
-                    return {ErrorCode::InconsistentOrientation,
-                            edge() + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
-                                std::to_string(m.input_triangle[TriMesh::face(o)]) +
-                                " traverse it in the same direction (" + what + ")",
-                            m.input_triangle[TriMesh::face(o)]};
-                m.opp[h] = o;
-                m.opp[o] = h;
+            const auto o = j - i == 2 ? static_cast<int>(entry[i + 1] & 0xffffffffu) : -1;
+            const bool non_manifold = j - i > 2, misoriented = o >= 0 && m.origin(h) == m.origin(o);
+            if ((non_manifold || misoriented) && error) {
+                const std::string edge = "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
+                                         std::to_string(m.input_vertex[m.target(h)]) + ")";
+                *error = non_manifold
+                             ? Error{ErrorCode::NonManifoldEdge,
+                                     edge + " has " + std::to_string(j - i) + " incident triangles (" + what + ")",
+                                     m.input_triangle[TriMesh::face(h)]}
+                             : Error{ErrorCode::InconsistentOrientation,
+                                     edge + ": triangles " + std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
+                                         std::to_string(m.input_triangle[TriMesh::face(o)]) +
+                                         " traverse it in the same direction (" + what + ")",
+                                     m.input_triangle[TriMesh::face(o)]};
             }
+            if (non_manifold || misoriented) return true;
+            if (o >= 0) m.opp[h] = o, m.opp[o] = h;
             i = j;
         }
+        return false;
+    };
+    int first_bad = nv;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(min : first_bad)
+#endif
+    for (int v = 0; v < nv; ++v) {
+        if (bucket[v + 1] - bucket[v] > 32) { // a vertex of high valence: no quadratic sort
+            std::sort(entry.begin() + bucket[v], entry.begin() + bucket[v + 1]);
+        } else {
+            for (int i = bucket[v] + 1; i < bucket[v + 1]; ++i)
+                for (int j = i; j > bucket[v] && entry[j] < entry[j - 1]; --j) std::swap(entry[j], entry[j - 1]);
+        }
+        if (problem(v, nullptr)) first_bad = std::min(first_bad, v);
+    }
+    if (first_bad < nv) {
+        Error error;
+        problem(first_bad, &error);
+        return error;
+    }
     std::vector<std::uint64_t>().swap(entry);
     // Fans: the start of a boundary vertex's fan is its most counter-clockwise corner.
     m.fan_start.assign(nv, -1);
@@ -108,18 +136,29 @@ Error build_topology(TriMesh& m, const char* what) {
         for (int h = 0; h < nh; ++h)
             if (!listed[m.origin(h)]) listed[m.origin(h)] = 1, m.vertex_order.push_back(m.origin(h));
     }
-    for (const int v : m.vertex_order) {
+    // Each fan must hold all of its vertex's corners; the first vertex (in vertex_order) whose
+    // fan does not is reported.
+    const auto listed = static_cast<std::int64_t>(m.vertex_order.size());
+    std::int64_t first_split = listed;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(min : first_split)
+#endif
+    for (std::int64_t i = 0; i < listed; ++i) {
+        const int v = m.vertex_order[static_cast<std::size_t>(i)];
         int count = 0;
         for (int h = m.fan_start[v]; h >= 0;) {
             ++count;
             h = m.cw(h);
             if (h == m.fan_start[v] || count > m.fan_size[v]) break;
         }
-        if (count != m.fan_size[v])
-            return {ErrorCode::NonManifoldVertex,
-                    "the triangles around vertex " + std::to_string(m.input_vertex[v]) +
-                        " do not form a single fan (" + what + ")",
-                    m.input_vertex[v]};
+        if (count != m.fan_size[v]) first_split = std::min(first_split, i);
+    }
+    if (first_split < listed) {
+        const int v = m.vertex_order[static_cast<std::size_t>(first_split)];
+        return {ErrorCode::NonManifoldVertex,
+                "the triangles around vertex " + std::to_string(m.input_vertex[v]) + " do not form a single fan (" +
+                    what + ")",
+                m.input_vertex[v]};
     }
     return {};
 }
