@@ -88,7 +88,7 @@ namespace {
 /// and lines are counted from the piece's start. Pieces are committed in file order.
 struct Piece {
     struct Face {
-        std::array<std::int64_t, 3> v, t; // as written (1-based or negative, relative)
+        std::array<std::int32_t, 3> v, t; // as written (1-based or negative, relative)
         std::int32_t line;                // line in the piece (1 = its first)
         std::int32_t nv, nvt;             // `v` and `vt` records of the piece before the face
     };
@@ -102,14 +102,6 @@ struct Piece {
     std::int64_t error_line = 0;
     std::string error;
 
-    void clear() {
-        positions.clear();
-        vts.clear();
-        faces.clear();
-        lines = 0;
-        failed = false;
-        error.clear();
-    }
 };
 
 /// The N numbers of a `v` or `vt` record, an optional weight after them, all finite. Returns
@@ -174,8 +166,13 @@ void parse_piece(const char* begin, const char* end, Piece& piece) {
                 if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n' && *c.p != '#')
                     return fail(IoError::Code::Syntax, "malformed face corner");
                 if (n == 3) return fail(IoError::Code::NonTriangle, "face with more than 3 corners (only triangles are accepted)");
-                face.v[n] = v;
-                face.t[n++] = t;
+                // Beyond 32 bits an index is out of range of any file this reader accepts.
+                if (v < -INT32_MAX || v > INT32_MAX)
+                    return fail(IoError::Code::IndexOutOfRange, "vertex index " + std::to_string(v) + " out of range");
+                if (t < -INT32_MAX || t > INT32_MAX)
+                    return fail(IoError::Code::IndexOutOfRange, "texture index " + std::to_string(t) + " out of range");
+                face.v[n] = static_cast<std::int32_t>(v);
+                face.t[n++] = static_cast<std::int32_t>(t);
             }
             if (n != 3)
                 return fail(IoError::Code::NonTriangle, "face with " + std::to_string(n) + " corners (only triangles are accepted)");
@@ -198,22 +195,24 @@ void parse_piece(const char* begin, const char* end, Piece& piece) {
 }
 
 /// The OBJ reader's state across chunks of a file (each chunk ends at a line end, or is the last).
-/// A large chunk is cut into pieces at line ends, parsed in parallel and committed in order, so
-/// the result and the first problem reported are those of a serial read. Triangles are stored
-/// as they come; corner UVs are looked up once every `vt` is known.
+/// A chunk is cut into pieces at line ends, which are parsed on all threads and kept. Once the
+/// file is read (or a piece failed), finish() sizes the arrays exactly, places every piece's
+/// records and resolves its indices in parallel, and reports the first problem in file order:
+/// the result and the problem are those of a serial read.
 class ObjParser {
 public:
     ObjParser(Input& out, int threads) : out_(out), threads_(threads) { out_ = Input{}; }
 
-    IoError feed(const char* data, std::size_t size) {
+    /// Parses whole lines; false once a piece has failed (nothing after it matters).
+    bool feed(const char* data, std::size_t size) {
         // Pieces of 256 KiB to 64 MiB, cut after a line end (a piece's line and record counts
-        // then fit 32 bits), parsed `threads_` at a time and committed in file order.
+        // then fit 32 bits), parsed `threads_` at a time.
         constexpr std::size_t kMinPiece = std::size_t{1} << 18, kMaxPiece = std::size_t{1} << 26;
         const std::size_t threads = static_cast<std::size_t>(threads_);
         std::size_t piece_size = std::max(kMinPiece, (size + threads - 1) / threads);
         piece_size = std::min(piece_size, kMaxPiece);
         const char* const end = data + size;
-        for (const char* from = data; from < end;) {
+        for (const char* from = data; from < end && !failed_;) {
             std::vector<const char*> cut{from};
             while (cut.size() <= threads && cut.back() < end) {
                 const char* at = static_cast<std::size_t>(end - cut.back()) <= piece_size ? end : cut.back() + piece_size;
@@ -223,64 +222,55 @@ public:
                 }
                 cut.push_back(at);
             }
-            const auto pieces = static_cast<std::int64_t>(cut.size() - 1);
-            if (pieces_.size() < cut.size() - 1) pieces_.resize(cut.size() - 1);
-#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (pieces > 1)
-            for (std::int64_t i = 0; i < pieces; ++i) {
+            const std::size_t first = pieces_.size();
+            const auto count = static_cast<std::int64_t>(cut.size() - 1);
+            pieces_.resize(first + cut.size() - 1);
+#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (count > 1)
+            for (std::int64_t i = 0; i < count; ++i) {
                 const auto k = static_cast<std::size_t>(i);
-                pieces_[k].clear();
-                parse_piece(cut[k], cut[k + 1], pieces_[k]);
+                parse_piece(cut[k], cut[k + 1], pieces_[first + k]);
             }
-            if (IoError e = commit(static_cast<std::size_t>(pieces)); !e.ok()) return e;
+            for (std::size_t k = first; k < pieces_.size(); ++k)
+                if (pieces_[k].failed) {
+                    pieces_.resize(k + 1); // later pieces are never reached by a serial read
+                    failed_ = true;
+                    break;
+                }
             from = cut.back();
         }
-        return {};
+        return !failed_;
     }
 
-    void finish() {
-        std::vector<Piece>().swap(pieces_);
-        out_.uvs.resize(tex_.size());
-        const auto n = static_cast<std::int64_t>(tex_.size());
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1 && n >= (1 << 16))
-        for (std::int64_t i = 0; i < n; ++i)
-            out_.uvs[static_cast<std::size_t>(i)] = vts_[static_cast<std::size_t>(tex_[static_cast<std::size_t>(i)])];
-        std::vector<int>().swap(tex_);
-        std::vector<std::array<double, 2>>().swap(vts_);
-    }
-
-private:
-    /// Appends the first `count` parsed pieces, up to the first that failed: each piece's records
-    /// go to their places (known from the counts of the pieces before it), and its face indices
-    /// are resolved against the counts at each face. Returns the first problem in file order,
-    /// with its line in the file.
-    IoError commit(std::size_t count) {
+    /// Places the pieces' records and resolves face indices against the counts at each face;
+    /// fills `out` or returns the first problem in file order, with its line in the file.
+    IoError finish() {
         struct Place { std::size_t nv, nvt, nf; std::int64_t first_line; };
-        std::vector<Place> at(count + 1);
-        at[0] = {out_.positions.size(), vts_.size(), out_.triangles.size(), line_};
-        std::size_t used = 0;
-        while (used < count) {
-            const Piece& p = pieces_[used++];
-            at[used] = {at[used - 1].nv + p.positions.size(), at[used - 1].nvt + p.vts.size(),
-                        at[used - 1].nf + p.faces.size(), at[used - 1].first_line + p.lines};
-            if (p.failed) break;
-        }
-        out_.positions.resize(at[used].nv);
-        vts_.resize(at[used].nvt);
-        out_.triangles.resize(at[used].nf);
-        tex_.resize(3 * at[used].nf);
-        std::vector<IoError> problem(used);
-#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (used > 1)
-        for (std::int64_t i = 0; i < static_cast<std::int64_t>(used); ++i) {
-            const auto k = static_cast<std::size_t>(i);
+        const std::size_t n = pieces_.size();
+        std::vector<Place> at(n + 1);
+        at[0] = {0, 0, 0, 1};
+        for (std::size_t k = 0; k < n; ++k) {
             const Piece& p = pieces_[k];
+            at[k + 1] = {at[k].nv + p.positions.size(), at[k].nvt + p.vts.size(), at[k].nf + p.faces.size(),
+                         at[k].first_line + p.lines};
+        }
+        std::vector<std::array<double, 2>> vts(at[n].nvt);
+        std::vector<int> tex(3 * at[n].nf); // per corner: index into vts
+        out_.positions.resize(at[n].nv);
+        out_.triangles.resize(at[n].nf);
+        std::vector<IoError> problem(n);
+        const auto pieces = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (pieces > 1)
+        for (std::int64_t i = 0; i < pieces; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            Piece& p = pieces_[k];
             const Place& place = at[k];
             std::copy(p.positions.begin(), p.positions.end(), out_.positions.begin() + static_cast<std::ptrdiff_t>(place.nv));
-            std::copy(p.vts.begin(), p.vts.end(), vts_.begin() + static_cast<std::ptrdiff_t>(place.nvt));
+            std::copy(p.vts.begin(), p.vts.end(), vts.begin() + static_cast<std::ptrdiff_t>(place.nvt));
             const std::int64_t base = place.first_line - 1;
             for (std::size_t j = 0; j < p.faces.size() && problem[k].ok(); ++j) {
                 const Piece::Face& f = p.faces[j];
                 std::array<int, 3>& tri = out_.triangles[place.nf + j];
-                int* tex = &tex_[3 * (place.nf + j)];
+                int* corner = &tex[3 * (place.nf + j)];
                 for (int c = 0; c < 3; ++c) {
                     // OBJ allows relative indices: resolved against the counts seen so far.
                     if (!resolve(f.v[c], place.nv + static_cast<std::size_t>(f.nv), tri[c])) {
@@ -288,7 +278,7 @@ private:
                                          "vertex index " + std::to_string(f.v[c]) + " out of range");
                         break;
                     }
-                    if (!resolve(f.t[c], place.nvt + static_cast<std::size_t>(f.nvt), tex[c])) {
+                    if (!resolve(f.t[c], place.nvt + static_cast<std::size_t>(f.nvt), corner[c])) {
                         problem[k] = err(IoError::Code::IndexOutOfRange, base + f.line,
                                          "texture index " + std::to_string(f.t[c]) + " out of range");
                         break;
@@ -296,31 +286,35 @@ private:
                 }
             }
             if (problem[k].ok() && p.failed) problem[k] = err(p.code, base + p.error_line, p.error);
+            p = Piece{}; // its records are placed: release them now
         }
+        std::vector<Piece>().swap(pieces_);
         for (IoError& e : problem)
-            if (!e.ok()) return std::move(e);
-        line_ = at[used].first_line;
+            if (!e.ok()) {
+                out_ = Input{};
+                return std::move(e);
+            }
+        out_.uvs.resize(tex.size());
+        const auto corners = static_cast<std::int64_t>(tex.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1 && corners >= (1 << 16))
+        for (std::int64_t i = 0; i < corners; ++i)
+            out_.uvs[static_cast<std::size_t>(i)] = vts[static_cast<std::size_t>(tex[static_cast<std::size_t>(i)])];
         return {};
     }
 
+private:
     Input& out_;
     int threads_;
-    std::vector<Piece> pieces_;
-    std::vector<std::array<double, 2>> vts_;
-    std::vector<int> tex_; // per corner: index into vts_
-    std::int64_t line_ = 1;
+    std::vector<Piece> pieces_; ///< parsed, in file order; the last one may have failed
+    bool failed_ = false;
 };
 
 } // namespace
 
 IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
     ObjParser parser(out, detail::thread_count(threads));
-    if (IoError e = parser.feed(data, size); !e.ok()) {
-        out = Input{};
-        return e;
-    }
-    parser.finish();
-    return {};
+    parser.feed(data, size);
+    return parser.finish();
 }
 
 IoError read_obj(const std::string& path, Input& out, int threads) {
@@ -339,7 +333,7 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
         const std::size_t have = kept + n;
         if (n == 0) {
             if (std::ferror(f)) result = {IoError::Code::CannotOpen, "cannot read '" + path + "'", 0};
-            else if (have > 0) result = parser.feed(buf.data(), have);
+            else if (have > 0) parser.feed(buf.data(), have);
             break;
         }
         const void* last = nullptr;
@@ -350,7 +344,7 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
             continue;
         }
         const std::size_t upto = static_cast<std::size_t>(static_cast<const char*>(last) - buf.data()) + 1;
-        if (result = parser.feed(buf.data(), upto); !result.ok()) break;
+        if (!parser.feed(buf.data(), upto)) break; // a problem: finish() reports the first
         kept = have - upto;
         std::memmove(&buf[0], &buf[upto], kept);
     }
@@ -359,8 +353,7 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
         out = Input{};
         return result;
     }
-    parser.finish();
-    return {};
+    return parser.finish();
 }
 
 IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {
