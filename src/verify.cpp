@@ -79,45 +79,61 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
             static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::max(a, b))) << 32 | static_cast<std::uint32_t>(c);
     }
     auto bucket_begin = [&](std::size_t v) { return v == 0 ? 0 : static_cast<std::size_t>(end[v - 1]); };
+    // Runs of equal (smaller, larger) vertex are the undirected edges. twin[c] is the corner
+    // whose outgoing edge is the reverse of c's, or -1 (boundary or non-manifold). Buckets are
+    // sorted and paired on all threads; a bucket with a problem is marked, and its violations
+    // are written afterwards in bucket order.
+    std::vector<std::int32_t> twin(nc, -1);
+    EdgePairs pair;
+    if (pairs_out) pair.assign(nc, -1);
+    std::vector<char> troubled(num_vertices, 0);
+    auto pair_up = [&](std::size_t v, bool report) {
+        std::int64_t edges = 0;
+        for (std::size_t i = bucket_begin(v), stop = end[v]; i < stop;) {
+            const std::uint64_t h = bucket[i] >> 32;
+            std::size_t j = i + 1;
+            while (j < stop && bucket[j] >> 32 == h) ++j;
+            ++edges;
+            const auto c0 = static_cast<std::uint32_t>(bucket[i]);
+            auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
+            if (j - i > 2) {
+                troubled[v] = 1;
+                if (report)
+                    violate(ViolationKind::NonManifoldEdge,
+                            "edge " + name() + " has " + std::to_string(j - i) + " incident face sides", face_of(c0));
+            } else if (j - i == 2) {
+                const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]);
+                if (pairs_out) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
+                if (corner_vertex[c0] == corner_vertex[c1]) {
+                    troubled[v] = 1;
+                    if (report)
+                        violate(ViolationKind::InconsistentOrientation,
+                                "edge " + name() + " is traversed twice in the same direction", face_of(c1));
+                } else {
+                    twin[c0] = static_cast<std::int32_t>(c1), twin[c1] = static_cast<std::int32_t>(c0);
+                }
+            }
+            i = j;
+        }
+        return edges;
+    };
     const auto nv64 = static_cast<std::int64_t>(num_vertices);
-#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
+    std::int64_t edges = 0;
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (threads > 1 && nc >= (1u << 16)) reduction(+ : edges)
     for (std::int64_t v = 0; v < nv64; ++v) {
         std::uint64_t* b = bucket.data() + bucket_begin(static_cast<std::size_t>(v));
         std::uint64_t* e = bucket.data() + end[static_cast<std::size_t>(v)];
         if (e - b > 24) {
             std::sort(b, e);
-            continue;
+        } else {
+            for (std::uint64_t* i = b + 1; i < e; ++i)
+                for (std::uint64_t* j = i; j > b && j[0] < j[-1]; --j) std::swap(j[0], j[-1]);
         }
-        for (std::uint64_t* i = b + 1; i < e; ++i)
-            for (std::uint64_t* j = i; j > b && j[0] < j[-1]; --j) std::swap(j[0], j[-1]);
+        edges += pair_up(static_cast<std::size_t>(v), false);
     }
-    // Runs of equal (smaller, larger) vertex are the undirected edges. twin[c] is the corner
-    // whose outgoing edge is the reverse of c's, or -1 (boundary or non-manifold).
-    std::vector<std::int32_t> twin(nc, -1);
-    EdgePairs pair;
-    if (pairs_out) pair.assign(nc, -1);
+    t.edges = edges;
     for (std::size_t v = 0; v < num_vertices; ++v)
-        for (std::size_t i = bucket_begin(v), stop = end[v]; i < stop;) {
-            const std::uint64_t h = bucket[i] >> 32;
-            std::size_t j = i + 1;
-            while (j < stop && bucket[j] >> 32 == h) ++j;
-            ++t.edges;
-            const auto c0 = static_cast<std::uint32_t>(bucket[i]);
-            auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
-            if (j - i > 2) {
-                violate(ViolationKind::NonManifoldEdge, "edge " + name() + " has " + std::to_string(j - i) + " incident face sides",
-                        face_of(c0));
-            } else if (j - i == 2) {
-                const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]);
-                if (pairs_out) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
-                if (corner_vertex[c0] == corner_vertex[c1])
-                    violate(ViolationKind::InconsistentOrientation,
-                            "edge " + name() + " is traversed twice in the same direction", face_of(c1));
-                else
-                    twin[c0] = static_cast<std::int32_t>(c1), twin[c1] = static_cast<std::int32_t>(c0);
-            }
-            i = j;
-        }
+        if (troubled[v]) pair_up(v, true);
     std::vector<std::uint64_t>().swap(bucket);
     std::vector<int> boundary_next(num_vertices, -1), boundary_count(num_vertices, 0), corners(num_vertices, 0);
     std::vector<char> referenced(num_vertices, 0);
@@ -144,13 +160,23 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
         const int v = corner_vertex[c];
         if (start[v] < 0 || twin[prev_corner(c)] < 0) start[v] = static_cast<std::int32_t>(c);
     }
-    // Fans in the order of their first corners (vertex numbering may have no locality at all).
-    if (single_fan_out) single_fan_out->assign(num_vertices, 0);
-    std::vector<char> walked(num_vertices, 0);
-    for (std::size_t c0 = 0; c0 < nc; ++c0) {
-        const auto v = static_cast<std::size_t>(corner_vertex[c0]);
-        if (walked[v] || start[v] < 0) continue;
-        walked[v] = 1;
+    // Each vertex's fan on all threads, in the order of the vertices' first corners (vertex
+    // numbering may have no locality at all), and violations in that order.
+    std::vector<std::int32_t> order;
+    order.reserve(num_vertices);
+    {
+        std::vector<char> listed(num_vertices, 0);
+        for (std::size_t c = 0; c < nc; ++c) {
+            const auto v = static_cast<std::size_t>(corner_vertex[c]);
+            if (!listed[v]) listed[v] = 1, order.push_back(static_cast<std::int32_t>(v));
+        }
+    }
+    std::vector<char> single(num_vertices, 0);
+    const auto listed = static_cast<std::int64_t>(order.size());
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
+    for (std::int64_t i = 0; i < listed; ++i) {
+        const auto v = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
+        if (start[v] < 0) continue;
         std::size_t c = static_cast<std::size_t>(start[v]);
         int seen = 0;
         do {
@@ -158,8 +184,11 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
             if (twin[c] < 0) break;
             c = next_corner(static_cast<std::size_t>(twin[c]));
         } while (c != static_cast<std::size_t>(start[v]) && seen <= corners[v]);
-        if (single_fan_out) (*single_fan_out)[v] = seen == corners[v];
-        if (seen != corners[v])
+        single[v] = seen == corners[v];
+    }
+    for (const std::int32_t vi : order) {
+        const auto v = static_cast<std::size_t>(vi);
+        if (start[v] >= 0 && !single[v])
             violate(ViolationKind::NonManifoldVertex,
                     "the faces around vertex " + std::to_string(v) + " do not form a single fan", static_cast<std::int64_t>(v));
     }
@@ -177,6 +206,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     }
     t.faces = static_cast<std::int64_t>(nf);
     if (pairs_out) *pairs_out = std::move(pair);
+    if (single_fan_out) *single_fan_out = std::move(single);
     return t;
 }
 
