@@ -168,8 +168,11 @@ struct Connection {
 struct QState {
     std::vector<QVertex> qvertices;
     std::vector<int> vertex_qvertex;   ///< per mesh vertex: its vertex-q-vertex or -1
-    std::vector<int> edge_first, edge_count; ///< per canonical half-edge: range in edge_qvertices
-    std::vector<int> face_first, face_count; ///< per triangle: range of its face-q-vertices
+    /// Edge-q-vertices of half-edge h: [edge_first[h], edge_first[h + 1]) (empty unless h is its
+    /// edge's smaller half-edge); size 3F + 1.
+    std::vector<int> edge_first;
+    /// Face-q-vertices of triangle f: [face_first[f], face_first[f + 1]); size F + 1.
+    std::vector<int> face_first;
     std::vector<Port> ports;
     std::vector<Connection> connections;     ///< per port
     std::vector<char> dangling;              ///< per port: trace left the surface through a boundary

@@ -41,11 +41,11 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
         const int o = m.opp[h];
         const int canon = (o >= 0 && o < h) ? o : h;
         const IPoint bc = canon == h ? b : m.transition[h](b);
-        for (int i = q.edge_first[canon]; i < q.edge_first[canon] + q.edge_count[canon]; ++i)
+        for (int i = q.edge_first[canon]; i < q.edge_first[canon + 1]; ++i)
             if (q.qvertices[i].grid == bc) return i;
         return -1;
     }
-    for (int i = q.face_first[f]; i < q.face_first[f] + q.face_count[f]; ++i)
+    for (int i = q.face_first[f]; i < q.face_first[f + 1]; ++i)
         if (q.qvertices[i].grid == b) return i;
     return -1;
 }

@@ -86,12 +86,10 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                                m.pos(c), w});
     }
     // Edge-q-vertices: on each edge, in the chart of its smaller half-edge.
-    q.edge_first.assign(3 * nf, 0);
-    q.edge_count.assign(3 * nf, 0);
+    q.edge_first.assign(3 * static_cast<std::size_t>(nf) + 1, 0);
     for (int h = 0; h < 3 * nf; ++h) {
-        if (m.opp[h] >= 0 && m.opp[h] < h) continue;
         q.edge_first[h] = static_cast<int>(q.qvertices.size());
-        q.edge_count[h] = 0;
+        if (m.opp[h] >= 0 && m.opp[h] < h) continue;
         const Point2& a = m.uv[h];
         const Point2& b = m.uv[TriMesh::next(h)];
         if (a == b) continue; // cannot happen after collapsing; keeps the division below safe
@@ -120,12 +118,11 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                                        embed(m, f, w), w});
             }
         }
-        q.edge_count[h] = static_cast<int>(q.qvertices.size()) - q.edge_first[h];
         if (over_budget()) return too_large(m.input_triangle[TriMesh::face(h)]);
     }
+    q.edge_first[3 * static_cast<std::size_t>(nf)] = static_cast<int>(q.qvertices.size());
     // Face-q-vertices: strictly inside a non-degenerate triangle.
-    q.face_first.assign(nf, 0);
-    q.face_count.assign(nf, 0);
+    q.face_first.assign(static_cast<std::size_t>(nf) + 1, 0);
     for (int f = 0; f < nf; ++f) {
         q.face_first[f] = static_cast<int>(q.qvertices.size());
         const int s = m.face_sign[f];
@@ -144,9 +141,9 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                                            embed(m, f, w), w});
                 }
         }
-        q.face_count[f] = static_cast<int>(q.qvertices.size()) - q.face_first[f];
         if (over_budget()) return too_large(m.input_triangle[f]);
     }
+    q.face_first[static_cast<std::size_t>(nf)] = static_cast<int>(q.qvertices.size());
     return {};
 }
 
