@@ -34,32 +34,42 @@ Error build_topology(TriMesh& m, const char* what) {
     std::vector<int> bucket(static_cast<std::size_t>(nv) + 1, 0); // bucket v: [bucket[v], bucket[v+1])
     std::vector<std::uint64_t> entry(static_cast<std::size_t>(nh));
     {
-        // Counting and placing may run on several threads: where in its bucket an entry lands
-        // does not matter, since the buckets are sorted (by larger vertex, then half-edge) next.
+        // Counting sort by the smaller vertex. With several threads, each counts and places one
+        // contiguous range of half-edges with its own counters, ranges in order: entries land
+        // exactly where a serial pass would put them.
+        const int parts = m.parallel(nh) ? std::max(1, m.threads) : 1;
+        std::vector<std::vector<int>> count(static_cast<std::size_t>(parts), std::vector<int>(static_cast<std::size_t>(nv), 0));
+        auto range = [&](int part) { return std::pair<int, int>(static_cast<int>(static_cast<std::int64_t>(nh) * part / parts),
+                                                                 static_cast<int>(static_cast<std::int64_t>(nh) * (part + 1) / parts)); };
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
 #endif
-        for (int h = 0; h < nh; ++h) {
-            int& c = bucket[static_cast<std::size_t>(std::min(m.origin(h), m.target(h))) + 1];
-#if defined(_OPENMP)
-#pragma omp atomic
-#endif
-            ++c;
+        for (int part = 0; part < parts; ++part) {
+            std::vector<int>& c = count[static_cast<std::size_t>(part)];
+            for (int h = range(part).first; h < range(part).second; ++h) ++c[static_cast<std::size_t>(std::min(m.origin(h), m.target(h)))];
         }
-        for (int v = 0; v < nv; ++v) bucket[v + 1] += bucket[v];
-        std::vector<int> fill(bucket.begin(), bucket.end() - 1);
+        // count[part][v] becomes where part's entries of bucket v start.
+        int at = 0;
+        for (int v = 0; v < nv; ++v) {
+            bucket[v] = at;
+            for (int part = 0; part < parts; ++part) {
+                int& c = count[static_cast<std::size_t>(part)][static_cast<std::size_t>(v)];
+                const int n = c;
+                c = at;
+                at += n;
+            }
+        }
+        bucket[nv] = at;
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
 #endif
-        for (int h = 0; h < nh; ++h) {
-            const int a = m.origin(h), b = m.target(h);
-            int slot;
-            int& f = fill[static_cast<std::size_t>(std::min(a, b))];
-#if defined(_OPENMP)
-#pragma omp atomic capture
-#endif
-            slot = f++;
-            entry[static_cast<std::size_t>(slot)] = static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
+        for (int part = 0; part < parts; ++part) {
+            std::vector<int>& fill = count[static_cast<std::size_t>(part)];
+            for (int h = range(part).first; h < range(part).second; ++h) {
+                const int a = m.origin(h), b = m.target(h);
+                entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b))]++)] =
+                    static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
+            }
         }
     }
     // Per bucket: sort, then pair runs of equal larger vertex into opposites. A bucket with a
