@@ -461,6 +461,25 @@ TEST(Extraction, ParallelTopologyReportsTheSerialError) {
         const Result& first = smaller_vertex(one.error.message) < smaller_vertex(two.error.message) ? one : two;
         EXPECT_EQ(b.error.message, first.error.message);
     }
+    // Q-vertices are generated in ranges on all threads: a budget exhausted partway is reported
+    // at the same triangle as in a serial run, for edge- and for face-q-vertices.
+    const Input grid = make_map(torus_layout(32, 16), 8, 7);
+    ASSERT_GE(3 * grid.triangles.size(), std::size_t{1} << 16);
+    const Result full = extract(grid, parallel);
+    ASSERT_TRUE(full.ok());
+    ASSERT_GT(full.report.qvertices_on_edges, 1000);
+    ASSERT_GT(full.report.qvertices_in_faces, 1000);
+    const std::int64_t total = full.report.qvertices_on_vertices + full.report.qvertices_on_edges + full.report.qvertices_in_faces;
+    for (const std::int64_t budget : {full.report.qvertices_on_vertices + full.report.qvertices_on_edges / 2,
+                                      total - full.report.qvertices_in_faces / 3}) {
+        Options a = serial, b = parallel;
+        a.max_qvertices = b.max_qvertices = budget;
+        const Result x = extract(grid, a), y = extract(grid, b);
+        EXPECT_EQ(x.error.code, ErrorCode::MapTooLarge);
+        EXPECT_EQ(x.error.code, y.error.code);
+        EXPECT_EQ(x.error.element, y.error.element);
+        EXPECT_GE(x.error.element, 0);
+    }
 }
 
 TEST(Extraction, ReportCountsAreConsistent) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace qex::detail {
@@ -85,14 +86,59 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                                {static_cast<std::int64_t>(m.uv[c][0]), static_cast<std::int64_t>(m.uv[c][1])},
                                m.pos(c), w});
     }
+    // Edge- and face-q-vertices. Ranges of half-edges (then of triangles) are generated on all
+    // threads into their own lists, which are joined in range order: the q-vertices and their
+    // numbering are those of one serial pass. The budget is checked on the joined counts and
+    // names the element a serial pass would stop at.
+    const int parts = m.parallel(3 * nf) ? std::max(1, m.threads) : 1;
+    std::vector<std::vector<QVertex>> found(static_cast<std::size_t>(parts));
+    // Generates the q-vertices of elements [0, n) with `one(element, list)`; first[e] becomes
+    // the index of element e's first q-vertex, first[n] the end. Returns the first element whose
+    // q-vertices end beyond the budget, or -1.
+    auto generate = [&](int n, std::vector<int>& first, auto&& one) {
+        first.assign(static_cast<std::size_t>(n) + 1, 0);
+        const auto base = static_cast<int>(q.qvertices.size());
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
+#endif
+        for (int part = 0; part < parts; ++part) {
+            auto& list = found[static_cast<std::size_t>(part)];
+            list.clear();
+            const int lo = static_cast<int>(static_cast<std::int64_t>(n) * part / parts);
+            const int hi = static_cast<int>(static_cast<std::int64_t>(n) * (part + 1) / parts);
+            for (int e = lo; e < hi; ++e) {
+                first[static_cast<std::size_t>(e)] = static_cast<int>(list.size());
+                one(e, list);
+                // A part alone far over the budget stops early; the joined check below reports.
+                if (static_cast<std::int64_t>(list.size()) > opt.max_qvertices) {
+                    for (int rest = e + 1; rest < hi; ++rest) first[static_cast<std::size_t>(rest)] = static_cast<int>(list.size());
+                    break;
+                }
+            }
+        }
+        std::int64_t at = base;
+        for (int part = 0; part < parts; ++part) {
+            const int lo = static_cast<int>(static_cast<std::int64_t>(n) * part / parts);
+            const int hi = static_cast<int>(static_cast<std::int64_t>(n) * (part + 1) / parts);
+            const auto& list = found[static_cast<std::size_t>(part)];
+            for (int e = lo; e < hi; ++e) {
+                const std::int64_t global = at + first[static_cast<std::size_t>(e)];
+                const std::int64_t end = e + 1 < hi ? at + first[static_cast<std::size_t>(e) + 1] : at + static_cast<std::int64_t>(list.size());
+                first[static_cast<std::size_t>(e)] = static_cast<int>(std::min<std::int64_t>(global, INT32_MAX));
+                if (end > opt.max_qvertices) return e;
+            }
+            at += static_cast<std::int64_t>(list.size());
+            q.qvertices.insert(q.qvertices.end(), list.begin(), list.end());
+        }
+        first[static_cast<std::size_t>(n)] = static_cast<int>(q.qvertices.size());
+        return -1;
+    };
     // Edge-q-vertices: on each edge, in the chart of its smaller half-edge.
-    q.edge_first.assign(3 * static_cast<std::size_t>(nf) + 1, 0);
-    for (int h = 0; h < 3 * nf; ++h) {
-        q.edge_first[h] = static_cast<int>(q.qvertices.size());
-        if (m.opp[h] >= 0 && m.opp[h] < h) continue;
+    const int bad_edge = generate(3 * nf, q.edge_first, [&](int h, std::vector<QVertex>& list) {
+        if (m.opp[h] >= 0 && m.opp[h] < h) return;
         const Point2& a = m.uv[h];
         const Point2& b = m.uv[TriMesh::next(h)];
-        if (a == b) continue; // cannot happen after collapsing; keeps the division below safe
+        if (a == b) return; // cannot happen after collapsing; keeps the division below safe
         const int ax = std::abs(b[0] - a[0]) >= std::abs(b[1] - a[1]) ? 0 : 1; // walk the longer axis
         const double lo = std::ceil(std::min(a[ax], b[ax])), hi = std::floor(std::max(a[ax], b[ax]));
         for (double x = lo; x <= hi; x += 1.0) {
@@ -113,37 +159,29 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
                 std::array<double, 3> w{0, 0, 0};
                 w[k] = swap ? s : 1.0 - s;
                 w[(k + 1) % 3] = swap ? 1.0 - s : s;
-                q.qvertices.push_back({QVertexKind::Edge, h, f,
-                                       {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
-                                       embed(m, f, w), w});
+                list.push_back({QVertexKind::Edge, h, f, {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
+                                embed(m, f, w), w});
             }
         }
-        if (over_budget()) return too_large(m.input_triangle[TriMesh::face(h)]);
-    }
-    q.edge_first[3 * static_cast<std::size_t>(nf)] = static_cast<int>(q.qvertices.size());
+    });
+    if (bad_edge >= 0) return too_large(m.input_triangle[TriMesh::face(bad_edge)]);
     // Face-q-vertices: strictly inside a non-degenerate triangle.
-    q.face_first.assign(static_cast<std::size_t>(nf) + 1, 0);
-    for (int f = 0; f < nf; ++f) {
-        q.face_first[f] = static_cast<int>(q.qvertices.size());
+    const int bad_face = generate(nf, q.face_first, [&](int f, std::vector<QVertex>& list) {
         const int s = m.face_sign[f];
-        if (s != 0) {
-            const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
-            const double x0 = std::ceil(std::min({a[0], b[0], c[0]})), x1 = std::floor(std::max({a[0], b[0], c[0]}));
-            const double y0 = std::ceil(std::min({a[1], b[1], c[1]})), y1 = std::floor(std::max({a[1], b[1], c[1]}));
-            for (double x = x0; x <= x1; x += 1.0)
-                for (double y = y0; y <= y1; y += 1.0) {
-                    const Point2 p{x, y};
-                    if (sign(orient2d(a, b, p)) != s || sign(orient2d(b, c, p)) != s || sign(orient2d(c, a, p)) != s)
-                        continue;
-                    const auto w = barycentric(m, f, p);
-                    q.qvertices.push_back({QVertexKind::Face, f, f,
-                                           {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
-                                           embed(m, f, w), w});
-                }
-        }
-        if (over_budget()) return too_large(m.input_triangle[f]);
-    }
-    q.face_first[static_cast<std::size_t>(nf)] = static_cast<int>(q.qvertices.size());
+        if (s == 0) return;
+        const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        const double x0 = std::ceil(std::min({a[0], b[0], c[0]})), x1 = std::floor(std::max({a[0], b[0], c[0]}));
+        const double y0 = std::ceil(std::min({a[1], b[1], c[1]})), y1 = std::floor(std::max({a[1], b[1], c[1]}));
+        for (double x = x0; x <= x1; x += 1.0)
+            for (double y = y0; y <= y1; y += 1.0) {
+                const Point2 p{x, y};
+                if (sign(orient2d(a, b, p)) != s || sign(orient2d(b, c, p)) != s || sign(orient2d(c, a, p)) != s) continue;
+                const auto w = barycentric(m, f, p);
+                list.push_back({QVertexKind::Face, f, f, {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
+                                embed(m, f, w), w});
+            }
+    });
+    if (bad_face >= 0) return too_large(m.input_triangle[bad_face]);
     return {};
 }
 
