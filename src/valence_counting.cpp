@@ -31,14 +31,15 @@ void count_valences(TriMesh& m, bool singular_only) {
     m.valence.assign(nv, 4);
     m.winding_valence.assign(nv, 4);
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
-    // Each triangle's orientation once (a corner's is its triangle's: the exact sign does not
-    // change under a cyclic shift of the corners).
-    std::vector<signed char> tri_sign(static_cast<std::size_t>(m.num_faces()));
+    // Each triangle's orientation once when every fan is counted (a corner's is its triangle's:
+    // the exact sign does not change under a cyclic shift of the corners); per corner when only
+    // the few singular fans are.
+    std::vector<signed char> tri_sign(singular_only ? 0 : static_cast<std::size_t>(m.num_faces()));
+    auto triangle_sign = [&](int f) { return sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])); };
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
-    for (int f = 0; f < m.num_faces(); ++f)
-        tri_sign[static_cast<std::size_t>(f)] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+    for (int f = 0; f < static_cast<int>(tri_sign.size()); ++f) tri_sign[static_cast<std::size_t>(f)] = static_cast<signed char>(triangle_sign(f));
 #if defined(_OPENMP)
 #pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
@@ -64,7 +65,7 @@ void count_valences(TriMesh& m, bool singular_only) {
             const Point2& u = m.uv[h];
             const Point2& p = m.uv[TriMesh::next(h)];
             const Point2& w = m.uv[TriMesh::prev(h)];
-            const int s = tri_sign[static_cast<std::size_t>(TriMesh::face(h))];
+            const int s = singular_only ? triangle_sign(TriMesh::face(h)) : tri_sign[static_cast<std::size_t>(TriMesh::face(h))];
             const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
             corners.push_back({s, std::abs(ax * by - ay * bx), ax * bx + ay * by});
             all_positive = all_positive && s > 0;
