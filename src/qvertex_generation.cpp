@@ -57,7 +57,6 @@ double segment_param(const Point2& x, const Point2& a, const Point2& b) {
 Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
     const int nf = m.num_faces();
     q.qvertices.clear();
-    auto over_budget = [&]() { return static_cast<std::int64_t>(q.qvertices.size()) > opt.max_qvertices; };
     auto too_large = [&](std::int64_t element) {
         return Error{ErrorCode::MapTooLarge,
                      "the map has more than " + std::to_string(opt.max_qvertices) +
