@@ -193,7 +193,7 @@ TEST(Obj, PiecesParsedInParallelReadLikeASerialRead) {
     // Relative indices resolve across pieces, and the first problem in file order is reported
     // with its line, whatever the thread count. Here v, vt and f records interleave, and every
     // face refers to the records just before it by negative indices.
-    const Input base = subdivide(make_map(torus_layout(8, 6), 2, 8));
+    const Input base = subdivide(make_map(torus_layout(10, 8), 2, 8));
     std::string text;
     char line[160];
     for (std::size_t f = 0; f < base.triangles.size(); ++f) {
@@ -205,7 +205,7 @@ TEST(Obj, PiecesParsedInParallelReadLikeASerialRead) {
         }
         text += f % 7 == 0 ? "# a comment\nf -3/-3 -2/-2 -1/-1\n" : "f -3/-3 -2/-2 -1/-1\n";
     }
-    ASSERT_GT(text.size(), std::size_t{3} << 20); // several pieces of at least 256 KiB
+    ASSERT_GT(text.size(), std::size_t{8} << 20); // read in parallel from 8 MiB, in pieces of at least 256 KiB
     Input serial;
     ASSERT_TRUE(parse_obj(text.data(), text.size(), serial, 1).ok());
     ASSERT_EQ(serial.triangles.size(), base.triangles.size());

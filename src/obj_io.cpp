@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -311,8 +312,12 @@ private:
 
 } // namespace
 
+/// Below this size a file is read serially: threads would save less than they cost to start,
+/// and their allocations would come from arenas of their own that the extraction cannot reuse.
+constexpr std::size_t kParallelFrom = std::size_t{8} << 20;
+
 IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
-    ObjParser parser(out, detail::thread_count(threads));
+    ObjParser parser(out, size < kParallelFrom ? 1 : detail::thread_count(threads));
     parser.feed(data, size);
     return parser.finish();
 }
@@ -322,7 +327,9 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
     // whole in memory.
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
-    ObjParser parser(out, detail::thread_count(threads));
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    ObjParser parser(out, ec || bytes < kParallelFrom ? 1 : detail::thread_count(threads));
     std::string buf;
     std::size_t kept = 0; // bytes of an unfinished line carried over
     IoError result;
