@@ -6,6 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -233,6 +236,11 @@ int run_check(const std::string& param_path, const std::string& mesh_path, bool 
 } // namespace
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+    // One malloc arena for every thread: memory that the reader's threads free is reused by the
+    // extraction (with an arena per thread, the peak of the 1.26M-triangle duck grew by 16%).
+    mallopt(M_ARENA_MAX, 1);
+#endif
     CLI::App app{"qex: robust quad mesh extraction from integer-grid maps (QEx)"};
     app.require_subcommand(0, 1);
 
