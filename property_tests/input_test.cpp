@@ -185,6 +185,16 @@ TEST(Obj, FilesAreReadInChunksLikeOneBuffer) {
     EXPECT_EQ(ef.message, et.message);
     EXPECT_EQ(ef.line, static_cast<std::int64_t>(std::count(broken.begin(), broken.begin() + at + 1, '\n')) + 1);
     EXPECT_TRUE(a.triangles.empty());
+    // A comment line longer than a chunk: no line end among a whole chunk's bytes.
+    const std::size_t mid = text.find("\nvt ");
+    ASSERT_NE(mid, std::string::npos);
+    const std::string long_line = text.substr(0, mid + 1) + "# " + std::string(std::size_t{5} << 20, 'x') + "\n" + text.substr(mid + 1);
+    write(long_line);
+    Input c;
+    ASSERT_TRUE(read_obj(path, c).ok());
+    EXPECT_EQ(c.positions, from_text.positions);
+    EXPECT_EQ(c.triangles, from_text.triangles);
+    EXPECT_EQ(c.uvs, from_text.uvs);
     std::remove(path.c_str());
 }
 

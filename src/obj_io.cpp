@@ -15,6 +15,8 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <thread>
 
 namespace qex {
 namespace {
@@ -324,36 +326,56 @@ IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
 
 IoError read_obj(const std::string& path, Input& out, int threads) {
     // Chunks of about 4 MiB, each cut after its last line end, so a large file is never held
-    // whole in memory.
+    // whole in memory. With threads, the next chunk is read while the current one is parsed.
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
     std::error_code ec;
     const auto bytes = std::filesystem::file_size(path, ec);
-    ObjParser parser(out, ec || bytes < kParallelFrom ? 1 : detail::thread_count(threads));
-    std::string buf;
-    std::size_t kept = 0; // bytes of an unfinished line carried over
+    const int parse_threads = ec || bytes < kParallelFrom ? 1 : detail::thread_count(threads);
+    ObjParser parser(out, parse_threads);
+    constexpr std::size_t kChunk = std::size_t{1} << 22;
+    // Appends up to one chunk to `b` (which keeps its first `front` bytes); returns the count.
+    auto read_into = [&](std::string& b, std::size_t front) {
+        b.resize(front + kChunk);
+        const std::size_t n = std::fread(&b[front], 1, kChunk, f);
+        b.resize(front + n);
+        return n;
+    };
+    std::string buf, next;
+    std::size_t kept = 0; // bytes of an unfinished line at the front of buf
+    std::size_t n = read_into(buf, 0);
     IoError result;
     for (;;) {
-        const std::size_t chunk = std::size_t{1} << 22;
-        buf.resize(kept + chunk);
-        const std::size_t n = std::fread(&buf[kept], 1, chunk, f);
-        const std::size_t have = kept + n;
+        const std::size_t have = buf.size();
         if (n == 0) {
             if (std::ferror(f)) result = {IoError::Code::CannotOpen, "cannot read '" + path + "'", 0};
             else if (have > 0) parser.feed(buf.data(), have);
             break;
         }
-        const void* last = nullptr;
-        for (std::size_t i = have; i > kept && !last; --i)
-            if (buf[i - 1] == '\n') last = &buf[i - 1];
-        if (!last) { // no line end in the new bytes: the line goes on
+        std::size_t upto = 0; // just after the last line end among the new bytes
+        for (std::size_t i = have; i > kept && upto == 0; --i)
+            if (buf[i - 1] == '\n') upto = i;
+        if (upto == 0) { // no line end in the new bytes: the line goes on
             kept = have;
+            n = read_into(buf, have);
             continue;
         }
-        const std::size_t upto = static_cast<std::size_t>(static_cast<const char*>(last) - buf.data()) + 1;
-        if (!parser.feed(buf.data(), upto)) break; // a problem: finish() reports the first
         kept = have - upto;
-        std::memmove(&buf[0], &buf[upto], kept);
+        next.assign(buf, upto, kept); // the unfinished line starts the next chunk
+        std::size_t next_n = 0;
+        std::thread reader;
+        if (parse_threads > 1) {
+            try {
+                reader = std::thread([&] { next_n = read_into(next, kept); });
+            } catch (const std::system_error&) { // no thread to be had: read after parsing
+            }
+        }
+        const bool go_on = parser.feed(buf.data(), upto);
+        if (reader.joinable()) reader.join();
+        else if (go_on) next_n = read_into(next, kept);
+        if (!go_on) break; // a problem: finish() reports the first
+        buf.swap(next);
+        n = next_n;
     }
     std::fclose(f);
     if (!result.ok()) {
