@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -334,14 +335,42 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
     const int parse_threads = ec || bytes < kParallelFrom ? 1 : detail::thread_count(threads);
     ObjParser parser(out, parse_threads);
     constexpr std::size_t kChunk = std::size_t{1} << 22;
+    // A byte buffer that does not clear what it allocates (a 4 MiB string would touch all of
+    // its pages even for a small file).
+    struct Buffer {
+        std::unique_ptr<char[]> bytes;
+        std::size_t used = 0, capacity = 0;
+        char* data() { return bytes.get(); }
+        std::size_t size() const { return used; }
+        char& operator[](std::size_t i) { return bytes[i]; }
+        void grow(std::size_t n) {
+            if (n <= capacity) return;
+            const std::size_t c = std::max(n, 2 * capacity);
+            std::unique_ptr<char[]> fresh(new char[c]);
+            if (used > 0) std::memcpy(fresh.get(), bytes.get(), used);
+            bytes = std::move(fresh);
+            capacity = c;
+        }
+        void assign(Buffer& from, std::size_t at, std::size_t n) {
+            grow(n);
+            if (n > 0) std::memcpy(bytes.get(), from.bytes.get() + at, n);
+            used = n;
+        }
+        void swap(Buffer& o) {
+            std::swap(bytes, o.bytes);
+            std::swap(used, o.used);
+            std::swap(capacity, o.capacity);
+        }
+    };
     // Appends up to one chunk to `b` (which keeps its first `front` bytes); returns the count.
-    auto read_into = [&](std::string& b, std::size_t front) {
-        b.resize(front + kChunk);
-        const std::size_t n = std::fread(&b[front], 1, kChunk, f);
-        b.resize(front + n);
+    auto read_into = [&](Buffer& b, std::size_t front) {
+        b.used = front;
+        b.grow(front + kChunk);
+        const std::size_t n = std::fread(b.data() + front, 1, kChunk, f);
+        b.used = front + n;
         return n;
     };
-    std::string buf, next;
+    Buffer buf, next;
     std::size_t kept = 0; // bytes of an unfinished line at the front of buf
     std::size_t n = read_into(buf, 0);
     IoError result;
