@@ -241,6 +241,13 @@ bool run_pipeline(detail::TriMesh m, const Input& input, const Options& options,
     timer.done("trace_ports");
     auto faces = detail::extract_faces(m, q, report);
     timer.done("extract_faces");
+    // Merging needs the q-vertices only: the ports and traces (two thirds of the q-state on
+    // maps with many quads) are released first.
+    std::vector<detail::Port>().swap(q.ports);
+    std::vector<detail::Connection>().swap(q.connections);
+    std::vector<char>().swap(q.dangling);
+    std::vector<int>().swap(q.edge_first);
+    std::vector<int>().swap(q.face_first);
     detail::merge_and_simplify(m, q, std::move(faces), options, result.mesh, report);
     q = detail::QState{};
     // The sanitized map, per input corner, for the checker. Only the map and the triangle

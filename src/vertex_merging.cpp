@@ -117,11 +117,13 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     {
         std::vector<Loop> work;
         work.reserve(faces.size());
-        for (const QFace& f : faces) {
+        for (QFace& f : faces) {
             Loop l(f.qv.size());
             for (std::size_t i = 0; i < f.qv.size(); ++i) l[i] = {f.qv[i], f.uv[i]};
             work.push_back(std::move(l));
+            f = QFace{}; // copied: released now, not at the end
         }
+        std::vector<QFace>().swap(faces);
         Loop a, b;
         while (!work.empty()) {
             Loop l = std::move(work.back());
@@ -184,6 +186,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
             simple.push_back(std::move(p));
         }
     }
+    std::vector<Loop>().swap(loops);
 
     // 4. Cancel ghost faces (Figure 2 (c)): a face and its reverse cover the same quad once
     //    positively and once through a fold-over; together they cover nothing. Faces are keyed
