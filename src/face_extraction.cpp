@@ -27,19 +27,20 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
     return g;
 }
 
-std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& report) {
+FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
     const int np = static_cast<int>(q.ports.size());
     // Per port: 0 unvisited, 1 on the walk under way or a closed face, 2 on a walk that ran into
     // the boundary (a later walk joining it ends at the boundary too).
     std::vector<char> visited(np, 0);
     std::vector<int> walk;
-    std::vector<QFace> faces;
-    QFace face;
+    FaceWalks faces;
+    std::vector<int> face_qv; // the walk under way
+    std::vector<IPoint> face_uv;
     for (int start = 0; start < np; ++start) {
         if (visited[start] || q.connections[start].to < 0) continue;
-        face.qv.clear();
-        face.uv.clear();
-        face.chart = TriMesh::face(q.ports[start].corner);
+        face_qv.clear();
+        face_uv.clear();
+        const int chart = TriMesh::face(q.ports[start].corner); // the local UVs' chart
         GridAutomorphism gbar; // chart of the start port -> chart of the current port
         int cur = start;
         bool closed = false, boundary = false, open = false;
@@ -48,8 +49,8 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
             visited[cur] = 1;
             walk.push_back(cur);
             const Port& port = q.ports[cur];
-            face.qv.push_back(port.qvertex);
-            face.uv.push_back(gbar.inverse()(port.grid));
+            face_qv.push_back(port.qvertex);
+            face_uv.push_back(gbar.inverse()(port.grid));
             const Connection& c = q.connections[cur];
             const int arrive = c.to;
             const QVertex& v = q.qvertices[q.ports[arrive].qvertex];
@@ -70,12 +71,14 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
             for (int p : walk) visited[p] = 2;
         ++report.faces_traced;
         if (closed) {
-            faces.push_back(face);
+            faces.qv.insert(faces.qv.end(), face_qv.begin(), face_qv.end());
+            faces.uv.insert(faces.uv.end(), face_uv.begin(), face_uv.end());
+            faces.first.push_back(faces.qv.size());
         } else if (boundary) {
             // The walk reached the boundary between grid points: the boundary is not on an integer
             // iso-line here, and the face intersecting it is discarded (Section 5.1).
             ++report.boundary_faces_discarded;
-            const QVertex& v = q.qvertices[face.qv[0]];
+            const QVertex& v = q.qvertices[face_qv[0]];
             report.explanations.push_back({DefectKind::BoundaryFaceDiscarded,
                                            "a face walk from grid point (" + std::to_string(v.grid[0]) + ", " +
                                                std::to_string(v.grid[1]) + ") of input triangle " +
@@ -85,9 +88,9 @@ std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& repo
         } else {
             ++report.open_face_walks;
             report.defects.push_back({DefectKind::OpenFaceWalk,
-                                      "a face walk starting at grid point (" + std::to_string(face.uv[0][0]) + ", " +
-                                          std::to_string(face.uv[0][1]) + ") did not close",
-                                      m.input_triangle[face.chart], -1, {face.uv[0][0], face.uv[0][1]}});
+                                      "a face walk starting at grid point (" + std::to_string(face_uv[0][0]) + ", " +
+                                          std::to_string(face_uv[0][1]) + ") did not close",
+                                      m.input_triangle[chart], -1, {face_uv[0][0], face_uv[0][1]}});
         }
     }
     return faces;

@@ -189,14 +189,17 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
 
 // ============================================================================ faces
 
-struct QFace {
-    std::vector<int> qv;       ///< q-vertices
-    std::vector<IPoint> uv;    ///< local UVs in the chart of the first port's triangle
-    int chart = -1;            ///< that triangle
+/// The closed face walks, stored flat (one allocation for all of them, not two per face):
+/// walk i is corners [first[i], first[i + 1]) of `qv` and `uv`.
+struct FaceWalks {
+    std::vector<std::size_t> first{0};
+    std::vector<int> qv;    ///< q-vertices
+    std::vector<IPoint> uv; ///< local UVs in the chart of the walk's first port's triangle
+    std::size_t size() const { return first.size() - 1; }
 };
 
 /// Walks the faces of the q-port graph, accumulating local UVs (Algorithm 6).
-std::vector<QFace> extract_faces(const TriMesh& m, const QState& q, Report& report);
+FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 
 /// Transition from the chart of port a's triangle to that of port b (same q-vertex), stepping
 /// clockwise around the q-vertex; `ok` is false if the step would cross the mesh boundary.
@@ -204,7 +207,7 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
 
 /// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
 /// fills the output mesh.
-void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> faces,
+void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces,
                         const Options& opt, QuadMesh& out, Report& report);
 
 } // namespace qex::detail

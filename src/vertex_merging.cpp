@@ -90,7 +90,7 @@ __int128 twice_area(const Loop& l) {
 
 } // namespace
 
-void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> faces, const Options& opt,
+void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt,
                         QuadMesh& out, Report& report) {
     const int nq = static_cast<int>(q.qvertices.size());
     // Expected valence of each q-vertex, to find those that lost ports (Section 5.5).
@@ -117,13 +117,12 @@ void merge_and_simplify(const TriMesh& m, const QState& q, std::vector<QFace> fa
     {
         std::vector<Loop> work;
         work.reserve(faces.size());
-        for (QFace& f : faces) {
-            Loop l(f.qv.size());
-            for (std::size_t i = 0; i < f.qv.size(); ++i) l[i] = {f.qv[i], f.uv[i]};
+        for (std::size_t f = 0; f < faces.size(); ++f) {
+            Loop l(faces.first[f + 1] - faces.first[f]);
+            for (std::size_t i = 0; i < l.size(); ++i) l[i] = {faces.qv[faces.first[f] + i], faces.uv[faces.first[f] + i]};
             work.push_back(std::move(l));
-            f = QFace{}; // copied: released now, not at the end
         }
-        std::vector<QFace>().swap(faces);
+        faces = FaceWalks{}; // copied: released now, not at the end
         Loop a, b;
         while (!work.empty()) {
             Loop l = std::move(work.back());
