@@ -206,7 +206,8 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int b, bool& ok);
 
 /// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
-/// fills the output mesh.
+/// fills the output mesh. Of `q` it reads only the q-vertices (the driver releases the ports and
+/// traces before calling it).
 void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces,
                         const Options& opt, QuadMesh& out, Report& report);
 
