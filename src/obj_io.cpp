@@ -392,15 +392,18 @@ IoError read_obj(const std::string& path, Input& out, int threads) {
         kept = have - upto;
         next.assign(buf, upto, kept); // the unfinished line starts the next chunk
         std::size_t next_n = 0;
-        std::thread reader;
+        struct Joined { // the reading thread is joined however this iteration ends
+            std::thread thread;
+            ~Joined() { if (thread.joinable()) thread.join(); }
+        } reader;
         if (parse_threads > 1) {
             try {
-                reader = std::thread([&] { next_n = read_into(next, kept); });
+                reader.thread = std::thread([&] { next_n = read_into(next, kept); });
             } catch (const std::system_error&) { // no thread to be had: read after parsing
             }
         }
         const bool go_on = parser.feed(buf.data(), upto);
-        if (reader.joinable()) reader.join();
+        if (reader.thread.joinable()) reader.thread.join();
         else if (go_on) next_n = read_into(next, kept);
         if (!go_on) break; // a problem: finish() reports the first
         buf.swap(next);
