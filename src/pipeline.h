@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace qex::detail {
@@ -20,8 +21,12 @@ namespace qex::detail {
 /// whose values are below 2^52 (input validation) stay below 2^54.
 class TransitionTable {
 public:
-    void assign(std::size_t n) { data_.assign(n, Packed{0, 0}); }
-    std::size_t size() const { return data_.size(); }
+    /// n entries, not initialised: the caller writes every one (compute_transitions does).
+    void allocate(std::size_t n) {
+        if (n != size_) data_.reset(new Packed[n]);
+        size_ = n;
+    }
+    std::size_t size() const { return size_; }
     GridAutomorphism operator[](std::size_t h) const {
         const Packed& p = data_[h];
         return {static_cast<int>(p.tx_r & 3), p.tx_r >> 2, p.ty};
@@ -37,7 +42,8 @@ private:
         std::int64_t tx_r; ///< 4 * tx + r
         std::int64_t ty;
     };
-    std::vector<Packed> data_;
+    std::unique_ptr<Packed[]> data_;
+    std::size_t size_ = 0;
 };
 
 /// Corner-based triangle mesh. Corner h = 3f + k is vertex tri[f][k] in triangle f, and also the

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <vector>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 namespace qex::detail {
 namespace {
@@ -37,15 +40,12 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
 
 void compute_transitions(TriMesh& m) {
     const int nh = 3 * m.num_faces();
-    m.transition.assign(static_cast<std::size_t>(nh));
+    m.transition.allocate(static_cast<std::size_t>(nh));
     std::vector<char> determined(nh, 1);
-    // Per edge (its smaller half-edge): much shorter than its triangles (the dipole pass below).
-    std::vector<char> is_short(nh, 0);
     auto len = [&](int c) {
         const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
         return norm_inf({q[0] - p[0], q[1] - p[1]});
     };
-    std::vector<int> undetermined;
     auto set = [&](int h, int r) {
         const int o = m.opp[h];
         // In face(h) the edge runs a -> b; in face(o) it runs b -> a.
@@ -61,50 +61,77 @@ void compute_transitions(TriMesh& m) {
         m.transition.set(static_cast<std::size_t>(h), g);
         m.transition.set(static_cast<std::size_t>(o), g.inverse());
     };
-    // Each interior edge is set from its smaller half-edge, writing only its own two entries.
+    // Per triangle: its longest edge (for the dipole pass below).
+    std::vector<double> longest(static_cast<std::size_t>(m.num_faces()));
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
 #endif
-    for (int h = 0; h < nh; ++h) {
-        const int o = m.opp[h];
-        if (o < h) continue; // boundary, or already set as the inverse of o
-        const Point2& a = m.uv[h];
-        const Point2& b = m.uv[TriMesh::next(h)];
-        const Point2& a2 = m.uv[TriMesh::next(o)];
-        const Point2& b2 = m.uv[o];
-        const Point2 e{b[0] - a[0], b[1] - a[1]};
-        const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
-        if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
-            determined[h] = determined[o] = 0; // a collapsed triangle's missing UVs: no transition
-            continue;
+    for (int f = 0; f < m.num_faces(); ++f) longest[static_cast<std::size_t>(f)] = std::max({len(3 * f), len(3 * f + 1), len(3 * f + 2)});
+    // Each interior edge is set from its smaller half-edge, writing only its own two entries;
+    // a boundary half-edge gets the identity (it is never read). Each thread lists, in index
+    // order, its range's undetermined edges and edges much shorter than their triangles (an
+    // eighth of their longest edge); with the static schedule the threads' ranges are in
+    // thread order, so the joined lists are in index order, as a serial pass makes them.
+    std::vector<int> undetermined;
+    std::vector<std::pair<double, int>> short_edges;
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(m.threads) if (m.parallel(nh))
+#endif
+    {
+        std::vector<int> my_undetermined;
+        std::vector<std::pair<double, int>> my_short;
+#if defined(_OPENMP)
+#pragma omp for schedule(static) nowait
+#endif
+        for (int h = 0; h < nh; ++h) {
+            const int o = m.opp[h];
+            if (o < 0) {
+                m.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+                continue;
+            }
+            if (o < h) continue; // set as the inverse of o
+            const Point2& a = m.uv[h];
+            const Point2& b = m.uv[TriMesh::next(h)];
+            const Point2& a2 = m.uv[TriMesh::next(o)];
+            const Point2& b2 = m.uv[o];
+            const Point2 e{b[0] - a[0], b[1] - a[1]};
+            const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
+            if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
+                // A collapsed triangle's missing UVs: no transition.
+                m.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+                m.transition.set(static_cast<std::size_t>(o), GridAutomorphism{});
+                determined[h] = determined[o] = 0;
+                continue;
+            }
+            // Rotation: the multiple of 90 degrees closest to the angle from e to e2 (largest dot product).
+            int best = 0;
+            double best_dot = -HUGE_VAL;
+            for (int r = 0; r < 4; ++r) {
+                const Point2 re = GridAutomorphism::rotate(e, r);
+                const double dot = re[0] * e2[0] + re[1] * e2[1];
+                if (dot > best_dot) { best_dot = dot; best = r; }
+            }
+            set(h, best);
+            const Point2 re = GridAutomorphism::rotate(e, best);
+            if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
+                determined[h] = determined[o] = 0;
+                my_undetermined.push_back(h);
+            }
+            const double l = std::max(norm_inf(e), norm_inf(e2));
+            if (8 * l < std::max(longest[static_cast<std::size_t>(TriMesh::face(h))], longest[static_cast<std::size_t>(TriMesh::face(o))]))
+                my_short.push_back({l, h});
         }
-        // Rotation: the multiple of 90 degrees closest to the angle from e to e2 (largest dot product).
-        int best = 0;
-        double best_dot = -HUGE_VAL;
-        for (int r = 0; r < 4; ++r) {
-            const Point2 re = GridAutomorphism::rotate(e, r);
-            const double dot = re[0] * e2[0] + re[1] * e2[1];
-            if (dot > best_dot) { best_dot = dot; best = r; }
+#if defined(_OPENMP)
+#pragma omp for ordered schedule(static, 1)
+        for (int t = 0; t < omp_get_num_threads(); ++t)
+#pragma omp ordered
+#endif
+        {
+            undetermined.insert(undetermined.end(), my_undetermined.begin(), my_undetermined.end());
+            short_edges.insert(short_edges.end(), my_short.begin(), my_short.end());
         }
-        set(h, best);
-        const Point2 re = GridAutomorphism::rotate(e, best);
-        if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2))))
-            determined[h] = determined[o] = 0;
-        // An eighth of the longest edge of its two triangles.
-        double longest = 0;
-        for (const int c : {h, o})
-            for (int k = 0; k < 3; ++k) longest = std::max(longest, len(3 * TriMesh::face(c) + k));
-        is_short[h] = 8 * std::max(len(h), len(o)) < longest;
     }
     // Undetermined edges in index order (edges with a missing UV stay without a transition).
-    for (int h = 0; h < nh; ++h) {
-        const int o = m.opp[h];
-        if (o < h || determined[h]) continue;
-        const Point2 &a = m.uv[h], &a2 = m.uv[TriMesh::next(o)];
-        if (std::isfinite(a[0] + a[1] + a2[0] + a2[1] + m.uv[TriMesh::next(h)][0] + m.uv[TriMesh::next(h)][1] +
-                          m.uv[o][0] + m.uv[o][1]))
-            undetermined.push_back(h);
-    }
     for (const int h : undetermined) {
         const int o = m.opp[h];
         // Round the edge's start (a: corner h in face(h), corner next(o) in face(o)), else its end.
@@ -120,9 +147,6 @@ void compute_transitions(TriMesh& m) {
     // opposite index on its two ends. An edge much shorter than its triangles (an eighth of their
     // longest edge) whose ends turn by opposite amounts takes the rotation that makes both
     // regular. Shortest edges first, so the outcome does not depend on the input's order.
-    std::vector<std::pair<double, int>> short_edges;
-    for (int h = 0; h < nh; ++h)
-        if (is_short[h]) short_edges.push_back({std::max(len(h), len(m.opp[h])), h});
     if (short_edges.empty()) return;
     // The turn of each short edge's ends (fans of interior vertices only; -1: open fan).
     std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2); // -2: not yet walked
