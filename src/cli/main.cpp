@@ -253,9 +253,9 @@ void prepare_heap(std::uintmax_t input_bytes) {
 #if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE)
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, INT32_MAX);
-    // Peak heap use was 1.3-1.6 times the file size on the subdivided ducks, plus a few MB.
-    const std::uintmax_t pad = std::min<std::uintmax_t>(2 * input_bytes + (std::uintmax_t{32} << 20),
-                                                        std::uintmax_t{1} << 34);
+    // Peak heap use was 1.3-1.6 times the file size on the subdivided ducks, but 50 times on a
+    // map with many quads per triangle: at least 1 GiB of address space is set aside.
+    const std::uintmax_t pad = std::min(std::max(2 * input_bytes, std::uintmax_t{1} << 30), std::uintmax_t{1} << 36);
     auto* const before = static_cast<char*>(sbrk(0));
     void* volatile block = std::malloc(static_cast<std::size_t>(pad)); // volatile: not optimised away
     auto* const after = static_cast<char*>(sbrk(0));
