@@ -28,8 +28,10 @@ Error build_topology(TriMesh& m, const char* what) {
     const int nh = 3 * nf;
     // Half-edges ordered by undirected edge (smaller vertex, larger vertex), then by index; pairs
     // become opposites. Bucketed by the smaller vertex (counting sort); each bucket holds
-    // (larger vertex) << 32 | half-edge and is sorted by insertion: linear time, 8 bytes per
-    // half-edge. (Large buckets, at vertices of high valence, are sorted by std::sort.)
+    // (larger vertex) << 32 | half-edge << 1 | direction (1: from the larger vertex) and is
+    // sorted by insertion: linear time, 8 bytes per half-edge. (Large buckets, at vertices of
+    // high valence, are sorted by std::sort.) The direction bit decides orientation without
+    // looking the half-edges up again.
     const int nv = m.num_vertices;
     std::vector<int> bucket(static_cast<std::size_t>(nv) + 1, 0); // bucket v: [bucket[v], bucket[v+1])
     std::vector<std::uint64_t> entry(static_cast<std::size_t>(nh));
@@ -68,7 +70,7 @@ Error build_topology(TriMesh& m, const char* what) {
             for (int h = range(part).first; h < range(part).second; ++h) {
                 const int a = m.origin(h), b = m.target(h);
                 entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b))]++)] =
-                    static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h);
+                    static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h) << 1 | (a > b ? 1u : 0u);
             }
         }
     }
@@ -79,9 +81,9 @@ Error build_topology(TriMesh& m, const char* what) {
         for (int i = bucket[v]; i < bucket[v + 1];) {
             int j = i + 1;
             while (j < bucket[v + 1] && entry[j] >> 32 == entry[i] >> 32) ++j;
-            const auto h = static_cast<int>(entry[i] & 0xffffffffu);
-            const auto o = j - i == 2 ? static_cast<int>(entry[i + 1] & 0xffffffffu) : -1;
-            const bool non_manifold = j - i > 2, misoriented = o >= 0 && m.origin(h) == m.origin(o);
+            const auto h = static_cast<int>((entry[i] & 0xffffffffu) >> 1);
+            const auto o = j - i == 2 ? static_cast<int>((entry[i + 1] & 0xffffffffu) >> 1) : -1;
+            const bool non_manifold = j - i > 2, misoriented = o >= 0 && (entry[i] & 1) == (entry[i + 1] & 1);
             if ((non_manifold || misoriented) && error) {
                 const std::string edge = "edge (" + std::to_string(m.input_vertex[m.origin(h)]) + ", " +
                                          std::to_string(m.input_vertex[m.target(h)]) + ")";
