@@ -70,7 +70,8 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
     for (std::int64_t c = 0; c < nc64; ++c) head[static_cast<std::size_t>(c)] = corner_vertex[next_corner(static_cast<std::size_t>(c))];
     // Buckets by the smaller vertex; after the placing pass, bucket v is [end[v-1], end[v]).
-    // An entry is (larger vertex) << 32 | corner.
+    // An entry is (larger vertex) << 32 | corner << 1 | direction, the direction 1 when the
+    // corner's side runs from the larger vertex (so orientation needs no second look-up).
     std::vector<std::uint32_t> end(num_vertices + 1, 0);
     std::vector<std::uint64_t> bucket(nc);
     for (std::size_t c = 0; c < nc; ++c) ++end[static_cast<std::size_t>(std::min(corner_vertex[c], head[c])) + 1];
@@ -78,7 +79,8 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     for (std::size_t c = 0; c < nc; ++c) {
         const int a = corner_vertex[c], b = head[c];
         bucket[end[static_cast<std::size_t>(std::min(a, b))]++] =
-            static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::max(a, b))) << 32 | static_cast<std::uint32_t>(c);
+            static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::max(a, b))) << 32 |
+            static_cast<std::uint32_t>(c) << 1 | (a > b ? 1u : 0u);
     }
     auto bucket_begin = [&](std::size_t v) { return v == 0 ? 0 : static_cast<std::size_t>(end[v - 1]); };
     // Runs of equal (smaller, larger) vertex are the undirected edges. twin[c] is the corner
@@ -96,7 +98,7 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
             std::size_t j = i + 1;
             while (j < stop && bucket[j] >> 32 == h) ++j;
             ++edges;
-            const auto c0 = static_cast<std::uint32_t>(bucket[i]);
+            const auto c0 = static_cast<std::uint32_t>(bucket[i]) >> 1;
             auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
             if (j - i > 2) {
                 troubled[v] = 1;
@@ -104,9 +106,9 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
                     violate(ViolationKind::NonManifoldEdge,
                             "edge " + name() + " has " + std::to_string(j - i) + " incident face sides", face_of(c0));
             } else if (j - i == 2) {
-                const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]);
+                const auto c1 = static_cast<std::uint32_t>(bucket[i + 1]) >> 1;
                 if (pairs_out) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
-                if (corner_vertex[c0] == corner_vertex[c1]) {
+                if ((bucket[i] & 1) == (bucket[i + 1] & 1)) {
                     troubled[v] = 1;
                     if (report)
                         violate(ViolationKind::InconsistentOrientation,
