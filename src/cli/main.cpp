@@ -249,8 +249,16 @@ int run_check(const std::string& param_path, const std::string& mesh_path, bool 
 ///   pages in `madvise` or `always` mode).
 /// What the run does not touch of the extension costs address space, not memory. The library
 /// itself never changes the allocator: it is a policy of this program.
+#if defined(__SANITIZE_ADDRESS__)
+#define QEX_OWN_ALLOCATOR 1 // a sanitizer's allocator: no glibc heap to shape
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
+#define QEX_OWN_ALLOCATOR 1
+#endif
+#endif
+
 void prepare_heap(std::uintmax_t input_bytes) {
-#if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE)
+#if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(QEX_OWN_ALLOCATOR)
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, INT32_MAX);
     // Peak heap use was 1.3-1.6 times the file size on the subdivided ducks, but 50 times on a
