@@ -1,6 +1,7 @@
 // Benchmarks: BM_<Stage>/<input> on the paper's maps (from ../shared), on 1-to-4 subdivided
 // versions made in memory (the integer-grid map is unchanged by midpoint subdivision), and on
 // large generated maps. Per-stage times of the extraction are reported as counters.
+#include "heap_policy.h"
 #include "map_generators.h"
 
 #include <benchmark/benchmark.h>
@@ -84,6 +85,9 @@ const Input* keep(Input in) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // The program's heap policy: figures are of the extraction on reused memory, as in the CLI,
+    // not of this VM's first-touch page faults (bench/RESULTS.md has both).
+    qex::cli::prepare_heap(std::uintmax_t{2} << 30);
     const fs::path shared = fs::path(QEX_SHARED_DIR) / "meshes" / "paper";
     std::error_code ec;
     std::vector<fs::path> files;
