@@ -36,7 +36,7 @@ namespace qex::cli {
 inline void prepare_heap(std::uintmax_t input_bytes) {
 #if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(QEX_OWN_ALLOCATOR)
     mallopt(M_MMAP_MAX, 0);
-    mallopt(M_TRIM_THRESHOLD, INT32_MAX);
+    mallopt(M_TRIM_THRESHOLD, -1); // never trim (a finite threshold would give back a large set-aside at once)
     // Peak heap use was 1.3-1.6 times the file size on the subdivided ducks, but 50 times on a
     // map with many quads per triangle: at least 1 GiB of address space is set aside.
     const std::uintmax_t pad = std::min(std::max(2 * input_bytes, std::uintmax_t{1} << 30), std::uintmax_t{1} << 36);
