@@ -1,16 +1,12 @@
 // qex: command-line front end. `qex extract` turns an OBJ with an integer-grid map into a quad
 // mesh and checks it; `qex check` judges any quad mesh against a map.
 #include "qex/qex.h"
+#include "heap_policy.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
-#include "heap_policy.h"
-
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <cstdint>
 #include <filesystem>
 #include <cstdio>
@@ -246,11 +242,6 @@ std::uintmax_t size_of(const std::string& path) {
 } // namespace
 
 int main(int argc, char** argv) {
-#if defined(__GLIBC__)
-    // One malloc arena for every thread: memory that the reader's threads free is reused by the
-    // extraction (with an arena per thread, the peak of the 1.26M-triangle duck grew by 16%).
-    mallopt(M_ARENA_MAX, 1);
-#endif
     CLI::App app{"qex: robust quad mesh extraction from integer-grid maps (QEx)"};
     app.require_subcommand(0, 1);
 
