@@ -1,8 +1,11 @@
 // Benchmarks: BM_<Stage>/<input> on the paper's maps (from ../shared), on 1-to-4 subdivided
 // versions made in memory (the integer-grid map is unchanged by midpoint subdivision), and on
-// large generated maps. Per-stage times of the extraction are reported as counters.
+// large generated maps. BM_Extract is the whole extraction (its stage times as counters), and
+// each pipeline stage has its own benchmark, timed alone on the state the stages before it
+// leave.
 #include "heap_policy.h"
 #include "map_generators.h"
+#include "pipeline.h"
 
 #include <benchmark/benchmark.h>
 
@@ -12,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace {
@@ -31,6 +35,74 @@ void BM_Extract(benchmark::State& state, const Input* in) {
     for (const auto& [name, s] : stage) state.counters[name + "_ms"] = 1e3 * s / static_cast<double>(state.iterations());
     state.counters["quads"] = static_cast<double>(quads);
     state.counters["triangles"] = static_cast<double>(in->triangles.size());
+}
+
+namespace d = qex::detail;
+
+/// The pipeline's stages in the order they run (one round of sanitization; `extract()` runs a
+/// second only when collapses or deferred branch points call for it).
+enum class Stage { Topology, Transitions, Valences, Sanitize, QVertices, Ports, Tracing, Faces, Merge };
+constexpr const char* kStageNames[] = {"Topology", "Transitions", "Valences", "Sanitize", "QVertices",
+                                       "Ports",    "Tracing",     "Faces",    "Merge"};
+
+/// What the stages hand on to each other.
+struct PipelineState {
+    d::TriMesh m;
+    d::QState q;
+    d::FaceWalks faces;
+    qex::Report report;
+    qex::QuadMesh out;
+};
+
+void run_stage(Stage stage, const Input& in, const qex::Options& opt, PipelineState& st) {
+    std::int64_t collapsed = 0;
+    switch (stage) {
+        case Stage::Topology: // validation's half of the work: the working mesh and its connectivity
+            st.m = d::make_mesh(in);
+            st.m.threads = d::thread_count(opt.threads);
+            (void)d::build_topology(st.m, "input");
+            (void)d::collapse_degenerate_edges(st.m, collapsed);
+            break;
+        case Stage::Transitions: d::compute_transitions(st.m); break;
+        case Stage::Valences: d::count_valences(st.m); break;
+        case Stage::Sanitize:
+            (void)d::sanitize(st.m, in.valences, in.feature_edges, st.report);
+            (void)d::collapse_degenerate_edges(st.m, collapsed);
+            d::count_valences(st.m, true);
+            break;
+        case Stage::QVertices: (void)d::generate_qvertices(st.m, opt, st.q); break;
+        case Stage::Ports: d::enumerate_ports(st.m, st.q); break;
+        case Stage::Tracing: d::trace_ports(st.m, opt, st.q, st.report); break;
+        case Stage::Faces: st.faces = d::extract_faces(st.m, st.q, st.report); break;
+        case Stage::Merge: d::merge_and_simplify(st.m, st.q, std::move(st.faces), opt, st.out, st.report); break;
+    }
+}
+
+/// One stage alone: the stages before it run, and their state is freed, outside the timing.
+void BM_Stage(benchmark::State& state, const Input* in, Stage stage) {
+    const qex::Options opt;
+    std::optional<PipelineState> st;
+    for (auto _ : state) {
+        state.PauseTiming();
+        st.emplace();
+        for (int s = 0; s < static_cast<int>(stage); ++s) run_stage(static_cast<Stage>(s), *in, opt, *st);
+        state.ResumeTiming();
+        run_stage(stage, *in, opt, *st);
+        state.PauseTiming();
+        st.reset();
+        state.ResumeTiming();
+    }
+    state.counters["triangles"] = static_cast<double>(in->triangles.size());
+}
+
+/// BM_<Stage>/<name> for every stage, `iterations` runs each: the preparation is not timed,
+/// so a minimum time would repeat it hundreds of times for a stage as short as merging.
+void register_stages(const std::string& name, const Input* in, int iterations) {
+    for (int s = 0; s <= static_cast<int>(Stage::Merge); ++s)
+        benchmark::RegisterBenchmark(("BM_" + std::string(kStageNames[s]) + "/" + name).c_str(), BM_Stage, in,
+                                     static_cast<Stage>(s))
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(iterations);
 }
 
 void BM_Verify(benchmark::State& state, const Input* in) {
@@ -103,12 +175,15 @@ int main(int argc, char** argv) {
         const Input* base = keep(std::move(in));
         benchmark::RegisterBenchmark(("BM_Extract/" + name).c_str(), BM_Extract, base)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("BM_Verify/" + name).c_str(), BM_Verify, base)->Unit(benchmark::kMillisecond);
+        register_stages(name, base, 30);
         if (name == "duck_miq_8_param") {
             const Input* s1 = keep(qex::testing::subdivide(*base));
             const Input* s2 = keep(qex::testing::subdivide(*s1));
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub1").c_str(), BM_Extract, s1)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub2").c_str(), BM_Extract, s2)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("BM_Verify/" + name + "_sub2").c_str(), BM_Verify, s2)->Unit(benchmark::kMillisecond);
+            register_stages(name + "_sub1", s1, 10);
+            register_stages(name + "_sub2", s2, 4);
             // The reader on the twice-subdivided duck as a file (61 MB), serial and on 2 threads.
             if (const std::string file = scratch(name + "_sub2.obj", qex::testing::to_obj(*s2)); !file.empty())
                 for (int t : {1, 2})
@@ -132,6 +207,7 @@ int main(int argc, char** argv) {
         const Input* g = keep(qex::testing::make_map(qex::testing::torus_layout(32, 16), n, 8));
         benchmark::RegisterBenchmark(("BM_Extract/torus_512quads_x" + std::to_string(n * n)).c_str(), BM_Extract, g)
             ->Unit(benchmark::kMillisecond);
+        if (n <= 32) register_stages("torus_512quads_x" + std::to_string(n * n), g, n == 8 ? 10 : 2);
         if (n == 32)
             benchmark::RegisterBenchmark("BM_WriteObj/torus_512quads_x1024", BM_WriteObj, g,
                                          (fs::temp_directory_path() / "qex_bench_write.obj").string())
