@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         valid = qex::verify(in, bare).valid;
     }
     if (valid != r.check.valid) std::abort();
-    if (!v.valid && r.report.defects.empty()) std::abort();
+    if (!valid && r.report.defects.empty()) std::abort();
     for (const auto& d : r.report.defects)
         if (d.message.empty() || std::strlen(qex::to_string(d.kind)) == 0) std::abort();
     for (const auto& x : v.violations)
