@@ -1,8 +1,7 @@
 // Benchmarks: BM_<Stage>/<input> on the paper's maps (from ../shared), on 1-to-4 subdivided
 // versions made in memory (the integer-grid map is unchanged by midpoint subdivision), and on
 // large generated maps. BM_Extract is the whole extraction (its stage times as counters), and
-// each pipeline stage has its own benchmark, timed alone on the state the stages before it
-// leave.
+// BM_<stage> each stage of the pipeline's stage table as extract() runs it.
 #include "heap_policy.h"
 #include "map_generators.h"
 #include "pipeline.h"
@@ -15,7 +14,6 @@
 #include <filesystem>
 #include <memory>
 #include <map>
-#include <optional>
 #include <string>
 
 namespace {
@@ -37,72 +35,36 @@ void BM_Extract(benchmark::State& state, const Input* in) {
     state.counters["triangles"] = static_cast<double>(in->triangles.size());
 }
 
-namespace d = qex::detail;
-
-/// The pipeline's stages in the order they run (one round of sanitization; `extract()` runs a
-/// second only when collapses or deferred branch points call for it).
-enum class Stage { Topology, Transitions, Valences, Sanitize, QVertices, Ports, Tracing, Faces, Merge };
-constexpr const char* kStageNames[] = {"Topology", "Transitions", "Valences", "Sanitize", "QVertices",
-                                       "Ports",    "Tracing",     "Faces",    "Merge"};
-
-/// What the stages hand on to each other.
-struct PipelineState {
-    d::TriMesh m;
-    d::QState q;
-    d::FaceWalks faces;
-    qex::Report report;
-    qex::QuadMesh out;
-};
-
-void run_stage(Stage stage, const Input& in, const qex::Options& opt, PipelineState& st) {
-    std::int64_t collapsed = 0;
-    switch (stage) {
-        case Stage::Topology: // validation's half of the work: the working mesh and its connectivity
-            st.m = d::make_mesh(in);
-            st.m.threads = d::thread_count(opt.threads);
-            (void)d::build_topology(st.m, "input");
-            (void)d::collapse_degenerate_edges(st.m, collapsed);
-            break;
-        case Stage::Transitions: d::compute_transitions(st.m); break;
-        case Stage::Valences: d::count_valences(st.m); break;
-        case Stage::Sanitize:
-            (void)d::sanitize(st.m, in.valences, in.feature_edges, st.report);
-            (void)d::collapse_degenerate_edges(st.m, collapsed);
-            d::count_valences(st.m, true);
-            break;
-        case Stage::QVertices: (void)d::generate_qvertices(st.m, opt, st.q); break;
-        case Stage::Ports: d::enumerate_ports(st.m, st.q); break;
-        case Stage::Tracing: d::trace_ports(st.m, opt, st.q, st.report); break;
-        case Stage::Faces: st.faces = d::extract_faces(st.m, st.q, st.report); break;
-        case Stage::Merge: d::merge_and_simplify(st.m, st.q, std::move(st.faces), opt, st.out, st.report); break;
-    }
-}
-
-/// One stage alone: the stages before it run, and their state is freed, outside the timing.
-void BM_Stage(benchmark::State& state, const Input* in, Stage stage) {
-    const qex::Options opt;
-    std::optional<PipelineState> st;
+/// BM_<stage>/<input>: one stage of the stage table (pipeline.h), as extract() runs it. Each
+/// iteration runs the whole extraction and counts only the stage's own time, which the
+/// extraction measures itself (Report::stage_seconds, summed over rounds and rungs): the
+/// benchmark times exactly what extract() runs, under the stage's name.
+void BM_Stage(benchmark::State& state, const Input* in, qex::detail::Stage stage) {
+    const std::string name = qex::detail::stage_name(stage);
     for (auto _ : state) {
-        state.PauseTiming();
-        st.emplace();
-        for (int s = 0; s < static_cast<int>(stage); ++s) run_stage(static_cast<Stage>(s), *in, opt, *st);
-        state.ResumeTiming();
-        run_stage(stage, *in, opt, *st);
-        state.PauseTiming();
-        st.reset();
-        state.ResumeTiming();
+        const qex::Result r = qex::extract(*in);
+        double seconds = 0.0;
+        for (const auto& [label, s] : r.report.stage_seconds)
+            if (label == name) seconds += s;
+        state.SetIterationTime(seconds);
     }
     state.counters["triangles"] = static_cast<double>(in->triangles.size());
 }
 
-/// BM_<Stage>/<name> for every stage, `iterations` runs each: the preparation is not timed,
-/// so a minimum time would repeat it hundreds of times for a stage as short as merging.
+/// BM_<stage>/<name> for every stage of the table that runs on `in`, `iterations` runs each.
 void register_stages(const std::string& name, const Input* in, int iterations) {
-    for (int s = 0; s <= static_cast<int>(Stage::Merge); ++s)
-        benchmark::RegisterBenchmark(("BM_" + std::string(kStageNames[s]) + "/" + name).c_str(), BM_Stage, in,
-                                     static_cast<Stage>(s))
+    const qex::Result probe = qex::extract(*in);
+    for (int s = 0; s < qex::detail::kNumStages; ++s) {
+        const auto stage = static_cast<qex::detail::Stage>(s);
+        bool ran = false;
+        for (const auto& entry : probe.report.stage_seconds) ran = ran || entry.first == qex::detail::stage_name(stage);
+        if (!ran) continue; // e.g. untangle, on a map the first rung extracts
+        benchmark::RegisterBenchmark(("BM_" + std::string(qex::detail::stage_name(stage)) + "/" + name).c_str(),
+                                     BM_Stage, in, stage)
             ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
             ->Iterations(iterations);
+    }
 }
 
 void BM_Verify(benchmark::State& state, const Input* in) {

@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     detail::TriMesh m = detail::make_mesh(in);
     if (detail::build_topology(m, "fuzz").code != ErrorCode::None) std::abort(); // topology is fixed
     std::int64_t collapsed = 0;
-    if (detail::collapse_degenerate_edges(m, collapsed).code != ErrorCode::None) return 0;
+    if (detail::collapse(m, collapsed).code != ErrorCode::None) return 0;
     detail::compute_transitions(m);
     detail::count_valences(m);
     Report report;
@@ -30,10 +30,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
         const int o = m.opp[h];
         if (o < 0) continue;
-        if (!(m.transition[o] == m.transition[h].inverse())) std::abort();
+        if (!(m.map.transition[o] == m.map.transition[h].inverse())) std::abort();
         // Exactness holds while coordinates stay below 2^52 (validated).
-        if (m.transition[h](m.uv[h]) != m.uv[detail::TriMesh::next(o)]) std::abort();
-        if (m.transition[h](m.uv[detail::TriMesh::next(h)]) != m.uv[o]) std::abort();
+        if (m.map.transition[h](m.uv[h]) != m.uv[detail::TriMesh::next(o)]) std::abort();
+        if (m.map.transition[h](m.uv[detail::TriMesh::next(h)]) != m.uv[o]) std::abort();
     }
     return 0;
 }

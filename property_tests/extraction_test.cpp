@@ -511,8 +511,8 @@ TEST(Extraction, SanitizationIsIdempotent) {
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
         const int o = m.opp[h];
         if (o < 0) continue;
-        EXPECT_EQ(m.transition[h](m.uv[h]), m.uv[detail::TriMesh::next(o)]);
-        EXPECT_EQ(m.transition[h](m.uv[detail::TriMesh::next(h)]), m.uv[o]);
+        EXPECT_EQ(m.map.transition[h](m.uv[h]), m.uv[detail::TriMesh::next(o)]);
+        EXPECT_EQ(m.map.transition[h](m.uv[detail::TriMesh::next(h)]), m.uv[o]);
     }
     detail::compute_transitions(m);
     detail::count_valences(m);
@@ -538,20 +538,20 @@ TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
     ASSERT_GE(interior_face, 0);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (int k = 0; k < 3; ++k) m.uv[3 * interior_face + k] = {nan, nan};
-    m.transition.allocate(static_cast<std::size_t>(nh));
+    m.map.transition.allocate(static_cast<std::size_t>(nh));
     const detail::GridAutomorphism junk{3, 12345, -678};
-    for (int h = 0; h < nh; ++h) m.transition.set(static_cast<std::size_t>(h), junk);
+    for (int h = 0; h < nh; ++h) m.map.transition.set(static_cast<std::size_t>(h), junk);
     detail::compute_transitions(m);
     int boundary = 0, missing = 0;
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];
         const bool no_uv = detail::TriMesh::face(h) == interior_face || (o >= 0 && detail::TriMesh::face(o) == interior_face);
         if (o < 0 || no_uv) {
-            EXPECT_TRUE(m.transition[h] == detail::GridAutomorphism{}) << h;
+            EXPECT_TRUE(m.map.transition[h] == detail::GridAutomorphism{}) << h;
             boundary += o < 0;
             missing += no_uv;
         } else {
-            EXPECT_TRUE(m.transition[h].after(m.transition[o]) == detail::GridAutomorphism{}) << h;
+            EXPECT_TRUE(m.map.transition[h].after(m.map.transition[o]) == detail::GridAutomorphism{}) << h;
         }
     }
     EXPECT_GT(boundary, 0);
@@ -594,8 +594,8 @@ TEST(Extraction, GivenValencesDecideBranchPoints) {
     std::vector<int> valences(exact.positions.size(), 4);
     int branch_points = 0;
     for (int v = 0; v < m.num_vertices; ++v) {
-        valences[m.input_vertex[v]] = m.valence[v];
-        branch_points += m.valence[v] == 8;
+        valences[m.input_vertex[v]] = m.map.valence[v];
+        branch_points += m.map.valence[v] == 8;
     }
     ASSERT_EQ(branch_points, 2);
     Input noisy = exact;

@@ -88,17 +88,22 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
         // Local violations carry the input triangle near them; global ones (Euler characteristic)
         // are named as such.
         EXPECT_FALSE(r.report.defects.empty()) << path;
+        std::size_t checker_defects = 0;
         for (const auto& d : r.report.defects) {
             EXPECT_FALSE(d.message.empty());
+            // A checker violation keeps its kind; every other defect has none.
+            EXPECT_EQ(d.kind == DefectKind::CheckerViolation, d.violation.has_value()) << path << ": " << d.message;
+            checker_defects += d.violation.has_value();
             if (d.output_face >= 0) {
                 EXPECT_GE(d.input_element, 0) << path << ": " << d.message;
             }
             // A global defect names the candidate places: where faces were removed, and the input
             // vertex farthest from the output.
-            if (d.message.rfind("EulerMismatch", 0) == 0) {
+            if (d.violation == ViolationKind::EulerMismatch) {
                 EXPECT_NE(d.message.find("farthest from the output is at input vertex"), std::string::npos) << d.message;
             }
         }
+        EXPECT_EQ(checker_defects, v.violations.size()) << path;
     }
     std::cout << "MIQ maps: " << valid << "/" << files.size() << " valid\n";
     EXPECT_GE(valid, 21); // the tally recorded in the README; a regression fails here

@@ -92,16 +92,19 @@ nlohmann::json to_json(const qex::Report& r) {
                      {"flipped_after_untangling", r.flipped_after_untangling},
                      {"unplaced_vertices", r.unplaced_vertices}};
     j["defects"] = nlohmann::json::array();
-    for (const auto& d : r.defects)
-        j["defects"].push_back({{"kind", qex::to_string(d.kind)},
-                                {"input_triangle", d.input_element},
-                                {"output_face", d.output_face},
-                                {"grid", {d.grid[0], d.grid[1]}},
-                                {"message", d.message}});
+    for (const auto& d : r.defects) {
+        nlohmann::json defect = {{"kind", qex::to_string(d.kind)},
+                                 {"input_element", d.input_element},
+                                 {"output_face", d.output_face},
+                                 {"grid", {d.grid[0], d.grid[1]}},
+                                 {"message", d.message}};
+        if (d.violation) defect["violation"] = qex::to_string(*d.violation);
+        j["defects"].push_back(std::move(defect));
+    }
     j["explanations"] = nlohmann::json::array();
     for (const auto& d : r.explanations)
         j["explanations"].push_back({{"kind", qex::to_string(d.kind)},
-                                     {"input_triangle", d.input_element},
+                                     {"input_element", d.input_element},
                                      {"grid", {d.grid[0], d.grid[1]}},
                                      {"message", d.message}});
     j["stage_seconds"] = nlohmann::json::object();
@@ -166,7 +169,9 @@ int run_extract(const std::string& in_path, const std::string& out_path, const s
         std::cerr << "qex: " << in_path << ": the extracted mesh fails the check (" << check.violations.size()
                   << " violations, " << r.defects.size() << " extraction defects)\n";
         for (std::size_t i = 0; i < r.defects.size() && i < 20; ++i)
-            std::cerr << "  " << qex::to_string(r.defects[i].kind) << ": " << r.defects[i].message << "\n";
+            std::cerr << "  " << qex::to_string(r.defects[i].kind)
+                      << (r.defects[i].violation ? std::string(" ") + qex::to_string(*r.defects[i].violation) : "")
+                      << ": " << r.defects[i].message << "\n";
         print_violations(check);
         if (poly) {
             if (const auto e = qex::write_obj(out_path, result.mesh); !e.ok()) {

@@ -3,6 +3,7 @@
 // local UVs. Merging them leaves quads plus 2-gons and 1-gons (collapsed), and, where a singularity
 // lost ports, faces that pass a vertex twice: those are split at it.
 #include "pipeline.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <numeric>
@@ -17,10 +18,6 @@ struct Corner {
 };
 using Loop = std::vector<Corner>;
 
-int find(std::vector<int>& parent, int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
 
 /// Splits a closed walk at positions i < j into walk[i..j] and walk[j..end] + walk[0..i].
 void split(const Loop& loop, std::size_t i, std::size_t j, Loop& first, Loop& second) {
@@ -90,7 +87,7 @@ __int128 twice_area(const Loop& l) {
 
 } // namespace
 
-void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt,
+void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt,
                         QuadMesh& out, Report& report) {
     const int nq = static_cast<int>(q.qvertices.size());
     // Expected valence of each q-vertex, to find those that lost ports (Section 5.5).
@@ -101,8 +98,8 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
             if (m.on_boundary[v.element]) return false;
             // Valences 1 and 2 do not occur in cross fields of practical maps: such a count means
             // a fold-over took a full turn from a valence 5 or 6 singularity (Figure 2 (d)).
-            if (m.singular[v.element])
-                for (expected = m.valence[v.element]; expected < 3;) expected += 4;
+            if (m.map.singular[v.element])
+                for (expected = m.map.valence[v.element]; expected < 3;) expected += 4;
         } else if (v.kind == QVertexKind::Edge && m.opp[v.element] < 0) {
             return false;
         }
@@ -149,15 +146,14 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
     }
 
     // 2. Merge q-vertices sharing local UVs within a face (Algorithm 7).
-    std::vector<int> parent(nq);
-    std::iota(parent.begin(), parent.end(), 0);
+    UnionFind sets(static_cast<std::size_t>(nq));
     if (opt.merge_vertices)
         for (const Loop& l : loops)
             for (std::size_t i = 0; i < l.size(); ++i)
                 for (std::size_t j = i + 1; j < l.size(); ++j)
                     if (l[i].uv == l[j].uv && l[i].v != l[j].v) {
-                        const int a = find(parent, l[i].v), b = find(parent, l[j].v);
-                        if (a != b) { parent[std::max(a, b)] = std::min(a, b); ++report.merged_qvertices; }
+                        const int a = sets.find(l[i].v), b = sets.find(l[j].v);
+                        if (a != b) { sets.attach(std::max(a, b), std::min(a, b)); ++report.merged_qvertices; }
                     }
 
     // 3. Simplify faces.
@@ -165,7 +161,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
     simple.reserve(loops.size());
     std::vector<Loop> parts;
     for (Loop& l : loops) {
-        for (Corner& c : l) c.v = find(parent, c.v);
+        for (Corner& c : l) c.v = sets.find(c.v);
         parts.clear();
         simplify(std::move(l), parts);
         for (Loop& p : parts) {
@@ -178,7 +174,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
                                                        "-gon at grid point (" + std::to_string(v.grid[0]) + ", " +
                                                        std::to_string(v.grid[1]) + ") of input triangle " +
                                                        std::to_string(m.input_triangle[v.chart]),
-                                                   m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
+                                                   m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
                 }
                 continue;
             }
@@ -242,7 +238,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
                                            "a face and its reverse cancelled near grid point (" +
                                                std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
                                                ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
-                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
+                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
         }
         std::vector<Loop> kept;
         kept.reserve(simple.size());
@@ -257,7 +253,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
     // singularity stays on its vertex, not on a fold-over next to it), then on an edge, then
     // inside a triangle; among equals the first in 3D order, whatever the input order.
     std::vector<std::pair<int, int>> by_rep(nq);
-    for (int i = 0; i < nq; ++i) by_rep[i] = {find(parent, i), i};
+    for (int i = 0; i < nq; ++i) by_rep[i] = {sets.find(i), i};
     std::sort(by_rep.begin(), by_rep.end(), [&](const auto& a, const auto& b) {
         if (a.first != b.first) return a.first < b.first;
         const QVertex &x = q.qvertices[a.second], &y = q.qvertices[b.second];
@@ -308,7 +304,7 @@ void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces, cons
                                           std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
                                           ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
                                       m.input_triangle[v.chart], static_cast<std::int64_t>(out.faces.size()),
-                                      {v.grid[0], v.grid[1]}});
+                                      {v.grid[0], v.grid[1]}, std::nullopt});
         }
         out.faces.push_back(std::move(face));
         out.face_uvs.push_back(std::move(uvs));

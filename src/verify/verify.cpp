@@ -1,11 +1,11 @@
 // The checker: judges a polygon mesh against the input map with its own code (nothing from the
 // extraction pipeline) and exact arithmetic wherever a number is compared: CGAL's exact
 // predicates and rationals for doubles, 128-bit integers for integer grid coordinates.
-#include "qex/qex.h"
+#include "checker.h"
+#include "parallel.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
-#include "thread_count.h"
 
 #include <algorithm>
 #include <climits>
@@ -67,7 +67,9 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     // The vertex each corner's outgoing edge ends at.
     std::vector<std::int32_t> head(nc);
     const auto nc64 = static_cast<std::int64_t>(nc);
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads) if (verify_detail::run_parallel(threads, static_cast<std::int64_t>(nc)))
+#endif
     for (std::int64_t c = 0; c < nc64; ++c) head[static_cast<std::size_t>(c)] = corner_vertex[next_corner(static_cast<std::size_t>(c))];
     // Buckets by the smaller vertex; after the placing pass, bucket v is [end[v-1], end[v]).
     // An entry is (larger vertex) << 32 | corner << 1 | direction, the direction 1 when the
@@ -123,7 +125,9 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     };
     const auto nv64 = static_cast<std::int64_t>(num_vertices);
     std::int64_t edges = 0;
-#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (threads > 1 && nc >= (1u << 16)) reduction(+ : edges)
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (verify_detail::run_parallel(threads, static_cast<std::int64_t>(nc))) reduction(+ : edges)
+#endif
     for (std::int64_t v = 0; v < nv64; ++v) {
         std::uint64_t* b = bucket.data() + bucket_begin(static_cast<std::size_t>(v));
         std::uint64_t* e = bucket.data() + end[static_cast<std::size_t>(v)];
@@ -177,7 +181,9 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     }
     std::vector<char> single(num_vertices, 0);
     const auto listed = static_cast<std::int64_t>(order.size());
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1u << 16))
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads) if (verify_detail::run_parallel(threads, static_cast<std::int64_t>(nc)))
+#endif
     for (std::int64_t i = 0; i < listed; ++i) {
         const auto v = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
         if (start[v] < 0) continue;
@@ -269,7 +275,9 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
         const auto blocks = static_cast<std::int64_t>((U.size() + kBlock - 1) / kBlock);
         std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
         double largest = 0.0;
+#if defined(_OPENMP)
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && blocks > 4) reduction(max : largest)
+#endif
         for (std::int64_t b = 0; b < blocks; ++b) {
             const std::size_t from = static_cast<std::size_t>(b) * kBlock, to = std::min(U.size(), from + kBlock);
             double sum = 0.0;
@@ -294,7 +302,9 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
     const auto nc = static_cast<std::int64_t>(U.size());
     std::vector<std::int32_t> opposite(U.size(), -1);
     std::vector<std::int8_t> rotation(U.size(), 0);
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && nc >= (1 << 16))
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads) if (verify_detail::run_parallel(threads, static_cast<std::int64_t>(nc)))
+#endif
     for (std::int64_t ci = 0; ci < nc; ++ci) {
         const auto c = static_cast<std::size_t>(ci);
         if (pairs[c] < static_cast<std::int32_t>(ci)) continue; // boundary, non-manifold, or done from the pair's other corner
@@ -404,16 +414,12 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
 
 } // namespace
 
-namespace detail {
-void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
-                   std::vector<Violation>& out);
-}
 
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
     VerifyResult r;
     auto& out = r.violations;
     const std::size_t nv = mesh.positions.size();
-    const int threads = detail::thread_count(options.threads);
+    const int threads = verify_detail::thread_count(options.threads);
     if (mesh.faces.empty()) out.push_back({ViolationKind::EmptyMesh, "the mesh has no faces", -1});
     bool indices_ok = true;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
@@ -545,7 +551,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
             check_map(input, mesh, input_pairs, input_single_fan, threads, r, out);
     }
     if (input_ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
-        detail::check_located(input, mesh, options, r, out);
+        verify_detail::check_located(input, mesh, options, r, out);
     r.valid = out.empty();
     return r;
 }

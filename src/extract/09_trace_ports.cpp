@@ -40,7 +40,7 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
         if (!on_segment(pb, m.uv[h], m.uv[TriMesh::next(h)])) continue;
         const int o = m.opp[h];
         const int canon = (o >= 0 && o < h) ? o : h;
-        const IPoint bc = canon == h ? b : m.transition[h](b);
+        const IPoint bc = canon == h ? b : m.map.transition[h](b);
         for (int i = q.edge_first[canon]; i < q.edge_first[canon + 1]; ++i)
             if (q.qvertices[i].grid == bc) return i;
         return -1;
@@ -69,7 +69,7 @@ int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, Gri
             const int here = TriMesh::face(h) == f ? h : o, there = here == h ? o : h;
             if (const int p = port_at(q, qv, here, dir); p >= 0) return p;
             if (there < 0) return -1;
-            to_port = m.transition[here];
+            to_port = m.map.transition[here];
             return port_at(q, qv, there, to_port.rotate_dir(dir));
         }
         case QVertexKind::Vertex: {
@@ -84,7 +84,7 @@ int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, Gri
             const int n = m.fan_size[v.element];
             for (int step = 1; step < n && (cw >= 0 || ccw >= 0); ++step) {
                 if (cw >= 0) {
-                    gcw = m.transition[cw].after(gcw);
+                    gcw = m.map.transition[cw].after(gcw);
                     cw = m.cw(cw);
                     if (cw >= 0)
                         if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) { to_port = gcw; return p; }
@@ -92,7 +92,7 @@ int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, Gri
                 if (ccw >= 0) {
                     const int prev = TriMesh::prev(ccw);
                     if (m.opp[prev] >= 0) {
-                        gccw = m.transition[prev].after(gccw);
+                        gccw = m.map.transition[prev].after(gccw);
                         ccw = m.opp[prev];
                         if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) { to_port = gccw; return p; }
                     } else {
@@ -107,7 +107,7 @@ int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, Gri
 }
 
 void add_defect(Report& r, DefectKind kind, std::string msg, std::int64_t element, const IPoint& grid) {
-    r.defects.push_back({kind, std::move(msg), element, -1, {grid[0], grid[1]}});
+    r.defects.push_back({kind, std::move(msg), element, -1, {grid[0], grid[1]}, std::nullopt});
 }
 
 } // namespace
@@ -122,7 +122,7 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
         ++report.traces;
         int f = TriMesh::face(port.corner);
         int entry = -1;
-        int s = m.face_sign[f];
+        int s = m.map.face_sign[f];
         int dir = port.dir;
         IPoint a = port.grid;
         IPoint b{a[0] + unit_dir(dir)[0], a[1] + unit_dir(dir)[1]};
@@ -135,14 +135,14 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
             if (h < 0) break;
             const int o = m.opp[h];
             if (o < 0) { boundary = true; break; }
-            const GridAutomorphism& t = m.transition[h];
+            const GridAutomorphism& t = m.map.transition[h];
             g = t.after(g);
             a = t(a);
             b = t(b);
             dir = t.rotate_dir(dir);
             f = TriMesh::face(o);
             entry = o;
-            const int s2 = m.face_sign[f];
+            const int s2 = m.map.face_sign[f];
             if (s2 != 0 && s2 != s) { // orientation flip: the iso-line runs backwards in this chart
                 std::swap(a, b);
                 dir = (dir + 2) & 3;

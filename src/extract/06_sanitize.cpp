@@ -87,7 +87,7 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
     if (error.code != ErrorCode::None) return error;
 
     const int nv = m.num_vertices;
-    m.singular.assign(nv, 0);
+    m.map.singular.assign(nv, 0);
     double max_disp = 0.0, sum_disp = 0.0;
     std::int64_t singularities = 0, deferred_count = 0;
     // The first vertex (in vertex_order) whose transitions compose to a pure translation.
@@ -120,12 +120,12 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
         }
         const std::size_t n = fan.size();
         to_c.assign(n, GridAutomorphism{});
-        for (std::size_t i = 1; i < n; ++i) to_c[i] = m.transition[fan[i - 1]].after(to_c[i - 1]);
-        const GridAutomorphism loop = closed ? m.transition[fan[n - 1]].after(to_c[n - 1]) : GridAutomorphism{};
+        for (std::size_t i = 1; i < n; ++i) to_c[i] = m.map.transition[fan[i - 1]].after(to_c[i - 1]);
+        const GridAutomorphism loop = closed ? m.map.transition[fan[n - 1]].after(to_c[n - 1]) : GridAutomorphism{};
 
         // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
         // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
-        const int val = !given_valences.empty() ? given_valences[m.input_vertex[v]] : std::abs(m.winding_valence[v]);
+        const int val = !given_valences.empty() ? given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
         const bool branch = closed && loop.r == 0 && val >= 8;
         if (branch && !branch_points) ++deferred_count;
         const bool singular = closed && (loop.r != 0 || (branch && branch_points));
@@ -139,7 +139,7 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
 
         Point2 u0 = m.uv[fan[0]];
         if (singular) {
-            m.singular[v] = 1;
+            m.map.singular[v] = 1;
             ++singularities;
             u0 = loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(loop);
         } else {
@@ -196,12 +196,12 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
     report.sum_sanitization_displacement += sum_disp;
     report.singularities = singularities;
 
-    m.face_sign.resize(m.num_faces());
+    m.map.face_sign.resize(m.num_faces());
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
 #endif
     for (int f = 0; f < m.num_faces(); ++f)
-        m.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
     return {};
 }
 

@@ -166,7 +166,7 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
     if (bad_edge >= 0) return too_large(m.input_triangle[TriMesh::face(bad_edge)]);
     // Face-q-vertices: strictly inside a non-degenerate triangle.
     const int bad_face = generate(nf, q.face_first, [&](int f, std::vector<QVertex>& list) {
-        const int s = m.face_sign[f];
+        const int s = m.map.face_sign[f];
         if (s == 0) return;
         const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
         const double x0 = std::ceil(std::min({a[0], b[0], c[0]})), x1 = std::floor(std::max({a[0], b[0], c[0]}));

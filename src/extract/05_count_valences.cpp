@@ -28,8 +28,8 @@ double approximate_angle(double y, double x) {
 
 void count_valences(TriMesh& m, bool singular_only) {
     const int nv = m.num_vertices;
-    m.valence.assign(nv, 4);
-    m.winding_valence.assign(nv, 4);
+    m.map.valence.assign(nv, 4);
+    m.map.winding_valence.assign(nv, 4);
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
     // Each triangle's orientation once when every fan is counted (a corner's is its triangle's:
     // the exact sign does not change under a cyclic shift of the corners); per corner when only
@@ -56,7 +56,7 @@ void count_valences(TriMesh& m, bool singular_only) {
     for (std::int64_t i = 0; i < count; ++i) {
         const int v = m.vertex_order[static_cast<std::size_t>(i)];
         if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
-        if (singular_only && !m.singular[v]) continue;
+        if (singular_only && !m.map.singular[v]) continue;
         corners.clear();
         bool all_positive = true;
         double approx = 0.0;
@@ -80,8 +80,8 @@ void count_valences(TriMesh& m, bool singular_only) {
             const double k = std::nearbyint(quarters);
             const double reach = 2.0 / M_PI * kApproximateAngleError * static_cast<double>(corners.size()) + 1e-9;
             if (0.5 - std::abs(quarters - k) > reach) {
-                m.winding_valence[v] = static_cast<int>(k);
-                m.valence[v] = std::abs(m.winding_valence[v]);
+                m.map.winding_valence[v] = static_cast<int>(k);
+                m.map.valence[v] = std::abs(m.map.winding_valence[v]);
                 continue;
             }
         }
@@ -103,9 +103,9 @@ void count_valences(TriMesh& m, bool singular_only) {
         // Rotate so the fan starts at a run boundary, then sum run by run.
         std::size_t start = 0;
         while (start < fan.size() && fan[start].first == fan[(start + fan.size() - 1) % fan.size()].first) ++start;
-        m.winding_valence[v] = static_cast<int>(std::lround(2.0 * winding / M_PI));
+        m.map.winding_valence[v] = static_cast<int>(std::lround(2.0 * winding / M_PI));
         if (start == fan.size()) { // a single run: the whole fan has one orientation
-            m.valence[v] = std::abs(m.winding_valence[v]);
+            m.map.valence[v] = std::abs(m.map.winding_valence[v]);
             continue;
         }
         double total = 0.0, run = 0.0;
@@ -120,7 +120,7 @@ void count_valences(TriMesh& m, bool singular_only) {
             run += c.second;
         }
         total += run_sign < 0 ? 2.0 * M_PI - run : run;
-        m.valence[v] = static_cast<int>(std::lround(2.0 * total / M_PI));
+        m.map.valence[v] = static_cast<int>(std::lround(2.0 * total / M_PI));
     }
     } // parallel region
 }

@@ -1,4 +1,5 @@
-// Validation of raw input values: sizes, indices, finiteness, magnitudes, isolated vertices.
+// Stage validate: the raw input's values (sizes, indices, finiteness, magnitudes, isolated
+// vertices), then the working mesh and its topology (manifold, consistently oriented).
 #include "pipeline.h"
 
 #include <cmath>
@@ -86,4 +87,20 @@ Error validate_input_values(const Input& in) {
     return {};
 }
 
+Error validate(const Input& in, int threads, TriMesh& m) {
+    if (Error e = validate_input_values(in); e.code != ErrorCode::None) return e;
+    m = make_mesh(in);
+    m.threads = threads;
+    return build_topology(m, "input");
+}
+
 } // namespace qex::detail
+
+namespace qex {
+
+Error validate(const Input& input) {
+    detail::TriMesh m;
+    return detail::validate(input, 1, m);
+}
+
+} // namespace qex

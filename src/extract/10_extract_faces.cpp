@@ -19,7 +19,7 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
     for (int step = 0; step < limit; ++step) {
         const int next = v.kind == QVertexKind::Vertex ? m.cw(c) : m.opp[c];
         if (next < 0) { ok = false; return g; }
-        g = m.transition[c].after(g);
+        g = m.map.transition[c].after(g);
         c = next;
         if (c == pb.corner) return g;
     }
@@ -84,13 +84,13 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
                                                std::to_string(v.grid[1]) + ") of input triangle " +
                                                std::to_string(m.input_triangle[v.chart]) +
                                                " ran into the boundary between grid points; the face is left out",
-                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}});
+                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
         } else {
             ++report.open_face_walks;
             report.defects.push_back({DefectKind::OpenFaceWalk,
                                       "a face walk starting at grid point (" + std::to_string(face_uv[0][0]) + ", " +
                                           std::to_string(face_uv[0][1]) + ") did not close",
-                                      m.input_triangle[chart], -1, {face_uv[0][0], face_uv[0][1]}});
+                                      m.input_triangle[chart], -1, {face_uv[0][0], face_uv[0][1]}, std::nullopt});
         }
     }
     return faces;

@@ -1,99 +1,63 @@
-// Internal data of the extraction pipeline and the stages that fill it, in the order they run.
-// Each stage lives in its own file, named for what it does.
+// The extraction pipeline: its stage table, the data the stages hand on, and the stages in the
+// order they run. A stage has one name, used by its file (src/extract/NN_<name>.cpp, NN its
+// place in the pipeline), its function, its timer label in Report::stage_seconds and its
+// benchmark (BM_<name>/<input>).
 #pragma once
 
-#include "grid_automorphism.h"
 #include "predicates.h"
-#include "thread_count.h"
-#include "qex/qex.h"
+#include "tri_mesh.h"
+#include "qex/extract.h"
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace qex::detail {
 
-// ============================================================================ triangle mesh
+// ============================================================================ stage table
 
-/// Transitions per half-edge, 16 bytes each instead of GridAutomorphism's 24: the rotation sits
-/// in the two low bits of 4 * tx. Exact while |tx| < 2^61; transitions between charts of a map
-/// whose values are below 2^52 (input validation) stay below 2^54.
-class TransitionTable {
+/// The pipeline's stages, in the order extract() runs them (README: the pipeline table).
+enum class Stage : int {
+    validate,            ///< 01: values, indices and topology of the input; the working mesh
+    collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round)
+    untangle,            ///< 03: relaxed rungs of the fallback ladder only
+    compute_transitions, ///< 04: Section 3.1
+    count_valences,      ///< 05: Algorithm 8
+    sanitize,            ///< 06: Algorithms 1 and 2, Section 3.2
+    generate_qvertices,  ///< 07: Algorithm 3
+    enumerate_ports,     ///< 08: Algorithm 4
+    trace_ports,         ///< 09: Algorithm 5
+    extract_faces,       ///< 10: Algorithm 6
+    merge_vertices,      ///< 11: Section 5.5, Algorithm 7
+    canonicalize,        ///< 12: order-independent output
+    place_on_given_map,  ///< 13: relaxed rungs of the fallback ladder only
+    check,               ///< 14: the independent checker (qex::verify) judges the rung's mesh
+};
+inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
+
+/// The stages' names, indexed by Stage.
+inline constexpr const char* kStageNames[kNumStages] = {
+    "validate",       "collapse",        "untangle",    "compute_transitions", "count_valences",
+    "sanitize",       "generate_qvertices", "enumerate_ports", "trace_ports", "extract_faces",
+    "merge_vertices", "canonicalize",    "place_on_given_map", "check"};
+
+inline const char* stage_name(Stage s) { return kStageNames[static_cast<int>(s)]; }
+
+/// Adds the wall time since the last call (or construction) to the stage's entry in
+/// Report::stage_seconds, appending the entry the first time the stage runs.
+class StageTimer {
 public:
-    /// n entries, not initialised: the caller writes every one (compute_transitions does).
-    void allocate(std::size_t n) {
-        if (n != size_) data_.reset(new Packed[n]);
-        size_ = n;
-    }
-    std::size_t size() const { return size_; }
-    GridAutomorphism operator[](std::size_t h) const {
-        const Packed& p = data_[h];
-        return {static_cast<int>(p.tx_r & 3), p.tx_r >> 2, p.ty};
-    }
-    void set(std::size_t h, const GridAutomorphism& g) {
-        // 4 * tx as an unsigned product: no signed overflow, and exact in the stated range.
-        const auto scaled = static_cast<std::int64_t>(static_cast<std::uint64_t>(g.tx) << 2);
-        data_[h] = {scaled | (g.r & 3), g.ty};
-    }
+    explicit StageTimer(Report& report);
+    void done(Stage stage);
 
 private:
-    struct Packed {
-        std::int64_t tx_r; ///< 4 * tx + r
-        std::int64_t ty;
-    };
-    std::unique_ptr<Packed[]> data_;
-    std::size_t size_ = 0;
-};
-
-/// Corner-based triangle mesh. Corner h = 3f + k is vertex tri[f][k] in triangle f, and also the
-/// half-edge from that vertex to tri[f][(k+1)%3].
-struct TriMesh {
-    int num_vertices = 0;
-    std::vector<std::array<int, 3>> tri;
-    std::vector<Point2> uv;                        ///< per corner, in the chart of its triangle
-    /// Per corner: the input vertex whose 3D position the corner keeps (survives collapses).
-    std::vector<int> corner_vertex;
-    const std::vector<std::array<double, 3>>* positions = nullptr; ///< the input's, outlives the mesh
-    const std::array<double, 3>& pos(int c) const { return (*positions)[static_cast<std::size_t>(corner_vertex[c])]; }
-    std::vector<int> input_triangle;               ///< per triangle: index in the input
-    std::vector<int> input_vertex;                 ///< per vertex: a representative input vertex
-
-    // connectivity (build_topology)
-    std::vector<int> opp;           ///< per half-edge: opposite half-edge, -1 on the boundary
-    std::vector<int> fan_start;     ///< per vertex: first corner of its fan in clockwise order
-    std::vector<int> fan_size;      ///< per vertex: number of corners
-    std::vector<char> on_boundary;  ///< per vertex
-    /// Referenced vertices in the order their first corners appear. Walking fans in this order
-    /// keeps consecutive fans in nearby memory (vertex numbering often has no locality at all).
-    std::vector<int> vertex_order;
-    /// Threads for the parallel loops (Options::threads; 1 = serial). Results do not depend on it.
-    int threads = 1;
-    /// Whether a loop over `n` elements runs in parallel: small meshes stay serial, where
-    /// starting threads costs more than it saves.
-    bool parallel(std::int64_t n) const { return threads > 1 && n >= (1 << 16); }
-
-    // map (transitions, sanitization, valences)
-    TransitionTable transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
-    std::vector<signed char> face_sign;       ///< per triangle: sign of its UV area (exact)
-    std::vector<int> valence;                 ///< per vertex: valence (Algorithm 8 or given)
-    std::vector<int> winding_valence;         ///< per vertex: signed angle sum / (pi/2), rounded
-    std::vector<char> singular;               ///< per vertex
-
-    int num_faces() const { return static_cast<int>(tri.size()); }
-    static int face(int h) { return h / 3; }
-    static int next(int h) { return h - h % 3 + (h % 3 + 1) % 3; }
-    static int prev(int h) { return h - h % 3 + (h % 3 + 2) % 3; }
-    int origin(int h) const { return tri[h / 3][h % 3]; }
-    int target(int h) const { return origin(next(h)); }
-    /// Next corner clockwise around the origin of h (across the edge h), or -1 at the boundary.
-    int cw(int h) const { return opp[h] < 0 ? -1 : next(opp[h]); }
-    /// Next corner counter-clockwise around the origin of h (across the edge prev(h)), or -1.
-    int ccw(int h) const { return opp[prev(h)]; }
+    Report& report_;
+    std::chrono::steady_clock::time_point last_;
 };
 
 // ============================================================================ stages
-
 
 /// The working mesh of an input whose values are valid (validate_input_values).
 TriMesh make_mesh(const Input& in);
@@ -101,13 +65,18 @@ TriMesh make_mesh(const Input& in);
 /// Checks indices, finiteness, magnitudes and isolated vertices of the raw input.
 Error validate_input_values(const Input& in);
 
+/// Stage validate: validate_input_values, then the working mesh and its topology (`threads`
+/// for its parallel loops).
+Error validate(const Input& in, int threads, TriMesh& m);
+
 /// Builds opposite half-edges and clockwise vertex fans; rejects non-manifold or misoriented meshes.
 /// `what` names the stage in messages ("input" or "after collapsing UV-degenerate edges").
 Error build_topology(TriMesh& m, const char* what);
 
 /// Collapses edges of zero length in the parameter domain, keeping 3D positions in the corners.
-/// Returns the number collapsed in `collapsed`.
-Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed);
+/// Returns the number collapsed in `collapsed`. A collapse replaces the connectivity, and the
+/// mesh's map state with an empty one: transitions, valences and sanitization must run again.
+Error collapse(TriMesh& m, std::int64_t& collapsed);
 
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
@@ -125,7 +94,7 @@ void count_valences(TriMesh& m, bool singular_only = false);
 
 /// Fallback: relaxes regular vertices within `rings` of a flipped triangle towards the average of
 /// their neighbours, through exact transitions. Returns the number of triangles still flipped.
-std::int64_t untangle_fold_overs(TriMesh& m, int rings, int iterations);
+std::int64_t untangle(TriMesh& m, int rings, int iterations);
 
 /// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
 /// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
@@ -143,6 +112,15 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
                const std::vector<std::array<int, 2>>& feature_edges, Report& report, bool branch_points = true,
                std::int64_t* deferred = nullptr);
 
+/// The most sanitize rounds after the first; the last round is not followed by a collapse.
+inline constexpr int kMaxSanitizeRounds = 8;
+
+/// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
+/// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.
+/// Ends with a map state that describes the mesh's connectivity.
+Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<std::array<int, 2>>& features,
+                            Report& report, StageTimer& timer, int max_rounds = kMaxSanitizeRounds);
+
 // ============================================================================ q-vertices and q-ports
 
 struct QVertex {
@@ -159,7 +137,9 @@ struct QVertex {
 /// that triangle's chart) and the q-vertex's grid point in that chart.
 struct Port {
     int qvertex;
-    int corner;   ///< corner of the triangle at the q-vertex's fan position (Vertex); triangle*3 otherwise
+    /// A corner of the triangle the port points into (face(corner) is that triangle): the fan's
+    /// corner at the vertex (Vertex), the edge's half-edge on that side (Edge), 3f (Face).
+    int corner;
     int dir;
     IPoint grid;
 };
@@ -211,10 +191,21 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 /// clockwise around the q-vertex; `ok` is false if the step would cross the mesh boundary.
 GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int b, bool& ok);
 
+/// Sorts output vertices and faces canonically (so any input order gives the same mesh); returns,
+/// per old face index, its new index.
+std::vector<int> canonicalize(QuadMesh& mesh);
+
 /// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
 /// fills the output mesh. Of `q` it reads only the q-vertices (the driver releases the ports and
 /// traces before calling it).
-void merge_and_simplify(const TriMesh& m, const QState& q, FaceWalks faces,
+void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces,
                         const Options& opt, QuadMesh& out, Report& report);
+
+// ============================================================================ after the check
+
+/// For a mesh the checker rejected: appends one CheckerViolation defect per violation of
+/// `result.check`, with the violation's kind and the face, input triangle and grid point it is
+/// near (through the provenance).
+void locate_violations(const Input& input, Result& result);
 
 } // namespace qex::detail

@@ -30,7 +30,7 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
         if (c == skip) return (4 - (turns & 3)) & 3;
         const int o = m.opp[c];
         if (o < 0 || !determined[c]) return -1;
-        turns += m.transition[c].r;
+        turns += m.map.transition[c].r;
         c = TriMesh::next(o);
     }
     return -1;
@@ -40,7 +40,7 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
 
 void compute_transitions(TriMesh& m) {
     const int nh = 3 * m.num_faces();
-    m.transition.allocate(static_cast<std::size_t>(nh));
+    m.map.transition.allocate(static_cast<std::size_t>(nh));
     std::vector<char> determined(nh, 1);
     auto len = [&](int c) {
         const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
@@ -58,8 +58,8 @@ void compute_transitions(TriMesh& m) {
         g.r = r;
         g.tx = static_cast<std::int64_t>(std::llround(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0]))));
         g.ty = static_cast<std::int64_t>(std::llround(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1]))));
-        m.transition.set(static_cast<std::size_t>(h), g);
-        m.transition.set(static_cast<std::size_t>(o), g.inverse());
+        m.map.transition.set(static_cast<std::size_t>(h), g);
+        m.map.transition.set(static_cast<std::size_t>(o), g.inverse());
     };
     // Per triangle: its longest edge (for the dipole pass below).
     std::vector<double> longest(static_cast<std::size_t>(m.num_faces()));
@@ -86,7 +86,7 @@ void compute_transitions(TriMesh& m) {
         for (int h = 0; h < nh; ++h) {
             const int o = m.opp[h];
             if (o < 0) {
-                m.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+                m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
                 continue;
             }
             if (o < h) continue; // set as the inverse of o
@@ -98,8 +98,8 @@ void compute_transitions(TriMesh& m) {
             const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
             if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
                 // A collapsed triangle's missing UVs: no transition.
-                m.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
-                m.transition.set(static_cast<std::size_t>(o), GridAutomorphism{});
+                m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+                m.map.transition.set(static_cast<std::size_t>(o), GridAutomorphism{});
                 determined[h] = determined[o] = 0;
                 continue;
             }
@@ -157,7 +157,7 @@ void compute_transitions(TriMesh& m) {
         if (m.fan_start[v] < 0 || m.on_boundary[v]) return t;
         int c = m.fan_start[v], sum = 0, n = 0;
         do {
-            sum += m.transition[c].r;
+            sum += m.map.transition[c].r;
             c = m.cw(c);
         } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
         if (c == m.fan_start[v]) t = sum & 3;
@@ -168,7 +168,7 @@ void compute_transitions(TriMesh& m) {
         int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
         if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite
         const int delta = (4 - ta) & 3; // a's walk crosses h, b's walk crosses opp(h)
-        set(h, (m.transition[h].r + delta) & 3);
+        set(h, (m.map.transition[h].r + delta) & 3);
         ta = 0;
         tb = 0;
     }

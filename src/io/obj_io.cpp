@@ -1,9 +1,9 @@
 // OBJ and VVAL files: a single-pass reader over the whole buffer (fast_float for numbers) that
 // reports the line of every problem, and a writer that renames a finished temporary file into place.
-#include "qex/qex.h"
+#include "qex/io.h"
 
 #include <fast_float/fast_float.h>
-#include "thread_count.h"
+#include "extract/parallel.h"
 
 #include <algorithm>
 #include <charconv>
@@ -229,7 +229,9 @@ public:
             const std::size_t first = pieces_.size();
             const auto count = static_cast<std::int64_t>(cut.size() - 1);
             pieces_.resize(first + cut.size() - 1);
+#if defined(_OPENMP)
 #pragma omp parallel for schedule(static, 1) num_threads(threads_) if (count > 1)
+#endif
             for (std::int64_t i = 0; i < count; ++i) {
                 const auto k = static_cast<std::size_t>(i);
                 parse_piece(cut[k], cut[k + 1], pieces_[first + k]);
@@ -263,7 +265,9 @@ public:
         out_.triangles.resize(at[n].nf);
         std::vector<IoError> problem(n);
         const auto pieces = static_cast<std::int64_t>(n);
+#if defined(_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (pieces > 1)
+#endif
         for (std::int64_t i = 0; i < pieces; ++i) {
             const auto k = static_cast<std::size_t>(i);
             Piece& p = pieces_[k];
@@ -300,7 +304,9 @@ public:
             }
         out_.uvs.resize(tex.size());
         const auto corners = static_cast<std::int64_t>(tex.size());
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1 && corners >= (1 << 16))
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (detail::run_parallel(threads_, static_cast<std::int64_t>(corners)))
+#endif
         for (std::int64_t i = 0; i < corners; ++i)
             out_.uvs[static_cast<std::size_t>(i)] = vts[static_cast<std::size_t>(tex[static_cast<std::size_t>(i)])];
         return {};

@@ -5,7 +5,7 @@
 // the faces must cover the map (their number equals the map's signed area) unless fold-overs make
 // that impossible. Positions from other tools are rounded, so locating needs two tolerances (UV
 // units and a fraction of the bounding-box diagonal); every comparison after that is on integers.
-#include "qex/qex.h"
+#include "checker.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <string>
 
-namespace qex::detail {
+namespace qex::verify_detail {
 namespace {
 
 using K = CGAL::Simple_cartesian<double>;
@@ -460,4 +460,4 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                 -1);
 }
 
-} // namespace qex::detail
+} // namespace qex::verify_detail

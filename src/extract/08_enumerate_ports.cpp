@@ -43,7 +43,7 @@ void corner_ports(std::vector<Port>& ports, int qv, int corner, const IPoint& gr
 /// angle 0 carry the ray on unchanged, and the first non-degenerate corner claims it as its v-edge.
 bool w_ray_claimed(const TriMesh& m, int c) {
     int cur = m.ccw(c);
-    for (int guard = 0; cur >= 0 && m.face_sign[TriMesh::face(cur)] == 0; ++guard) {
+    for (int guard = 0; cur >= 0 && m.map.face_sign[TriMesh::face(cur)] == 0; ++guard) {
         const Point2& u = m.uv[cur];
         const Point2& v = m.uv[TriMesh::next(cur)];
         const Point2& w = m.uv[TriMesh::prev(cur)];
@@ -68,8 +68,8 @@ void enumerate_ports(const TriMesh& m, QState& q) {
                 for (int c = m.fan_start[v], n = 0; c >= 0 && n < m.fan_size[v]; ++n) {
                     const bool take_w = m.ccw(c) < 0 || !w_ray_claimed(m, c);
                     corner_ports(q.ports, i, c, grid, m.uv[TriMesh::next(c)], m.uv[TriMesh::prev(c)],
-                                 m.face_sign[TriMesh::face(c)], take_w);
-                    grid = m.transition[c](grid);
+                                 m.map.face_sign[TriMesh::face(c)], take_w);
+                    grid = m.map.transition[c](grid);
                     c = m.cw(c);
                     if (c == m.fan_start[v]) break;
                 }
@@ -77,17 +77,17 @@ void enumerate_ports(const TriMesh& m, QState& q) {
             }
             case QVertexKind::Edge: {
                 const int h = qv.element, o = m.opp[h];
-                const int sh = m.face_sign[TriMesh::face(h)];
-                const int so = o >= 0 ? m.face_sign[TriMesh::face(o)] : 0;
+                const int sh = m.map.face_sign[TriMesh::face(h)];
+                const int so = o >= 0 ? m.map.face_sign[TriMesh::face(o)] : 0;
                 // In face(h) the edge runs a -> b: v-edge towards b, w-edge towards a.
                 corner_ports(q.ports, i, h, qv.grid, m.uv[TriMesh::next(h)], m.uv[h], sh, o < 0 || so == 0);
                 if (o >= 0)
-                    corner_ports(q.ports, i, o, m.transition[h](qv.grid), m.uv[TriMesh::next(o)], m.uv[o], so,
+                    corner_ports(q.ports, i, o, m.map.transition[h](qv.grid), m.uv[TriMesh::next(o)], m.uv[o], so,
                                  sh == 0);
                 break;
             }
             case QVertexKind::Face: {
-                const int f = qv.element, s = m.face_sign[f];
+                const int f = qv.element, s = m.map.face_sign[f];
                 for (int k = 0; k < 4; ++k) q.ports.push_back({i, 3 * f, s > 0 ? 3 - k : k, qv.grid});
                 break;
             }

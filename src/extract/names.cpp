@@ -1,5 +1,5 @@
-// Names of the public enumerations, for messages and JSON reports.
-#include "qex/qex.h"
+// Names of the extractor's public enumerations, for messages and JSON reports.
+#include "qex/extract.h"
 
 namespace qex {
 
@@ -37,32 +37,6 @@ const char* to_string(DefectKind k) {
         case DefectKind::FaceCollapsed: return "FaceCollapsed";
         case DefectKind::BoundaryFaceDiscarded: return "BoundaryFaceDiscarded";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";
-    }
-    return "Unknown";
-}
-
-const char* to_string(ViolationKind k) {
-    switch (k) {
-        case ViolationKind::NotQuad: return "NotQuad";
-        case ViolationKind::BadIndex: return "BadIndex";
-        case ViolationKind::RepeatedVertex: return "RepeatedVertex";
-        case ViolationKind::NonManifoldEdge: return "NonManifoldEdge";
-        case ViolationKind::InconsistentOrientation: return "InconsistentOrientation";
-        case ViolationKind::NonManifoldVertex: return "NonManifoldVertex";
-        case ViolationKind::UnreferencedVertex: return "UnreferencedVertex";
-        case ViolationKind::NonFinitePosition: return "NonFinitePosition";
-        case ViolationKind::BoundaryMismatch: return "BoundaryMismatch";
-        case ViolationKind::EulerMismatch: return "EulerMismatch";
-        case ViolationKind::ComponentMismatch: return "ComponentMismatch";
-        case ViolationKind::TooLarge: return "TooLarge";
-        case ViolationKind::LocalUvNotUnitSquare: return "LocalUvNotUnitSquare";
-        case ViolationKind::EmptyMesh: return "EmptyMesh";
-        case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";
-        case ViolationKind::NotOnGridPoint: return "NotOnGridPoint";
-        case ViolationKind::SingularityOffGrid: return "SingularityOffGrid";
-        case ViolationKind::OffSurface: return "OffSurface";
-        case ViolationKind::FaceNotGridCell: return "FaceNotGridCell";
-        case ViolationKind::CoverageMismatch: return "CoverageMismatch";
     }
     return "Unknown";
 }

@@ -4,35 +4,27 @@
 // besides the edge's opposite vertices); otherwise the collapse would pinch the surface, and the
 // edge is kept: compute_transitions then derives its rotation from the fan of an endpoint.
 #include "pipeline.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <numeric>
 #include <string>
 
 namespace qex::detail {
-namespace {
 
-int find(std::vector<int>& parent, int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-
-} // namespace
-
-Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
+Error collapse(TriMesh& m, std::int64_t& collapsed) {
     collapsed = 0;
     const int nf = m.num_faces();
     bool any = false;
     for (int h = 0; h < 3 * nf && !any; ++h) any = m.uv[h] == m.uv[TriMesh::next(h)];
     if (!any) return {};
-    std::vector<int> parent(m.num_vertices);
-    std::iota(parent.begin(), parent.end(), 0);
+    UnionFind sets(static_cast<std::size_t>(m.num_vertices));
     // Triangles around each (representative) vertex, and whether a triangle is still alive.
     std::vector<std::vector<int>> faces_of(m.num_vertices);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 3; ++k) faces_of[m.tri[f][k]].push_back(f);
     std::vector<char> dead(nf, 0);
-    auto corner_of = [&](int f, int k) { return find(parent, m.tri[f][k]); };
+    auto corner_of = [&](int f, int k) { return sets.find(m.tri[f][k]); };
     auto neighbours = [&](int v, std::vector<int>& out) {
         out.clear();
         for (int f : faces_of[v]) {
@@ -50,7 +42,7 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
         for (int h = 0; h < 3 * nf; ++h) {
             const int f = TriMesh::face(h);
             if (dead[f] || m.uv[h] != m.uv[TriMesh::next(h)]) continue;
-            const int a = find(parent, m.origin(h)), b = find(parent, m.target(h));
+            const int a = sets.find(m.origin(h)), b = sets.find(m.target(h));
             if (a == b) continue;
             neighbours(a, na);
             neighbours(b, nb);
@@ -70,7 +62,7 @@ Error collapse_degenerate_edges(TriMesh& m, std::int64_t& collapsed) {
             std::sort(opposite.begin(), opposite.end());
             if (common != opposite) continue; // the collapse would pinch the surface
             // Merge b into a; triangles holding both die.
-            parent[b] = a;
+            sets.attach(b, a);
             for (int g : faces_of[b]) {
                 faces_of[a].push_back(g);
                 int count_ab = 0;

@@ -1,0 +1,158 @@
+// The extractor: turns a triangle mesh carrying an integer-grid map into a quad mesh (QEx,
+// Ebke et al. 2013, with the robustness extensions the README lists). Never throws (std::bad_alloc
+// aside), never aborts, never prints: bad input comes back as an Error, defects in the Report.
+#pragma once
+
+#include "qex/mesh.h"
+#include "qex/verify.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace qex {
+
+/// Why an input was rejected. Every code is distinct and maps to a distinct CLI exit code family.
+enum class ErrorCode {
+    None = 0,
+    EmptyMesh,              ///< no triangles
+    IndexOutOfRange,        ///< a triangle refers to a vertex that does not exist
+    UvCountMismatch,        ///< uvs.size() != 3 * triangles.size()
+    NonFiniteValue,         ///< NaN or Inf in a position or UV
+    CoordinateTooLarge,     ///< |coordinate| >= 2^52: integer transitions cannot be exact
+    DegenerateTriangle,     ///< a triangle uses the same vertex twice
+    NonManifoldEdge,        ///< an edge has more than two incident triangles
+    InconsistentOrientation,///< two triangles traverse an edge in the same direction
+    NonManifoldVertex,      ///< the triangles around a vertex do not form one fan
+    IsolatedVertex,         ///< a vertex used by no triangle
+    ValenceCountMismatch,   ///< valences.size() != positions.size()
+    BadFeatureEdge,         ///< a feature edge is not an edge of the mesh
+    InconsistentMap,        ///< transitions around a vertex do not compose to a grid automorphism with a fixed point
+    MapTooLarge,            ///< the map would need more q-vertices than Options::max_qvertices
+    CollapseFailed,         ///< collapsing UV-degenerate edges would make the mesh non-manifold
+};
+
+struct Error {
+    ErrorCode code = ErrorCode::None;
+    std::string message;     ///< human readable, names the element
+    std::int64_t element = -1; ///< index of the offending element (vertex, triangle, ...), -1 if none
+};
+
+const char* to_string(ErrorCode code);
+
+struct Options {
+    /// Upper bound on generated q-vertices (about the output's vertex count); protects callers
+    /// from absurdly scaled maps (each q-vertex costs some 300 bytes during extraction).
+    std::int64_t max_qvertices = 10'000'000;
+    /// Upper bound on triangles crossed by one trace before it is declared failed.
+    std::int64_t max_trace_steps = 100'000;
+    /// Recover q-edges lost at singularities inside fold-overs (Section 5.5).
+    bool recover_lost_edges = true;
+    /// Merge q-vertex clones created by fold-overs (Algorithm 7).
+    bool merge_vertices = true;
+    /// Sort output vertices and faces canonically, so any input order gives the same output.
+    bool canonical_order = true;
+    /// Treat every boundary edge as a feature edge: snap it to its closest integer iso-line.
+    /// For maps whose boundaries are meant to be aligned but carry solver noise.
+    bool snap_boundary = false;
+    /// When the checker rejects the output of the paper's method, retry on a map whose fold-over
+    /// regions are relaxed (keeping transitions and singularities); see Report::rung.
+    bool fallback_ladder = true;
+    /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
+    /// serially. The output is identical for every value.
+    int threads = 0;
+};
+
+/// A defect of the output that the input made unavoidable, with where it is.
+enum class DefectKind {
+    NonQuadFace,        ///< a face with other than 4 vertices survived simplification
+    TraceFailed,        ///< an iso-line trace found no edge to leave a triangle by, or crossed Options::max_trace_steps triangles
+    UnmatchedPort,      ///< a trace arrived at a grid point without a matching q-port
+    PortConflict,       ///< two traces claimed the same q-port
+    OpenFaceWalk,       ///< a face walk ran into an unconnected port in the interior
+    PortlessQVertex,    ///< a q-vertex has no q-port (it lies only on degenerate triangles)
+    CheckerViolation,   ///< the checker rejected the returned mesh here (no rung produced a valid one)
+    // Explanations (Report::explanations): why the quad count differs from the UV area.
+    FaceCollapsed,      ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
+    GhostFacesCancelled,///< a face and its reverse (a fold-over's double cover) were removed together
+    BoundaryFaceDiscarded, ///< a face walk ran into a boundary that is not on an integer iso-line
+};
+const char* to_string(DefectKind kind);
+
+struct Defect {
+    DefectKind kind;
+    std::string message;
+    /// Input triangle near which it happened (for a q-vertex or an output vertex: the triangle
+    /// whose chart `grid` is in); -1 for a defect of the whole mesh that names no place.
+    std::int64_t input_element = -1;
+    /// Output face at fault (NonQuadFace, and a CheckerViolation of one face); -1 otherwise.
+    std::int64_t output_face = -1;
+    /// Integer grid point in the chart of triangle `input_element`.
+    std::array<std::int64_t, 2> grid{0, 0};
+    /// For CheckerViolation: the kind of the checker's violation.
+    std::optional<ViolationKind> violation;
+};
+
+struct Report {
+    // input
+    std::int64_t input_vertices = 0, input_triangles = 0;
+    std::int64_t flipped_triangles = 0, degenerate_triangles = 0; ///< after sanitization
+    std::int64_t collapsed_edges = 0;     ///< UV-degenerate edges collapsed (before and after sanitization)
+    std::int64_t singularities = 0;       ///< interior vertices with non-identity or valence != 4
+    double max_sanitization_displacement = 0.0; ///< largest |sanitized uv - input uv| (inf-norm)
+    double sum_sanitization_displacement = 0.0;
+    // geometry extraction
+    std::int64_t qvertices_on_vertices = 0, qvertices_on_edges = 0, qvertices_in_faces = 0;
+    std::int64_t ports = 0;
+    // tracing
+    std::int64_t traces = 0, traces_connected = 0, traces_into_boundary = 0, traces_failed = 0;
+    std::int64_t orientation_flips_crossed = 0;
+    // connectivity
+    std::int64_t faces_traced = 0, boundary_faces_discarded = 0, open_face_walks = 0;
+    std::int64_t recovered_edges = 0, merged_qvertices = 0, collapsed_faces = 0;
+    std::int64_t ghost_faces_cancelled = 0; ///< faces removed in pairs with their reverse (Figure 2 (c))
+    std::int64_t non_quad_faces = 0;
+    /// Signed UV area of the map the mesh was extracted from (sanitized; relaxed on rungs past
+    /// the first), a double sum: the expected quad count for fold-over-free closed maps.
+    double signed_uv_area = 0.0;
+    std::vector<Defect> defects;
+    /// Where fold-overs removed quads (collapsed faces, cancelled ghost pairs), with locations:
+    /// together they explain a quad count below the signed UV area.
+    std::vector<Defect> explanations;
+    /// Which rung of the fallback ladder produced the mesh ("as-given", "untangled-1", ...),
+    /// how many were tried, and how many violations the checker found in the returned mesh.
+    std::string rung;
+    std::int64_t rungs_tried = 0;
+    std::int64_t check_violations = 0;
+    /// Triangles still flipped after untangling (rungs past the first).
+    std::int64_t flipped_after_untangling = 0;
+    /// Rungs past the first: output vertices that found no preimage of their grid point in the
+    /// given map (they stay where the relaxed map put them, and the checker rejects them).
+    std::int64_t unplaced_vertices = 0;
+    /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
+    /// name; see the README's pipeline table), summed over repeated runs, in first-run order.
+    std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
+struct Result {
+    Error error;   ///< code None on success
+    QuadMesh mesh;
+    Report report;
+    /// The checker's verdict on `mesh` (extract() consults the checker to choose a fallback rung).
+    VerifyResult check;
+    bool ok() const { return error.code == ErrorCode::None; }
+};
+
+/// Extracts the quad mesh induced by the integer-grid map of `input`.
+/// Never throws (std::bad_alloc aside), never aborts, never prints.
+Result extract(const Input& input, const Options& options = {});
+
+/// The first checks extract() makes: values, indices and the mesh's topology (manifold,
+/// oriented, no isolated vertex). Code None means extract() gets past them; the map itself can
+/// still be rejected there (InconsistentMap, MapTooLarge, CollapseFailed).
+Error validate(const Input& input);
+
+} // namespace qex

@@ -1,0 +1,37 @@
+// Files: the OBJ maps parametrizers write, VVAL valence files, and quad meshes as OBJ. Every
+// reader reports the first problem with its line and leaves its output empty; every writer goes
+// through a temporary file renamed into place, so no partial file is ever left.
+#pragma once
+
+#include "qex/mesh.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace qex {
+
+struct IoError {
+    enum class Code { None, CannotOpen, CannotWrite, Syntax, MissingUv, NonTriangle, IndexOutOfRange,
+                      NonFinite, VvalSyntax };
+    Code code = Code::None;
+    std::string message;
+    std::int64_t line = 0; ///< 1-based line number, 0 if not applicable
+    bool ok() const { return code == Code::None; }
+};
+
+/// Parses an OBJ with `v`, `vt` and `f a/ta b/tb c/tc` records (one UV per face corner).
+/// `threads` parse large inputs in pieces (0: every core, 1: serial); the result, and the first
+/// problem reported with its line, are those of a serial read. On a problem `out` is left empty.
+IoError parse_obj(const char* data, std::size_t size, Input& out, int threads = 0);
+IoError read_obj(const std::string& path, Input& out, int threads = 0);
+/// Reads a VVAL valence file: `{"file_format":"VVAL","version":1}`, vertex count, one integer each.
+IoError read_vval(const std::string& path, std::vector<int>& valences);
+IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences);
+/// Writes the quad mesh as OBJ (local UVs as `vt`), through a temporary file renamed into place.
+IoError write_obj(const std::string& path, const QuadMesh& mesh);
+/// Reads a polygon OBJ (v and f records; vt ignored) as a QuadMesh without UVs or provenance.
+IoError read_polygon_obj(const std::string& path, QuadMesh& out);
+
+} // namespace qex

@@ -1,0 +1,74 @@
+// Canonical output order: vertices sorted by position, each face rotated to start at its smallest
+// vertex with local UVs relative to that corner, faces sorted by their vertex lists. Positions are
+// computed order-independently upstream, so any vertex, face or corner order of the input gives
+// the identical mesh.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace qex::detail {
+
+std::vector<int> canonicalize(QuadMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<int> order(nv);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        if (mesh.positions[a] != mesh.positions[b]) return mesh.positions[a] < mesh.positions[b];
+        return a < b;
+    });
+    std::vector<int> rank(nv);
+    for (std::size_t i = 0; i < nv; ++i) rank[order[i]] = static_cast<int>(i);
+    QuadMesh out;
+    out.positions.reserve(nv);
+    out.provenance.reserve(nv);
+    for (int i : order) {
+        out.positions.push_back(mesh.positions[i]);
+        out.provenance.push_back(mesh.provenance[i]);
+    }
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        auto& face = mesh.faces[f];
+        auto& uv = mesh.face_uvs[f];
+        for (int& v : face) v = rank[v];
+        const auto first = std::min_element(face.begin(), face.end()) - face.begin();
+        std::rotate(face.begin(), face.begin() + first, face.end());
+        std::rotate(uv.begin(), uv.begin() + first, uv.end());
+        // Local UVs relative to the first corner: independent of the chart the walk started in.
+        const auto o = uv.empty() ? std::array<std::int64_t, 2>{0, 0} : uv[0];
+        for (auto& x : uv) x = {x[0] - o[0], x[1] - o[1]};
+    }
+    // Faces in the order of their vertex lists (as std::vector's operator< orders them). The
+    // first four entries, padded with -1, are compared in place; longer faces that tie on them
+    // are compared in full.
+    struct FaceKey {
+        std::array<int, 4> head;
+        int face;
+    };
+    std::vector<FaceKey> fkeys(mesh.faces.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        fkeys[f] = {{-1, -1, -1, -1}, static_cast<int>(f)};
+        for (std::size_t k = 0; k < 4 && k < mesh.faces[f].size(); ++k) fkeys[f].head[k] = mesh.faces[f][k];
+    }
+    std::sort(fkeys.begin(), fkeys.end(), [&](const FaceKey& a, const FaceKey& b) {
+        if (a.head != b.head) return a.head < b.head;
+        const auto &fa = mesh.faces[static_cast<std::size_t>(a.face)], &fb = mesh.faces[static_cast<std::size_t>(b.face)];
+        if (fa.size() > 4 || fb.size() > 4)
+            if (fa != fb) return fa < fb;
+        return a.face < b.face;
+    });
+    std::vector<int> forder(mesh.faces.size());
+    for (std::size_t i = 0; i < fkeys.size(); ++i) forder[i] = fkeys[i].face;
+    std::vector<int> new_index(mesh.faces.size());
+    out.faces.reserve(mesh.faces.size());
+    out.face_uvs.reserve(mesh.faces.size());
+    for (int f : forder) {
+        new_index[f] = static_cast<int>(out.faces.size());
+        out.faces.push_back(std::move(mesh.faces[f]));
+        out.face_uvs.push_back(std::move(mesh.face_uvs[f]));
+    }
+    out.map_uvs = std::move(mesh.map_uvs);
+    mesh = std::move(out);
+    return new_index;
+}
+
+} // namespace qex::detail

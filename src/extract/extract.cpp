@@ -1,0 +1,298 @@
+// The extraction driver: the fallback ladder, and for each rung the pipeline's stages in the
+// order of the stage table (pipeline.h), each timed under its own name.
+#include "pipeline.h"
+
+#include <chrono>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <string>
+
+namespace qex::detail {
+
+// ============================================================================ timing
+
+StageTimer::StageTimer(Report& report) : report_(report), last_(std::chrono::steady_clock::now()) {}
+
+void StageTimer::done(Stage stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    const char* name = stage_name(stage);
+    for (auto& [label, total] : report_.stage_seconds)
+        if (label == name) {
+            total += seconds;
+            return;
+        }
+    report_.stage_seconds.emplace_back(name, seconds);
+}
+
+// ============================================================================ sanitization rounds
+
+Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<std::array<int, 2>>& features,
+                            Report& report, StageTimer& timer, int max_rounds) {
+    // Branch points (r = 0 singularities) are decided by angles. Without given valences they are
+    // snapped only once the truncated map's degenerate edges are collapsed: before, a noisy
+    // sliver next to a vertex can add a full turn to its angle sum.
+    bool branch_points = !input.valences.empty();
+    for (int round = 0;; ++round) {
+        compute_transitions(m);
+        timer.done(Stage::compute_transitions);
+        count_valences(m);
+        timer.done(Stage::count_valences);
+        std::int64_t deferred = 0;
+        if (Error e = sanitize(m, input.valences, features, report, branch_points, &deferred); e.code != ErrorCode::None)
+            return e;
+        timer.done(Stage::sanitize);
+        // The last round ends on a sanitized map: a collapse after it would leave the map
+        // state of the old connectivity (degenerate edges left over are handled downstream).
+        if (round == max_rounds) return {};
+        std::int64_t collapsed = 0;
+        if (Error e = collapse(m, collapsed); e.code != ErrorCode::None) return e;
+        timer.done(Stage::collapse);
+        report.collapsed_edges += collapsed;
+        if (collapsed == 0) {
+            if (branch_points || deferred == 0) return {};
+            branch_points = true; // one more pass, now on the collapsed map
+        }
+    }
+}
+
+namespace {
+
+// ============================================================================ one rung
+
+/// The fallback ladder. Each rung re-runs the pipeline from the validated, collapsed mesh.
+struct Rung {
+    const char* name;
+    int untangle_rings; ///< 0: the map as given
+    int untangle_iterations;
+};
+constexpr Rung kLadder[] = {
+    // 1. The paper's method on the map as given.
+    {"as-given", 0, 0},
+    // 2. Fold-overs defeated the local handling: relax the folded regions (one ring around them).
+    {"untangled-1", 1, 30},
+    // 3. Still invalid: relax wider regions for longer.
+    {"untangled-3", 3, 100},
+};
+
+/// The feature edges to snap: the input's, and every boundary edge with Options::snap_boundary.
+std::vector<std::array<int, 2>> feature_edges(const TriMesh& m, const Input& input, const Options& options) {
+    std::vector<std::array<int, 2>> features = input.feature_edges;
+    if (options.snap_boundary)
+        for (int h = 0; h < 3 * m.num_faces(); ++h)
+            if (m.opp[h] < 0) features.push_back({m.input_vertex[m.origin(h)], m.input_vertex[m.target(h)]});
+    return features;
+}
+
+/// What the sanitized map tells the report: flipped and degenerate triangles, signed UV area.
+void report_map(const TriMesh& m, Report& report) {
+    double area2 = 0.0;
+    for (int f = 0; f < m.num_faces(); ++f) {
+        report.flipped_triangles += m.map.face_sign[f] < 0;
+        report.degenerate_triangles += m.map.face_sign[f] == 0;
+        const auto &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    }
+    report.signed_uv_area = 0.5 * area2;
+}
+
+/// Stages untangle (relaxed rungs) to count_valences: the map, ready for extraction.
+Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
+                  StageTimer& timer) {
+    if (rung.untangle_rings > 0) {
+        compute_transitions(m);
+        count_valences(m);
+        report.flipped_after_untangling = untangle(m, rung.untangle_rings, rung.untangle_iterations);
+        timer.done(Stage::untangle);
+    }
+    if (Error e = sanitize_until_stable(m, input, feature_edges(m, input, options), report, timer);
+        e.code != ErrorCode::None)
+        return e;
+    count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
+    if (!input.valences.empty())
+        for (int v = 0; v < m.num_vertices; ++v) m.map.valence[v] = input.valences[m.input_vertex[v]];
+    timer.done(Stage::count_valences);
+    report_map(m, report);
+    timer.done(Stage::sanitize);
+    return {};
+}
+
+/// Geometry extraction (Section 4): stages generate_qvertices and enumerate_ports.
+Error extract_geometry(const TriMesh& m, const Options& options, QState& q, Report& report, StageTimer& timer) {
+    if (Error e = generate_qvertices(m, options, q); e.code != ErrorCode::None) return e;
+    for (const auto& v : q.qvertices) {
+        report.qvertices_on_vertices += v.kind == QVertexKind::Vertex;
+        report.qvertices_on_edges += v.kind == QVertexKind::Edge;
+        report.qvertices_in_faces += v.kind == QVertexKind::Face;
+    }
+    timer.done(Stage::generate_qvertices);
+    enumerate_ports(m, q);
+    report.ports = static_cast<std::int64_t>(q.ports.size());
+    for (const QVertex& v : q.qvertices)
+        if (v.num_ports == 0)
+            report.defects.push_back({DefectKind::PortlessQVertex,
+                                      "the q-vertex at grid point (" + std::to_string(v.grid[0]) + ", " +
+                                          std::to_string(v.grid[1]) +
+                                          ") lies only on degenerate triangles and has no q-port",
+                                      m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+    timer.done(Stage::enumerate_ports);
+    return {};
+}
+
+/// Connectivity extraction (Section 5): stages trace_ports, extract_faces and merge_vertices.
+void extract_connectivity(const TriMesh& m, const Options& options, QState& q, QuadMesh& mesh, Report& report,
+                          StageTimer& timer) {
+    trace_ports(m, options, q, report);
+    timer.done(Stage::trace_ports);
+    FaceWalks faces = extract_faces(m, q, report);
+    timer.done(Stage::extract_faces);
+    // Merging needs the q-vertices only: the ports and traces (two thirds of the q-state on
+    // maps with many quads) are released first.
+    std::vector<Port>().swap(q.ports);
+    std::vector<Connection>().swap(q.connections);
+    std::vector<char>().swap(q.dangling);
+    std::vector<int>().swap(q.edge_first);
+    std::vector<int>().swap(q.face_first);
+    merge_vertices(m, q, std::move(faces), options, mesh, report);
+    timer.done(Stage::merge_vertices);
+}
+
+/// The sanitized map, per input corner, for the checker (NaN for triangles collapsed away).
+/// Only the map and the triangle numbering of the working mesh are still needed: the rest is
+/// released first, and when no triangle was collapsed away the map is handed over uncopied.
+std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
+    std::vector<Point2> uv = std::move(m.uv);
+    std::vector<int> input_triangle = std::move(m.input_triangle);
+    m = TriMesh{};
+    bool same_numbering = input_triangle.size() == input.triangles.size();
+    for (std::size_t f = 0; f < input_triangle.size() && same_numbering; ++f)
+        same_numbering = input_triangle[f] == static_cast<int>(f);
+    if (same_numbering) return uv;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<std::array<double, 2>> map(input.uvs.size(), {nan, nan});
+    for (std::size_t f = 0; f < input_triangle.size(); ++f)
+        for (std::size_t k = 0; k < 3; ++k) map[3 * static_cast<std::size_t>(input_triangle[f]) + k] = uv[3 * f + k];
+    return map;
+}
+
+/// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
+/// input error (in result.error), which no rung can help.
+bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result) {
+    Report& report = result.report;
+    StageTimer timer(report);
+    if ((result.error = prepare_map(m, input, options, rung, report, timer)).code != ErrorCode::None) return false;
+    QState q;
+    if ((result.error = extract_geometry(m, options, q, report, timer)).code != ErrorCode::None) return false;
+    extract_connectivity(m, options, q, result.mesh, report, timer);
+    q = QState{};
+    result.mesh.map_uvs = take_map(m, input);
+    if (options.canonical_order) {
+        const std::vector<int> new_index = canonicalize(result.mesh);
+        for (Defect& d : report.defects)
+            if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
+    }
+    timer.done(Stage::canonicalize);
+    return true;
+}
+
+/// Stages place_on_given_map (relaxed rungs) and check: the checker's verdict on the rung's mesh.
+void judge(const Input& input, const Options& options, const Rung& rung,
+           const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
+    StageTimer timer(attempt.report);
+    const bool relaxed = rung.untangle_rings > 0;
+    if (relaxed && !given_map.empty()) {
+        // A relaxed map is not the given one: every vertex moves onto its grid point in the
+        // given (sanitized) map, so the mesh is judged against that map.
+        attempt.report.unplaced_vertices = place_on_given_map(input, given_map, attempt.mesh);
+        timer.done(Stage::place_on_given_map);
+    }
+    VerifyOptions verify_options;
+    verify_options.threads = options.threads;
+    attempt.check = verify(input, attempt.mesh, verify_options);
+    if (relaxed && attempt.check.valid) {
+        // And it must pass the oracle that judges it against the given map alone (as
+        // `qex check` would), or the rung is rejected.
+        QuadMesh bare;
+        bare.positions = attempt.mesh.positions;
+        bare.faces = attempt.mesh.faces;
+        const VerifyResult located = verify(input, bare, verify_options);
+        for (const Violation& v : located.violations)
+            attempt.check.violations.push_back(
+                {v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
+        attempt.check.valid = attempt.check.violations.empty();
+    }
+    attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
+    timer.done(Stage::check);
+}
+
+/// A fresh result for rung `r`, with what stages validate and collapse reported.
+Result start_attempt(const Report& prepared, int r) {
+    Result attempt;
+    Report& report = attempt.report;
+    report.input_vertices = prepared.input_vertices;
+    report.input_triangles = prepared.input_triangles;
+    report.stage_seconds = prepared.stage_seconds;
+    report.collapsed_edges = prepared.collapsed_edges;
+    report.rung = kLadder[r].name;
+    report.rungs_tried = r + 1;
+    return attempt;
+}
+
+/// Stages validate and collapse (Section 3): the input's, before any rung changes the map.
+Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Report& report) {
+    StageTimer timer(report);
+    if (Error e = validate(input, thread_count(options.threads), m); e.code != ErrorCode::None) return e;
+    timer.done(Stage::validate);
+    if (Error e = collapse(m, report.collapsed_edges); e.code != ErrorCode::None) return e;
+    timer.done(Stage::collapse);
+    return {};
+}
+
+} // namespace
+} // namespace qex::detail
+
+namespace qex {
+
+Result extract(const Input& input, const Options& options) {
+    using namespace detail;
+    Result prepared;
+    prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
+    prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
+    TriMesh m;
+    if ((prepared.error = prepare_mesh(input, options, m, prepared.report)).code != ErrorCode::None) return prepared;
+    // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
+    // with the fewest violations is returned, its defects and violations in the report.
+    const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : 1;
+    Result best;
+    std::size_t best_violations = SIZE_MAX;
+    std::vector<std::array<double, 2>> given_map; // the first rung's sanitized map
+    for (int r = 0; r < rungs; ++r) {
+        Result attempt = start_attempt(prepared.report, r);
+        // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
+        // rather than every run paying for a copy. Preparing succeeded once, so it does again.
+        if (r > 0) {
+            Report unused;
+            (void)prepare_mesh(input, options, m, unused);
+        }
+        if (!run_rung(std::move(m), input, options, kLadder[r], attempt)) return attempt;
+        judge(input, options, kLadder[r], given_map, attempt);
+        if (attempt.check.valid) return attempt;
+        if (r == 0) given_map = attempt.mesh.map_uvs; // only a failed first rung needs it
+        // Untangling moves only vertices near flipped or degenerate triangles: without any,
+        // the further rungs would repeat this one.
+        const bool untangling_can_help = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
+        if (attempt.check.violations.size() < best_violations) {
+            best_violations = attempt.check.violations.size();
+            best = std::move(attempt);
+        }
+        best.report.rungs_tried = r + 1;
+        if (!untangling_can_help) break;
+    }
+    // No rung gave a valid mesh: locate every violation on the input through the provenance.
+    locate_violations(input, best);
+    return best;
+}
+
+} // namespace qex
