@@ -8,6 +8,7 @@
 namespace qex::detail {
 namespace {
 
+/// How many ends of half-edge h lie on the closed segment [a, b].
 int vertices_on_segment(const TriMesh& m, int h, const Point2& a, const Point2& b) {
     return static_cast<int>(on_segment(m.uv[h], a, b)) + static_cast<int>(on_segment(m.uv[TriMesh::next(h)], a, b));
 }
@@ -50,10 +51,44 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
     return -1;
 }
 
+/// The port of q-vertex qv in corner `corner` with direction dir, or -1.
 int port_at(const QState& q, int qv, int corner, int dir) {
     const QVertex& v = q.qvertices[qv];
     for (int p = v.first_port; p < v.first_port + v.num_ports; ++p)
         if (q.ports[p].corner == corner && q.ports[p].dir == dir) return p;
+    return -1;
+}
+
+/// matching_port for a vertex-q-vertex: tries the corner of f at the vertex, then the fan's corners
+/// clockwise and counter-clockwise in lockstep; the nearest corner wins (clockwise first).
+int vertex_matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, GridAutomorphism& to_port) {
+    const int v = q.qvertices[qv].element;
+    int start = -1;
+    for (int k = 0; k < 3; ++k)
+        if (m.tri[f][k] == v) start = 3 * f + k;
+    if (start < 0) return -1;
+    if (const int p = port_at(q, qv, start, dir); p >= 0) return p;
+    int cw = start, ccw = start;
+    GridAutomorphism gcw, gccw;
+    const int n = m.fan_size[v];
+    for (int step = 1; step < n && (cw >= 0 || ccw >= 0); ++step) {
+        if (cw >= 0) {
+            gcw = m.map.transition[cw].after(gcw);
+            cw = m.cw(cw);
+            if (cw >= 0)
+                if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) { to_port = gcw; return p; }
+        }
+        if (ccw >= 0) {
+            const int prev = TriMesh::prev(ccw);
+            if (m.opp[prev] >= 0) {
+                gccw = m.map.transition[prev].after(gccw);
+                ccw = m.opp[prev];
+                if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) { to_port = gccw; return p; }
+            } else {
+                ccw = -1;
+            }
+        }
+    }
     return -1;
 }
 
@@ -72,42 +107,89 @@ int matching_port(const TriMesh& m, const QState& q, int qv, int f, int dir, Gri
             to_port = m.map.transition[here];
             return port_at(q, qv, there, to_port.rotate_dir(dir));
         }
-        case QVertexKind::Vertex: {
-            int start = -1;
-            for (int k = 0; k < 3; ++k)
-                if (m.tri[f][k] == v.element) start = 3 * f + k;
-            if (start < 0) return -1;
-            if (const int p = port_at(q, qv, start, dir); p >= 0) return p;
-            // Walk clockwise and counter-clockwise in lockstep; the nearest corner wins.
-            int cw = start, ccw = start;
-            GridAutomorphism gcw, gccw;
-            const int n = m.fan_size[v.element];
-            for (int step = 1; step < n && (cw >= 0 || ccw >= 0); ++step) {
-                if (cw >= 0) {
-                    gcw = m.map.transition[cw].after(gcw);
-                    cw = m.cw(cw);
-                    if (cw >= 0)
-                        if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) { to_port = gcw; return p; }
-                }
-                if (ccw >= 0) {
-                    const int prev = TriMesh::prev(ccw);
-                    if (m.opp[prev] >= 0) {
-                        gccw = m.map.transition[prev].after(gccw);
-                        ccw = m.opp[prev];
-                        if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) { to_port = gccw; return p; }
-                    } else {
-                        ccw = -1;
-                    }
-                }
-            }
-            return -1;
-        }
+        case QVertexKind::Vertex: return vertex_matching_port(m, q, qv, f, dir, to_port);
     }
     return -1;
 }
 
+/// Appends a defect at grid point `grid` in the chart of input triangle `element`.
 void add_defect(Report& r, DefectKind kind, std::string msg, std::int64_t element, const IPoint& grid) {
     r.defects.push_back({kind, std::move(msg), element, -1, {grid[0], grid[1]}, std::nullopt});
+}
+
+/// "the iso-line from grid point (x, y)", the start of the tracing defects' messages.
+std::string iso_line_from(const IPoint& grid) {
+    return "the iso-line from grid point (" + std::to_string(grid[0]) + ", " + std::to_string(grid[1]) + ")";
+}
+
+/// Where a trace stopped: in triangle f, with the iso-line's direction and its segment's end b in
+/// f's chart, and g from the chart of the port's triangle to f's.
+struct TraceEnd {
+    int f;
+    int dir;
+    IPoint b;
+    GridAutomorphism g;
+    bool arrived = false;  ///< b lies in the closed triangle f
+    bool boundary = false; ///< the iso-line left the surface through a boundary edge
+};
+
+/// Follows a port's iso-line across triangles, transitions and orientation flips until its next
+/// grid point lies in the current triangle, it leaves the surface, or it cannot be followed.
+TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port, Report& report) {
+    TraceEnd end{TriMesh::face(port.corner), port.dir, {}, {}};
+    int entry = -1;
+    int s = m.map.face_sign[end.f];
+    IPoint a = port.grid;
+    end.b = {a[0] + unit_dir(end.dir)[0], a[1] + unit_dir(end.dir)[1]};
+    for (std::int64_t step = 0; step < opt.max_trace_steps; ++step) {
+        const int f = end.f;
+        const Point2 pa = to_point(a), pb = to_point(end.b);
+        if (in_closed_triangle(pb, m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) { end.arrived = true; break; }
+        const int h = pick_next_edge(m, f, entry, pa, pb);
+        if (h < 0) break;
+        const int o = m.opp[h];
+        if (o < 0) { end.boundary = true; break; }
+        const GridAutomorphism& t = m.map.transition[h];
+        end.g = t.after(end.g);
+        a = t(a);
+        end.b = t(end.b);
+        end.dir = t.rotate_dir(end.dir);
+        end.f = TriMesh::face(o);
+        entry = o;
+        const int s2 = m.map.face_sign[end.f];
+        if (s2 != 0 && s2 != s) { // orientation flip: the iso-line runs backwards in this chart
+            std::swap(a, end.b);
+            end.dir = (end.dir + 2) & 3;
+            s = s2;
+            ++report.orientation_flips_crossed;
+        }
+    }
+    return end;
+}
+
+/// Connects port p to the port pointing back where its iso-line arrived, or reports why it cannot.
+void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& report) {
+    const Port& port = q.ports[p];
+    const std::int64_t where = m.input_triangle[end.f];
+    const int target = qvertex_at(m, q, end.f, end.b);
+    GridAutomorphism to_port;
+    const int p2 = target < 0 ? -1 : matching_port(m, q, target, end.f, (end.dir + 2) & 3, to_port);
+    if (p2 < 0) {
+        add_defect(report, DefectKind::UnmatchedPort,
+                   iso_line_from(port.grid) + " arrived at (" + std::to_string(end.b[0]) + ", " +
+                       std::to_string(end.b[1]) + ") where no q-port points back",
+                   where, end.b);
+        return;
+    }
+    if (p2 == p || q.connections[p2].to >= 0 || q.dangling[p2]) {
+        add_defect(report, DefectKind::PortConflict,
+                   iso_line_from(port.grid) + " arrived at a q-port that is already connected", where, end.b);
+        return;
+    }
+    const GridAutomorphism total = to_port.after(end.g);
+    q.connections[p] = {p2, total};
+    q.connections[p2] = {p, total.inverse()};
+    ++report.traces_connected;
 }
 
 } // namespace
@@ -120,72 +202,17 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
         if (q.connections[p].to >= 0 || q.dangling[p]) continue;
         const Port& port = q.ports[p];
         ++report.traces;
-        int f = TriMesh::face(port.corner);
-        int entry = -1;
-        int s = m.map.face_sign[f];
-        int dir = port.dir;
-        IPoint a = port.grid;
-        IPoint b{a[0] + unit_dir(dir)[0], a[1] + unit_dir(dir)[1]};
-        GridAutomorphism g;
-        bool arrived = false, boundary = false;
-        for (std::int64_t step = 0; step < opt.max_trace_steps; ++step) {
-            const Point2 pa = to_point(a), pb = to_point(b);
-            if (in_closed_triangle(pb, m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) { arrived = true; break; }
-            const int h = pick_next_edge(m, f, entry, pa, pb);
-            if (h < 0) break;
-            const int o = m.opp[h];
-            if (o < 0) { boundary = true; break; }
-            const GridAutomorphism& t = m.map.transition[h];
-            g = t.after(g);
-            a = t(a);
-            b = t(b);
-            dir = t.rotate_dir(dir);
-            f = TriMesh::face(o);
-            entry = o;
-            const int s2 = m.map.face_sign[f];
-            if (s2 != 0 && s2 != s) { // orientation flip: the iso-line runs backwards in this chart
-                std::swap(a, b);
-                dir = (dir + 2) & 3;
-                s = s2;
-                ++report.orientation_flips_crossed;
-            }
-        }
-        const std::int64_t where = m.input_triangle[f];
-        if (boundary) {
+        const TraceEnd end = follow_iso_line(m, opt, port, report);
+        if (end.boundary) {
             q.dangling[p] = 1;
             ++report.traces_into_boundary;
-            continue;
-        }
-        if (!arrived) {
+        } else if (!end.arrived) {
             ++report.traces_failed;
-            add_defect(report, DefectKind::TraceFailed,
-                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
-                           std::to_string(port.grid[1]) + ") could not be followed",
-                       where, port.grid);
-            continue;
+            add_defect(report, DefectKind::TraceFailed, iso_line_from(port.grid) + " could not be followed",
+                       m.input_triangle[end.f], port.grid);
+        } else {
+            connect(m, q, p, end, report);
         }
-        const int target = qvertex_at(m, q, f, b);
-        GridAutomorphism to_port;
-        const int p2 = target < 0 ? -1 : matching_port(m, q, target, f, (dir + 2) & 3, to_port);
-        if (p2 < 0) {
-            add_defect(report, DefectKind::UnmatchedPort,
-                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
-                           std::to_string(port.grid[1]) + ") arrived at (" + std::to_string(b[0]) + ", " +
-                           std::to_string(b[1]) + ") where no q-port points back",
-                       where, b);
-            continue;
-        }
-        if (p2 == p || q.connections[p2].to >= 0 || q.dangling[p2]) {
-            add_defect(report, DefectKind::PortConflict,
-                       "the iso-line from grid point (" + std::to_string(port.grid[0]) + ", " +
-                           std::to_string(port.grid[1]) + ") arrived at a q-port that is already connected",
-                       where, b);
-            continue;
-        }
-        const GridAutomorphism total = to_port.after(g);
-        q.connections[p] = {p2, total};
-        q.connections[p2] = {p, total.inverse()};
-        ++report.traces_connected;
     }
 }
 

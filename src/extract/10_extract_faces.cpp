@@ -27,70 +27,97 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
     return g;
 }
 
+namespace {
+
+/// One face walk: its ports, their q-vertices and local UVs, and how it ended.
+struct Walk {
+    std::vector<int> ports;
+    std::vector<int> qv;
+    std::vector<IPoint> uv; ///< in the chart of the start port's triangle
+    bool closed = false;    ///< came back to the start port
+    bool boundary = false;  ///< ran into the boundary between grid points
+    bool open = false;      ///< ran into an unconnected port or into another walk
+};
+
+/// Walks the face to the left of the connection of port `start`: follow the connection, take the
+/// next port clockwise, repeat. Marks the ports visited (1); `visited` is 2 on ports of earlier
+/// walks that ran into the boundary.
+void walk_face(const TriMesh& m, const QState& q, int start, std::vector<char>& visited, Walk& w) {
+    const int np = static_cast<int>(q.ports.size());
+    w.ports.clear();
+    w.qv.clear();
+    w.uv.clear();
+    w.closed = w.boundary = w.open = false;
+    GridAutomorphism gbar; // chart of the start port -> chart of the current port
+    int cur = start;
+    for (int guard = 0; guard < 4 * np + 8; ++guard) {
+        visited[cur] = 1;
+        w.ports.push_back(cur);
+        const Port& port = q.ports[cur];
+        w.qv.push_back(port.qvertex);
+        w.uv.push_back(gbar.inverse()(port.grid));
+        const Connection& c = q.connections[cur];
+        const int arrive = c.to;
+        const QVertex& v = q.qvertices[q.ports[arrive].qvertex];
+        const int next = v.first_port + (arrive - v.first_port + 1) % v.num_ports;
+        bool ok = true;
+        const GridAutomorphism fan = fan_transition_cw(m, q, arrive, next, ok);
+        if (!ok) { w.boundary = true; break; }
+        gbar = fan.after(c.g.after(gbar));
+        if (q.connections[next].to < 0) {
+            (q.dangling[next] ? w.boundary : w.open) = true;
+            break;
+        }
+        cur = next;
+        if (cur == start) { w.closed = true; break; }
+        if (visited[cur]) { (visited[cur] == 2 ? w.boundary : w.open) = true; break; }
+    }
+}
+
+/// Reports a walk that did not close: a boundary face discarded (an explanation) or an open walk
+/// (a defect); `chart` is the start port's triangle.
+void report_unclosed(const TriMesh& m, const QState& q, const Walk& w, int chart, Report& report) {
+    if (w.boundary) {
+        // The walk reached the boundary between grid points: the boundary is not on an integer
+        // iso-line here, and the face intersecting it is discarded (Section 5.1).
+        ++report.boundary_faces_discarded;
+        const QVertex& v = q.qvertices[w.qv[0]];
+        report.explanations.push_back({DefectKind::BoundaryFaceDiscarded,
+                                       "a face walk from grid point (" + std::to_string(v.grid[0]) + ", " +
+                                           std::to_string(v.grid[1]) + ") of input triangle " +
+                                           std::to_string(m.input_triangle[v.chart]) +
+                                           " ran into the boundary between grid points; the face is left out",
+                                       m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+    } else {
+        ++report.open_face_walks;
+        report.defects.push_back({DefectKind::OpenFaceWalk,
+                                  "a face walk starting at grid point (" + std::to_string(w.uv[0][0]) + ", " +
+                                      std::to_string(w.uv[0][1]) + ") did not close",
+                                  m.input_triangle[chart], -1, {w.uv[0][0], w.uv[0][1]}, std::nullopt});
+    }
+}
+
+} // namespace
+
 FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
     const int np = static_cast<int>(q.ports.size());
-    // Per port: 0 unvisited, 1 on the walk under way or a closed face, 2 on a walk that ran into
-    // the boundary (a later walk joining it ends at the boundary too).
+    // Per port: 0 unvisited, 1 on the walk under way, a closed face or an open walk, 2 on a walk
+    // that ran into the boundary (a later walk joining it ends at the boundary too).
     std::vector<char> visited(np, 0);
-    std::vector<int> walk;
     FaceWalks faces;
-    std::vector<int> face_qv; // the walk under way
-    std::vector<IPoint> face_uv;
+    Walk w;
     for (int start = 0; start < np; ++start) {
         if (visited[start] || q.connections[start].to < 0) continue;
-        face_qv.clear();
-        face_uv.clear();
-        const int chart = TriMesh::face(q.ports[start].corner); // the local UVs' chart
-        GridAutomorphism gbar; // chart of the start port -> chart of the current port
-        int cur = start;
-        bool closed = false, boundary = false, open = false;
-        walk.clear();
-        for (int guard = 0; guard < 4 * np + 8; ++guard) {
-            visited[cur] = 1;
-            walk.push_back(cur);
-            const Port& port = q.ports[cur];
-            face_qv.push_back(port.qvertex);
-            face_uv.push_back(gbar.inverse()(port.grid));
-            const Connection& c = q.connections[cur];
-            const int arrive = c.to;
-            const QVertex& v = q.qvertices[q.ports[arrive].qvertex];
-            const int next = v.first_port + (arrive - v.first_port + 1) % v.num_ports;
-            bool ok = true;
-            const GridAutomorphism fan = fan_transition_cw(m, q, arrive, next, ok);
-            if (!ok) { boundary = true; break; }
-            gbar = fan.after(c.g.after(gbar));
-            if (q.connections[next].to < 0) {
-                (q.dangling[next] ? boundary : open) = true;
-                break;
-            }
-            cur = next;
-            if (cur == start) { closed = true; break; }
-            if (visited[cur]) { (visited[cur] == 2 ? boundary : open) = true; break; }
-        }
-        if (boundary)
-            for (int p : walk) visited[p] = 2;
+        walk_face(m, q, start, visited, w);
+        if (w.boundary)
+            for (int p : w.ports) visited[p] = 2;
         ++report.faces_traced;
-        if (closed) {
-            faces.qv.insert(faces.qv.end(), face_qv.begin(), face_qv.end());
-            faces.uv.insert(faces.uv.end(), face_uv.begin(), face_uv.end());
+        if (w.closed) {
+            faces.qv.insert(faces.qv.end(), w.qv.begin(), w.qv.end());
+            faces.uv.insert(faces.uv.end(), w.uv.begin(), w.uv.end());
             faces.first.push_back(faces.qv.size());
-        } else if (boundary) {
-            // The walk reached the boundary between grid points: the boundary is not on an integer
-            // iso-line here, and the face intersecting it is discarded (Section 5.1).
-            ++report.boundary_faces_discarded;
-            const QVertex& v = q.qvertices[face_qv[0]];
-            report.explanations.push_back({DefectKind::BoundaryFaceDiscarded,
-                                           "a face walk from grid point (" + std::to_string(v.grid[0]) + ", " +
-                                               std::to_string(v.grid[1]) + ") of input triangle " +
-                                               std::to_string(m.input_triangle[v.chart]) +
-                                               " ran into the boundary between grid points; the face is left out",
-                                           m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
         } else {
-            ++report.open_face_walks;
-            report.defects.push_back({DefectKind::OpenFaceWalk,
-                                      "a face walk starting at grid point (" + std::to_string(face_uv[0][0]) + ", " +
-                                          std::to_string(face_uv[0][1]) + ") did not close",
-                                      m.input_triangle[chart], -1, {face_uv[0][0], face_uv[0][1]}, std::nullopt});
+            report_unclosed(m, q, w, TriMesh::face(q.ports[start].corner), report);
         }
     }
     return faces;
