@@ -1,20 +1,28 @@
 // Stage validate: the raw input's values (sizes, indices, finiteness, magnitudes, isolated
-// vertices), then the working mesh and its topology (manifold, consistently oriented).
+// vertices, given valences and feature edges), then the working mesh and its topology (manifold,
+// consistently oriented).
 #include "pipeline.h"
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace qex::detail {
 namespace {
-constexpr double kMaxCoordinate = 4503599627370496.0; // 2^52: beyond it integer translations are not exact
+/// 2^52: every coordinate must stay below it in magnitude; beyond it integer translations are not exact.
+constexpr double kMaxCoordinate = 4503599627370496.0;
+/// The largest valence a vertex may be given.
+constexpr int kMaxValence = 1000;
 
+/// An error of code `c` about `element` (-1: the input as a whole).
 Error make(ErrorCode c, std::string msg, std::int64_t element) { return Error{c, std::move(msg), element}; }
 
+/// The name of 3D coordinate k.
 const char* axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
-} // namespace
 
-Error validate_input_values(const Input& in) {
+/// Some triangles, few enough elements for 32-bit indices, and three UVs per triangle.
+Error check_sizes(const Input& in) {
     const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
     const std::int64_t nf = static_cast<std::int64_t>(in.triangles.size());
     if (nf == 0) return make(ErrorCode::EmptyMesh, "the mesh has no triangles", -1);
@@ -25,6 +33,12 @@ Error validate_input_values(const Input& in) {
                     "expected " + std::to_string(3 * nf) + " corner UVs (3 per triangle), got " +
                         std::to_string(in.uvs.size()),
                     -1);
+    return {};
+}
+
+/// Every vertex coordinate finite and below 2^52 in magnitude.
+Error check_positions(const Input& in) {
+    const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
     for (std::int64_t v = 0; v < nv; ++v)
         for (int k = 0; k < 3; ++k) {
             const double x = in.positions[v][k];
@@ -35,6 +49,12 @@ Error validate_input_values(const Input& in) {
                 return make(ErrorCode::CoordinateTooLarge,
                             "vertex " + std::to_string(v) + " has |" + axis_name(k) + "| >= 2^52", v);
         }
+    return {};
+}
+
+/// Every corner UV finite and below 2^52 in magnitude.
+Error check_uvs(const Input& in) {
+    const std::int64_t nf = static_cast<std::int64_t>(in.triangles.size());
     for (std::int64_t c = 0; c < 3 * nf; ++c)
         for (int k = 0; k < 2; ++k) {
             const double x = in.uvs[c][k];
@@ -49,6 +69,13 @@ Error validate_input_values(const Input& in) {
                                 " has a UV coordinate with magnitude >= 2^52",
                             c / 3);
         }
+    return {};
+}
+
+/// Triangle indices in range and pairwise distinct; every vertex used by some triangle.
+Error check_triangles(const Input& in) {
+    const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
+    const std::int64_t nf = static_cast<std::int64_t>(in.triangles.size());
     std::vector<char> used(static_cast<std::size_t>(nv), 0);
     for (std::int64_t f = 0; f < nf; ++f) {
         const auto& t = in.triangles[f];
@@ -69,21 +96,42 @@ Error validate_input_values(const Input& in) {
     for (std::int64_t v = 0; v < nv; ++v)
         if (!used[v])
             return make(ErrorCode::IsolatedVertex, "vertex " + std::to_string(v) + " is used by no triangle", v);
+    return {};
+}
+
+/// Given valences (if any): one per vertex, each in 0..kMaxValence.
+Error check_valences(const Input& in) {
+    const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
     if (!in.valences.empty() && static_cast<std::int64_t>(in.valences.size()) != nv)
         return make(ErrorCode::ValenceCountMismatch,
                     "expected " + std::to_string(nv) + " valences, got " + std::to_string(in.valences.size()), -1);
     for (std::size_t i = 0; i < in.valences.size(); ++i)
-        if (in.valences[i] < 0 || in.valences[i] > 1000)
+        if (in.valences[i] < 0 || in.valences[i] > kMaxValence)
             return make(ErrorCode::ValenceCountMismatch,
                         "vertex " + std::to_string(i) + " has an implausible valence " +
                             std::to_string(in.valences[i]),
                         static_cast<std::int64_t>(i));
+    return {};
+}
+
+/// Every feature edge joins two distinct vertices in range.
+Error check_feature_edges(const Input& in) {
+    const std::int64_t nv = static_cast<std::int64_t>(in.positions.size());
     for (std::size_t i = 0; i < in.feature_edges.size(); ++i) {
         const auto& e = in.feature_edges[i];
         if (e[0] < 0 || e[0] >= nv || e[1] < 0 || e[1] >= nv || e[0] == e[1])
             return make(ErrorCode::BadFeatureEdge,
                         "feature edge " + std::to_string(i) + " has invalid vertices", static_cast<std::int64_t>(i));
     }
+    return {};
+}
+} // namespace
+
+Error validate_input_values(const Input& in) {
+    // In this order: the first failing check's error is reported.
+    for (Error (*check)(const Input&) :
+         {check_sizes, check_positions, check_uvs, check_triangles, check_valences, check_feature_edges})
+        if (Error e = check(in); e.code != ErrorCode::None) return e;
     return {};
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 #if defined(_OPENMP)
 #include <omp.h>
@@ -18,7 +19,139 @@
 namespace qex::detail {
 namespace {
 
+/// Bounds closing_rotation's walk round a fan (corners stepped over). The walk ends at `skip` or
+/// at the boundary within the fan's size (build_topology checked the fans), so this is only a
+/// guard against walking forever; a fan of more corners would count as open.
+constexpr int kMaxClosingWalk = 1 << 16;
+
+/// Edges shorter than a triangle's longest edge by more than this factor count as short (dipoles).
+constexpr double kShortEdgeFactor = 8;
+
+/// The maximum norm.
 double norm_inf(const Point2& p) { return std::max(std::abs(p[0]), std::abs(p[1])); }
+
+/// The length (maximum norm) of the UV edge of half-edge c.
+double uv_edge_length(const TriMesh& m, int c) {
+    const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
+    return norm_inf({q[0] - p[0], q[1] - p[1]});
+}
+
+/// Sets the transition of interior half-edge h to rotation r and the rounded translation that
+/// best maps its edge onto the opposite copy; its opposite gets the inverse.
+void set_transition(TriMesh& m, int h, int r) {
+    const int o = m.opp[h];
+    // In face(h) the edge runs a -> b; in face(o) it runs b -> a.
+    const Point2& a = m.uv[h];
+    const Point2& b = m.uv[TriMesh::next(h)];
+    const Point2& a2 = m.uv[TriMesh::next(o)];
+    const Point2& b2 = m.uv[o];
+    const Point2 ra = GridAutomorphism::rotate(a, r), rb = GridAutomorphism::rotate(b, r);
+    GridAutomorphism g;
+    g.r = r;
+    g.tx = static_cast<std::int64_t>(std::llround(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0]))));
+    g.ty = static_cast<std::int64_t>(std::llround(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1]))));
+    m.map.transition.set(static_cast<std::size_t>(h), g);
+    m.map.transition.set(static_cast<std::size_t>(o), g.inverse());
+}
+
+/// Per triangle: its longest UV edge (for the dipole pass).
+std::vector<double> longest_edges(const TriMesh& m) {
+    std::vector<double> longest(static_cast<std::size_t>(m.num_faces()));
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#endif
+    for (int f = 0; f < m.num_faces(); ++f)
+        longest[static_cast<std::size_t>(f)] =
+            std::max({uv_edge_length(m, 3 * f), uv_edge_length(m, 3 * f + 1), uv_edge_length(m, 3 * f + 2)});
+    return longest;
+}
+
+/// The rotation r (quarter turns) whose R90^r e is closest to e2 (largest dot product; the
+/// first such r on ties).
+int nearest_rotation(const Point2& e, const Point2& e2) {
+    int best = 0;
+    double best_dot = -HUGE_VAL;
+    for (int r = 0; r < 4; ++r) {
+        const Point2 re = GridAutomorphism::rotate(e, r);
+        const double dot = re[0] * e2[0] + re[1] * e2[1];
+        if (dot > best_dot) { best_dot = dot; best = r; }
+    }
+    return best;
+}
+
+/// What the first pass lists, each in index order: undetermined edges, and short edges with
+/// their lengths.
+struct Listed {
+    std::vector<int> undetermined;
+    std::vector<std::pair<double, int>> short_edges;
+};
+
+/// The first pass at half-edge h: a boundary half-edge gets the identity (it is never read); an
+/// interior edge is set from its smaller half-edge, writing only its own two entries, with the
+/// nearest rotation, and listed in `mine` if undetermined or short. An edge with a missing UV
+/// (a collapsed triangle's) gets the identity both ways and is undetermined but not listed.
+void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std::vector<char>& determined,
+                     Listed& mine) {
+    const int o = m.opp[h];
+    if (o < 0) {
+        m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+        return;
+    }
+    if (o < h) return; // set as the inverse of o
+    const Point2& a = m.uv[h];
+    const Point2& b = m.uv[TriMesh::next(h)];
+    const Point2& a2 = m.uv[TriMesh::next(o)];
+    const Point2& b2 = m.uv[o];
+    const Point2 e{b[0] - a[0], b[1] - a[1]};
+    const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
+    if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
+        m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
+        m.map.transition.set(static_cast<std::size_t>(o), GridAutomorphism{});
+        determined[h] = determined[o] = 0;
+        return;
+    }
+    const int best = nearest_rotation(e, e2);
+    set_transition(m, h, best);
+    const Point2 re = GridAutomorphism::rotate(e, best);
+    // Determined: the rotated copies differ by less than half the shorter one's length.
+    if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
+        determined[h] = determined[o] = 0;
+        mine.undetermined.push_back(h);
+    }
+    const double l = std::max(norm_inf(e), norm_inf(e2));
+    const double longest_h = longest[static_cast<std::size_t>(TriMesh::face(h))];
+    const double longest_o = longest[static_cast<std::size_t>(TriMesh::face(o))];
+    if (kShortEdgeFactor * l < std::max(longest_h, longest_o)) mine.short_edges.push_back({l, h});
+}
+
+/// The first pass over every half-edge (first_pass_edge). Each thread lists its range's edges;
+/// with the static schedule the threads' ranges are in thread order, so the joined lists are in
+/// index order, as a serial pass makes them.
+Listed first_pass(TriMesh& m, std::vector<char>& determined) {
+    const int nh = 3 * m.num_faces();
+    const std::vector<double> longest = longest_edges(m);
+    Listed all;
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(m.threads) if (m.parallel(nh))
+#endif
+    {
+        Listed mine;
+#if defined(_OPENMP)
+#pragma omp for schedule(static) nowait
+#endif
+        for (int h = 0; h < nh; ++h) first_pass_edge(m, h, longest, determined, mine);
+#if defined(_OPENMP)
+#pragma omp for ordered schedule(static, 1)
+        for (int t = 0; t < omp_get_num_threads(); ++t)
+#pragma omp ordered
+#endif
+        {
+            all.undetermined.insert(all.undetermined.end(), mine.undetermined.begin(), mine.undetermined.end());
+            all.short_edges.insert(all.short_edges.end(), mine.short_edges.begin(), mine.short_edges.end());
+        }
+    }
+    return all;
+}
 
 /// The rotation (quarter turns) that closes the fan round the origin of corner `start` when the
 /// edge of half-edge `skip` is crossed last; -1 if the fan is open or crosses an undetermined edge.
@@ -26,7 +159,7 @@ double norm_inf(const Point2& p) { return std::max(std::abs(p[0]), std::abs(p[1]
 int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int skip, int start) {
     int turns = 0;
     int c = start;
-    for (int guard = 0; guard < 1 << 16; ++guard) {
+    for (int guard = 0; guard < kMaxClosingWalk; ++guard) {
         if (c == skip) return (4 - (turns & 3)) & 3;
         const int o = m.opp[c];
         if (o < 0 || !determined[c]) return -1;
@@ -36,131 +169,42 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
     return -1;
 }
 
-} // namespace
-
-void compute_transitions(TriMesh& m) {
-    const int nh = 3 * m.num_faces();
-    m.map.transition.allocate(static_cast<std::size_t>(nh));
-    std::vector<char> determined(nh, 1);
-    auto len = [&](int c) {
-        const Point2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
-        return norm_inf({q[0] - p[0], q[1] - p[1]});
-    };
-    auto set = [&](int h, int r) {
-        const int o = m.opp[h];
-        // In face(h) the edge runs a -> b; in face(o) it runs b -> a.
-        const Point2& a = m.uv[h];
-        const Point2& b = m.uv[TriMesh::next(h)];
-        const Point2& a2 = m.uv[TriMesh::next(o)];
-        const Point2& b2 = m.uv[o];
-        const Point2 ra = GridAutomorphism::rotate(a, r), rb = GridAutomorphism::rotate(b, r);
-        GridAutomorphism g;
-        g.r = r;
-        g.tx = static_cast<std::int64_t>(std::llround(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0]))));
-        g.ty = static_cast<std::int64_t>(std::llround(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1]))));
-        m.map.transition.set(static_cast<std::size_t>(h), g);
-        m.map.transition.set(static_cast<std::size_t>(o), g.inverse());
-    };
-    // Per triangle: its longest edge (for the dipole pass below).
-    std::vector<double> longest(static_cast<std::size_t>(m.num_faces()));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(nh))
-#endif
-    for (int f = 0; f < m.num_faces(); ++f) longest[static_cast<std::size_t>(f)] = std::max({len(3 * f), len(3 * f + 1), len(3 * f + 2)});
-    // Each interior edge is set from its smaller half-edge, writing only its own two entries;
-    // a boundary half-edge gets the identity (it is never read). Each thread lists, in index
-    // order, its range's undetermined edges and edges much shorter than their triangles (an
-    // eighth of their longest edge); with the static schedule the threads' ranges are in
-    // thread order, so the joined lists are in index order, as a serial pass makes them.
-    std::vector<int> undetermined;
-    std::vector<std::pair<double, int>> short_edges;
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.parallel(nh))
-#endif
-    {
-        std::vector<int> my_undetermined;
-        std::vector<std::pair<double, int>> my_short;
-#if defined(_OPENMP)
-#pragma omp for schedule(static) nowait
-#endif
-        for (int h = 0; h < nh; ++h) {
-            const int o = m.opp[h];
-            if (o < 0) {
-                m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
-                continue;
-            }
-            if (o < h) continue; // set as the inverse of o
-            const Point2& a = m.uv[h];
-            const Point2& b = m.uv[TriMesh::next(h)];
-            const Point2& a2 = m.uv[TriMesh::next(o)];
-            const Point2& b2 = m.uv[o];
-            const Point2 e{b[0] - a[0], b[1] - a[1]};
-            const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
-            if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
-                // A collapsed triangle's missing UVs: no transition.
-                m.map.transition.set(static_cast<std::size_t>(h), GridAutomorphism{});
-                m.map.transition.set(static_cast<std::size_t>(o), GridAutomorphism{});
-                determined[h] = determined[o] = 0;
-                continue;
-            }
-            // Rotation: the multiple of 90 degrees closest to the angle from e to e2 (largest dot product).
-            int best = 0;
-            double best_dot = -HUGE_VAL;
-            for (int r = 0; r < 4; ++r) {
-                const Point2 re = GridAutomorphism::rotate(e, r);
-                const double dot = re[0] * e2[0] + re[1] * e2[1];
-                if (dot > best_dot) { best_dot = dot; best = r; }
-            }
-            set(h, best);
-            const Point2 re = GridAutomorphism::rotate(e, best);
-            if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
-                determined[h] = determined[o] = 0;
-                my_undetermined.push_back(h);
-            }
-            const double l = std::max(norm_inf(e), norm_inf(e2));
-            if (8 * l < std::max(longest[static_cast<std::size_t>(TriMesh::face(h))], longest[static_cast<std::size_t>(TriMesh::face(o))]))
-                my_short.push_back({l, h});
-        }
-#if defined(_OPENMP)
-#pragma omp for ordered schedule(static, 1)
-        for (int t = 0; t < omp_get_num_threads(); ++t)
-#pragma omp ordered
-#endif
-        {
-            undetermined.insert(undetermined.end(), my_undetermined.begin(), my_undetermined.end());
-            short_edges.insert(short_edges.end(), my_short.begin(), my_short.end());
-        }
-    }
-    // Undetermined edges in index order (edges with a missing UV stay without a transition).
+/// Undetermined edges, in index order: the rotation that closes the fan round the edge's start
+/// (a: corner h in face(h), corner next(o) in face(o)), else its end; else the nearest stands.
+void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const std::vector<int>& undetermined) {
     for (const int h : undetermined) {
         const int o = m.opp[h];
-        // Round the edge's start (a: corner h in face(h), corner next(o) in face(o)), else its end.
         int r = closing_rotation(m, determined, h, TriMesh::next(o));
         if (r < 0) {
             const int rb = closing_rotation(m, determined, o, TriMesh::next(h)); // o's rotation
             if (rb >= 0) r = (4 - rb) & 3;
         }
-        if (r >= 0) set(h, r);
+        if (r >= 0) set_transition(m, h, r);
     }
+}
 
-    // Dipoles: noise can still turn a short edge by a quarter, which puts singularities of
-    // opposite index on its two ends. An edge much shorter than its triangles (an eighth of their
-    // longest edge) whose ends turn by opposite amounts takes the rotation that makes both
-    // regular. Shortest edges first, so the outcome does not depend on the input's order.
-    if (short_edges.empty()) return;
-    // The turn of each short edge's ends (fans of interior vertices only; -1: open fan).
-    std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2); // -2: not yet walked
+/// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
+/// an open fan.
+int fan_turn(const TriMesh& m, int v) {
+    if (m.fan_start[v] < 0 || m.on_boundary[v]) return -1;
+    int c = m.fan_start[v], sum = 0, n = 0;
+    do {
+        sum += m.map.transition[c].r;
+        c = m.cw(c);
+    } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
+    return c == m.fan_start[v] ? sum & 3 : -1;
+}
+
+/// Dipoles: noise can still turn a short edge by a quarter, which puts singularities of
+/// opposite index on its two ends. A short edge whose ends turn by opposite amounts takes the
+/// rotation that makes both regular. Shortest edges first, so the outcome does not depend on
+/// the input's order.
+void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
+    // The turn of each short edge's ends, walked when first needed (-2: not yet walked).
+    std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2);
     auto turn = [&](int v) -> int& {
         int& t = turns[static_cast<std::size_t>(v)];
-        if (t != -2) return t;
-        t = -1;
-        if (m.fan_start[v] < 0 || m.on_boundary[v]) return t;
-        int c = m.fan_start[v], sum = 0, n = 0;
-        do {
-            sum += m.map.transition[c].r;
-            c = m.cw(c);
-        } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
-        if (c == m.fan_start[v]) t = sum & 3;
+        if (t == -2) t = fan_turn(m, v);
         return t;
     };
     std::sort(short_edges.begin(), short_edges.end());
@@ -168,10 +212,22 @@ void compute_transitions(TriMesh& m) {
         int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
         if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite
         const int delta = (4 - ta) & 3; // a's walk crosses h, b's walk crosses opp(h)
-        set(h, (m.map.transition[h].r + delta) & 3);
+        set_transition(m, h, (m.map.transition[h].r + delta) & 3);
         ta = 0;
         tb = 0;
     }
+}
+
+} // namespace
+
+void compute_transitions(TriMesh& m) {
+    const int nh = 3 * m.num_faces();
+    m.map.transition.allocate(static_cast<std::size_t>(nh));
+    std::vector<char> determined(nh, 1);
+    Listed listed = first_pass(m, determined);
+    settle_undetermined(m, determined, listed.undetermined);
+    if (listed.short_edges.empty()) return;
+    fix_dipoles(m, listed.short_edges);
 }
 
 } // namespace qex::detail

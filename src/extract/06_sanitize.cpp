@@ -1,7 +1,8 @@
 // Sanitization of the map (Algorithms 1 and 2, Section 3.2): per vertex, the precision of one
 // corner's UV is truncated so that every chart of the fan can represent it exactly, singular
-// vertices are snapped to the fixed point of their accumulated transition, feature vertices onto
-// their integer iso-line, and the result is propagated around the fan with exact transitions.
+// vertices are snapped to the fixed point of their accumulated transition (branch points to the
+// nearest grid point), feature vertices onto their integer iso-line, and the result is
+// propagated around the fan with exact transitions.
 #include "pipeline.h"
 
 #include <algorithm>
@@ -11,11 +12,72 @@
 namespace qex::detail {
 namespace {
 
+// ============================================================================ feature constraints
+
 /// A feature constraint: in the chart of `corner`, coordinate `axis` must equal `value`.
 struct FeatureConstraint {
     int corner, axis;
     double value;
 };
+
+/// Per vertex: its feature constraints (empty when there are no feature edges).
+using FeatureConstraints = std::vector<std::vector<FeatureConstraint>>;
+
+/// Per input vertex: the working vertex that represents it, -1 if none (collapses may have
+/// merged some); only as long as the largest represented input vertex needs.
+std::vector<int> working_vertex_of_input(const TriMesh& m) {
+    std::vector<int> work_of_input;
+    for (int v = 0; v < m.num_vertices; ++v) {
+        if (m.input_vertex[v] >= static_cast<int>(work_of_input.size()))
+            work_of_input.resize(m.input_vertex[v] + 1, -1);
+        work_of_input[m.input_vertex[v]] = v;
+    }
+    return work_of_input;
+}
+
+/// A half-edge of the edge between a and b: from a's fan to b if there is one, else from b's
+/// fan to a; -1 if a and b share no edge.
+int find_half_edge(const TriMesh& m, int a, int b) {
+    for (int h = m.fan_start[a], n = 0; h >= 0 && n < m.fan_size[a]; h = m.cw(h), ++n)
+        if (m.target(h) == b) return h;
+    for (int h = m.fan_start[b], n = 0; h >= 0 && n < m.fan_size[b]; h = m.cw(h), ++n)
+        if (m.target(h) == a) return h;
+    return -1;
+}
+
+/// The constraints of the feature edges (input vertex pairs) on both their ends. Fails, setting
+/// `error`, when a feature edge whose ends survived the collapses is not an edge of the mesh.
+FeatureConstraints feature_constraints(const TriMesh& m, const std::vector<std::array<int, 2>>& features,
+                                       Error& error) {
+    FeatureConstraints per_vertex;
+    if (features.empty()) return per_vertex;
+    per_vertex.resize(m.num_vertices);
+    const std::vector<int> work_of_input = working_vertex_of_input(m);
+    auto lookup = [&](int x) { return x < static_cast<int>(work_of_input.size()) ? work_of_input[x] : -1; };
+    for (std::size_t i = 0; i < features.size(); ++i) {
+        const auto& fe = features[i];
+        const int a = lookup(fe[0]), b = lookup(fe[1]);
+        if (a < 0 || b < 0 || a == b) continue; // merged away by a collapse
+        const int found = find_half_edge(m, a, b);
+        if (found < 0) {
+            error = {ErrorCode::BadFeatureEdge,
+                     "feature edge " + std::to_string(i) + " (" + std::to_string(fe[0]) + ", " +
+                         std::to_string(fe[1]) + ") is not an edge of the mesh",
+                     static_cast<std::int64_t>(i)};
+            return {};
+        }
+        const Point2& p = m.uv[found];
+        const Point2& q = m.uv[TriMesh::next(found)];
+        // The edge follows the iso-line of the coordinate that changes least along it.
+        const int axis = std::abs(q[0] - p[0]) <= std::abs(q[1] - p[1]) ? 0 : 1;
+        const double value = std::nearbyint(0.5 * (p[axis] + q[axis]));
+        per_vertex[m.origin(found)].push_back({found, axis, value});
+        per_vertex[m.target(found)].push_back({TriMesh::next(found), axis, value});
+    }
+    return per_vertex;
+}
+
+// ============================================================================ one fan
 
 /// Truncates x to the precision that magnitude delta (a power of two) leaves: (x + d) - d.
 double truncate(double x, double delta) {
@@ -35,45 +97,177 @@ Point2 fixed_point(const GridAutomorphism& g) {
     }
 }
 
-std::vector<std::vector<FeatureConstraint>> feature_constraints(
-    const TriMesh& m, const std::vector<std::array<int, 2>>& features, Error& error) {
-    std::vector<std::vector<FeatureConstraint>> per_vertex;
-    if (features.empty()) return per_vertex;
-    per_vertex.resize(m.num_vertices);
-    // Map input vertex -> working vertex (collapses may have merged some).
-    std::vector<int> work_of_input;
-    for (int v = 0; v < m.num_vertices; ++v) {
-        if (m.input_vertex[v] >= static_cast<int>(work_of_input.size())) work_of_input.resize(m.input_vertex[v] + 1, -1);
-        work_of_input[m.input_vertex[v]] = v;
+/// A vertex's fan and the transitions between its charts.
+struct Fan {
+    std::vector<int> corners;            ///< clockwise; a closed fan starts at its smallest UV
+    std::vector<GridAutomorphism> to_c;  ///< chart of corners[0] -> chart of corners[i]
+    GridAutomorphism loop;               ///< once round a closed fan; the identity for an open one
+    bool closed = false;                 ///< interior vertex
+};
+
+/// Walks the fan of vertex v (fan_start[v] >= 0) into `fan`.
+void walk_fan(const TriMesh& m, int v, Fan& fan) {
+    std::vector<int>& corners = fan.corners;
+    corners.clear();
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) corners.push_back(h);
+    fan.closed = !m.on_boundary[v];
+    // Start at the corner with the smallest UV, so the result does not depend on input order.
+    if (fan.closed) {
+        const auto first = std::min_element(corners.begin(), corners.end(),
+                                            [&](int a, int b) { return m.uv[a] < m.uv[b]; });
+        std::rotate(corners.begin(), first, corners.end());
     }
-    for (std::size_t i = 0; i < features.size(); ++i) {
-        const auto& fe = features[i];
-        auto lookup = [&](int x) { return x < static_cast<int>(work_of_input.size()) ? work_of_input[x] : -1; };
-        const int a = lookup(fe[0]), b = lookup(fe[1]);
-        if (a < 0 || b < 0 || a == b) continue; // merged away by a collapse
-        int found = -1;
-        for (int h = m.fan_start[a], n = 0; h >= 0 && n < m.fan_size[a]; h = m.cw(h), ++n) {
-            if (m.target(h) == b) { found = h; break; }
-        }
-        if (found < 0)
-            for (int h = m.fan_start[b], n = 0; h >= 0 && n < m.fan_size[b]; h = m.cw(h), ++n)
-                if (m.target(h) == a) { found = h; break; }
-        if (found < 0) {
-            error = {ErrorCode::BadFeatureEdge,
-                     "feature edge " + std::to_string(i) + " (" + std::to_string(fe[0]) + ", " +
-                         std::to_string(fe[1]) + ") is not an edge of the mesh",
-                     static_cast<std::int64_t>(i)};
-            return {};
-        }
-        const Point2& p = m.uv[found];
-        const Point2& q = m.uv[TriMesh::next(found)];
-        // The edge follows the iso-line of the coordinate that changes least along it.
-        const int axis = std::abs(q[0] - p[0]) <= std::abs(q[1] - p[1]) ? 0 : 1;
-        const double value = std::nearbyint(0.5 * (p[axis] + q[axis]));
-        per_vertex[m.origin(found)].push_back({found, axis, value});
-        per_vertex[m.target(found)].push_back({TriMesh::next(found), axis, value});
+    const std::size_t n = corners.size();
+    fan.to_c.assign(n, GridAutomorphism{});
+    for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[corners[i - 1]].after(fan.to_c[i - 1]);
+    fan.loop = fan.closed ? m.map.transition[corners[n - 1]].after(fan.to_c[n - 1]) : GridAutomorphism{};
+}
+
+/// u0 (in the chart of the fan's first corner) moved onto the iso-lines of the constraints.
+Point2 snapped_to_features(Point2 u0, const std::vector<FeatureConstraint>& constraints, const Fan& fan) {
+    for (const auto& fc : constraints) {
+        // Express u0 in the constraint's chart, set the coordinate, map back.
+        std::size_t i = std::find(fan.corners.begin(), fan.corners.end(), fc.corner) - fan.corners.begin();
+        Point2 w = fan.to_c[i](u0);
+        w[fc.axis] = fc.value;
+        u0 = fan.to_c[i].inverse()(w);
     }
-    return per_vertex;
+    return u0;
+}
+
+/// u0 truncated to delta: a power of two at least as large as every coordinate of the fan,
+/// before and after propagation (translations may dominate tiny coordinates). Truncated to it,
+/// u0 propagates exactly; the loop only guards against rounding at the boundary. u0 itself if
+/// the fan is all zero or no delta is found.
+Point2 truncated_for_fan(const TriMesh& m, const Fan& fan, Point2 u0) {
+    const std::size_t n = fan.corners.size();
+    double scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2 p = fan.to_c[i](u0);
+        const Point2& c = m.uv[fan.corners[i]];
+        scale = std::max({scale, std::abs(c[0]), std::abs(c[1]), std::abs(p[0]), std::abs(p[1])});
+    }
+    if (!(scale > 0.0)) return u0;
+    int e = 0;
+    std::frexp(scale, &e);
+    for (int attempt = 0; attempt < 64; ++attempt, ++e) {
+        const double delta = std::ldexp(1.0, e);
+        const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
+        double reach = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Point2 p = fan.to_c[i](t);
+            reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
+        }
+        if (reach <= delta) return t;
+    }
+    return u0;
+}
+
+/// Writes u0 to every corner of the fan through the transitions, accumulating each corner's
+/// displacement (maximum norm) into `max_disp` and `sum_disp`.
+void propagate(TriMesh& m, const Fan& fan, const Point2& u0, double& max_disp, double& sum_disp) {
+    for (std::size_t i = 0; i < fan.corners.size(); ++i) {
+        const Point2 p = fan.to_c[i](u0);
+        Point2& c = m.uv[fan.corners[i]];
+        const double d = std::max(std::abs(p[0] - c[0]), std::abs(p[1] - c[1]));
+        max_disp = std::max(max_disp, d);
+        sum_disp += d;
+        c = p;
+    }
+}
+
+// ============================================================================ every fan
+
+/// What a sanitize call is told besides the mesh.
+struct Rules {
+    const std::vector<int>& given_valences;
+    const FeatureConstraints& features;
+    bool branch_points;
+};
+
+/// What sanitizing every fan found.
+struct Totals {
+    double max_disp = 0.0, sum_disp = 0.0;
+    std::int64_t singularities = 0, deferred = 0;
+    /// The first vertex (index in vertex_order) whose transitions compose to a nonzero pure
+    /// translation, -1 if none, and that translation.
+    std::int64_t bad = -1;
+    GridAutomorphism bad_loop;
+};
+
+/// The sanitized UV of the fan's first corner: a singular vertex's snapped position, else u0
+/// snapped onto its feature iso-lines and truncated.
+Point2 sanitized_start(const TriMesh& m, int v, const Fan& fan, bool singular, const Rules& rules) {
+    const Point2 u0 = m.uv[fan.corners[0]];
+    if (singular)
+        return fan.loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(fan.loop);
+    return truncated_for_fan(m, fan, rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
+}
+
+/// Sanitizes every fan, in corner order (TriMesh::vertex_order). Each vertex reads and writes
+/// only its own corners, so neither the order nor the parallel loop changes the result. A fan
+/// whose loop is a nonzero pure translation stays as it is.
+Totals sanitize_fans(TriMesh& m, const Rules& rules) {
+    double max_disp = 0.0, sum_disp = 0.0;
+    std::int64_t singularities = 0, deferred_count = 0, bad = -1;
+    GridAutomorphism bad_loop;
+    const auto count = static_cast<std::int64_t>(m.vertex_order.size());
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
+#endif
+    {
+    Fan fan;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (std::int64_t index = 0; index < count; ++index) {
+        const int v = m.vertex_order[static_cast<std::size_t>(index)];
+        if (m.fan_start[v] < 0) continue;
+        walk_fan(m, v, fan);
+        const GridAutomorphism& loop = fan.loop;
+        // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
+        // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
+        const int val = !rules.given_valences.empty() ? rules.given_valences[m.input_vertex[v]]
+                                                      : std::abs(m.map.winding_valence[v]);
+        const bool branch = fan.closed && loop.r == 0 && val >= 8;
+        if (branch && !rules.branch_points) ++deferred_count;
+        const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
+        if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
+#if defined(_OPENMP)
+#pragma omp critical(qex_sanitize_error)
+#endif
+            if (bad < 0 || index < bad) bad = index, bad_loop = loop;
+            continue;
+        }
+        if (singular) {
+            m.map.singular[v] = 1;
+            ++singularities;
+        }
+        propagate(m, fan, sanitized_start(m, v, fan, singular, rules), max_disp, sum_disp);
+    }
+    } // parallel region
+    return {max_disp, sum_disp, singularities, deferred_count, bad, bad_loop};
+}
+
+/// The error for the vertex at vertex_order[bad], whose transitions compose to the pure
+/// translation `loop`.
+Error pure_translation_error(const TriMesh& m, std::int64_t bad, const GridAutomorphism& loop) {
+    const int v = m.vertex_order[static_cast<std::size_t>(bad)];
+    return {ErrorCode::InconsistentMap,
+            "the transitions around vertex " + std::to_string(m.input_vertex[v]) +
+                " compose to a pure translation by (" + std::to_string(loop.tx) + ", " + std::to_string(loop.ty) +
+                "): the map is not an integer-grid map there",
+            m.input_vertex[v]};
+}
+
+/// MapState::face_sign of every triangle, from the sanitized UVs.
+void set_face_signs(TriMesh& m) {
+    m.map.face_sign.resize(m.num_faces());
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#endif
+    for (int f = 0; f < m.num_faces(); ++f)
+        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
 }
 
 } // namespace
@@ -83,125 +277,17 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
                std::int64_t* deferred) {
     if (deferred) *deferred = 0;
     Error error;
-    const auto features = feature_constraints(m, feature_edges, error);
+    const FeatureConstraints features = feature_constraints(m, feature_edges, error);
     if (error.code != ErrorCode::None) return error;
 
-    const int nv = m.num_vertices;
-    m.map.singular.assign(nv, 0);
-    double max_disp = 0.0, sum_disp = 0.0;
-    std::int64_t singularities = 0, deferred_count = 0;
-    // The first vertex (in vertex_order) whose transitions compose to a pure translation.
-    std::int64_t bad = -1;
-    GridAutomorphism bad_loop;
-
-    // Fans in corner order (TriMesh::vertex_order). Each vertex reads and writes only its own
-    // corners, so neither the order nor the parallel loop changes the result.
-    const auto count = static_cast<std::int64_t>(m.vertex_order.size());
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
-#endif
-    {
-    std::vector<int> fan;                 // corners clockwise
-    std::vector<GridAutomorphism> to_c;   // chart of fan[0] -> chart of fan[i]
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-    for (std::int64_t index = 0; index < count; ++index) {
-        const int v = m.vertex_order[static_cast<std::size_t>(index)];
-        if (m.fan_start[v] < 0) continue;
-        fan.clear();
-        for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
-        const bool closed = !m.on_boundary[v];
-        // Start at the corner with the smallest UV, so the result does not depend on input order.
-        if (closed) {
-            const auto first = std::min_element(fan.begin(), fan.end(),
-                                                [&](int a, int b) { return m.uv[a] < m.uv[b]; });
-            std::rotate(fan.begin(), first, fan.end());
-        }
-        const std::size_t n = fan.size();
-        to_c.assign(n, GridAutomorphism{});
-        for (std::size_t i = 1; i < n; ++i) to_c[i] = m.map.transition[fan[i - 1]].after(to_c[i - 1]);
-        const GridAutomorphism loop = closed ? m.map.transition[fan[n - 1]].after(to_c[n - 1]) : GridAutomorphism{};
-
-        // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
-        // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
-        const int val = !given_valences.empty() ? given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
-        const bool branch = closed && loop.r == 0 && val >= 8;
-        if (branch && !branch_points) ++deferred_count;
-        const bool singular = closed && (loop.r != 0 || (branch && branch_points));
-        if (closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
-#if defined(_OPENMP)
-#pragma omp critical(qex_sanitize_error)
-#endif
-            if (bad < 0 || index < bad) bad = index, bad_loop = loop;
-            continue;
-        }
-
-        Point2 u0 = m.uv[fan[0]];
-        if (singular) {
-            m.map.singular[v] = 1;
-            ++singularities;
-            u0 = loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(loop);
-        } else {
-            if (!features.empty())
-                for (const auto& fc : features[v]) {
-                    // Express u0 in the constraint's chart, set the coordinate, map back.
-                    std::size_t i = std::find(fan.begin(), fan.end(), fc.corner) - fan.begin();
-                    Point2 w = to_c[i](u0);
-                    w[fc.axis] = fc.value;
-                    u0 = to_c[i].inverse()(w);
-                }
-            // delta: a power of two at least as large as every coordinate of the fan, before and
-            // after propagation (translations may dominate tiny coordinates). Truncated to it, u0
-            // propagates exactly; the loop only guards against rounding at the boundary.
-            double scale = 0.0;
-            for (std::size_t i = 0; i < n; ++i) {
-                const Point2 p = to_c[i](u0);
-                scale = std::max({scale, std::abs(m.uv[fan[i]][0]), std::abs(m.uv[fan[i]][1]), std::abs(p[0]), std::abs(p[1])});
-            }
-            if (scale > 0.0) {
-                int e = 0;
-                std::frexp(scale, &e);
-                for (int attempt = 0; attempt < 64; ++attempt, ++e) {
-                    const double delta = std::ldexp(1.0, e);
-                    const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
-                    double reach = 0.0;
-                    for (std::size_t i = 0; i < n; ++i) {
-                        const Point2 p = to_c[i](t);
-                        reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
-                    }
-                    if (reach <= delta) { u0 = t; break; }
-                }
-            }
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            const Point2 p = to_c[i](u0);
-            const double d = std::max(std::abs(p[0] - m.uv[fan[i]][0]), std::abs(p[1] - m.uv[fan[i]][1]));
-            max_disp = std::max(max_disp, d);
-            sum_disp += d;
-            m.uv[fan[i]] = p;
-        }
-    }
-    } // parallel region
-    if (bad >= 0) {
-        const int v = m.vertex_order[static_cast<std::size_t>(bad)];
-        return {ErrorCode::InconsistentMap,
-                "the transitions around vertex " + std::to_string(m.input_vertex[v]) + " compose to a pure translation by (" +
-                    std::to_string(bad_loop.tx) + ", " + std::to_string(bad_loop.ty) +
-                    "): the map is not an integer-grid map there",
-                m.input_vertex[v]};
-    }
-    if (deferred) *deferred = deferred_count;
-    report.max_sanitization_displacement = std::max(report.max_sanitization_displacement, max_disp);
-    report.sum_sanitization_displacement += sum_disp;
-    report.singularities = singularities;
-
-    m.map.face_sign.resize(m.num_faces());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    for (int f = 0; f < m.num_faces(); ++f)
-        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+    m.map.singular.assign(m.num_vertices, 0);
+    const Totals totals = sanitize_fans(m, Rules{given_valences, features, branch_points});
+    if (totals.bad >= 0) return pure_translation_error(m, totals.bad, totals.bad_loop);
+    if (deferred) *deferred = totals.deferred;
+    report.max_sanitization_displacement = std::max(report.max_sanitization_displacement, totals.max_disp);
+    report.sum_sanitization_displacement += totals.sum_disp;
+    report.singularities = totals.singularities;
+    set_face_signs(m);
     return {};
 }
 
