@@ -99,7 +99,8 @@ struct Defect {
 struct Report {
     // input
     std::int64_t input_vertices = 0, input_triangles = 0;
-    std::int64_t flipped_triangles = 0, degenerate_triangles = 0; ///< after sanitization
+    /// Triangles of the sanitized map with UV area < 0 (flipped) and == 0 (degenerate), exactly.
+    std::int64_t flipped_triangles = 0, degenerate_triangles = 0;
     std::int64_t collapsed_edges = 0;     ///< UV-degenerate edges collapsed (before and after sanitization)
     std::int64_t singularities = 0;       ///< interior vertices with non-identity or valence != 4
     double max_sanitization_displacement = 0.0; ///< largest |sanitized uv - input uv| (inf-norm)
@@ -127,7 +128,7 @@ struct Report {
     std::string rung;
     std::int64_t rungs_tried = 0;
     std::int64_t check_violations = 0;
-    /// Triangles still flipped after untangling (rungs past the first).
+    /// Triangles still flipped or degenerate (UV area <= 0) after untangling (rungs past the first).
     std::int64_t flipped_after_untangling = 0;
     /// Rungs past the first: output vertices that found no preimage of their grid point in the
     /// given map (they stay where the relaxed map put them, and the checker rejects them).

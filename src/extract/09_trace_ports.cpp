@@ -181,7 +181,7 @@ void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& re
                    where, end.b);
         return;
     }
-    if (p2 == p || q.connections[p2].to >= 0 || q.dangling[p2]) {
+    if (p2 == p || q.connections[p2].to >= 0 || q.into_boundary[p2]) {
         add_defect(report, DefectKind::PortConflict,
                    iso_line_from(port.grid) + " arrived at a q-port that is already connected", where, end.b);
         return;
@@ -197,14 +197,14 @@ void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& re
 void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report) {
     const int np = static_cast<int>(q.ports.size());
     q.connections.assign(np, Connection{});
-    q.dangling.assign(np, 0);
+    q.into_boundary.assign(np, 0);
     for (int p = 0; p < np; ++p) {
-        if (q.connections[p].to >= 0 || q.dangling[p]) continue;
+        if (q.connections[p].to >= 0 || q.into_boundary[p]) continue;
         const Port& port = q.ports[p];
         ++report.traces;
         const TraceEnd end = follow_iso_line(m, opt, port, report);
         if (end.boundary) {
-            q.dangling[p] = 1;
+            q.into_boundary[p] = 1;
             ++report.traces_into_boundary;
         } else if (!end.arrived) {
             ++report.traces_failed;

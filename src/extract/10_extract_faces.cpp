@@ -65,7 +65,7 @@ void walk_face(const TriMesh& m, const QState& q, int start, std::vector<char>& 
         if (!ok) { w.boundary = true; break; }
         gbar = fan.after(c.g.after(gbar));
         if (q.connections[next].to < 0) {
-            (q.dangling[next] ? w.boundary : w.open) = true;
+            (q.into_boundary[next] ? w.boundary : w.open) = true;
             break;
         }
         cur = next;

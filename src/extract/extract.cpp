@@ -152,7 +152,7 @@ void extract_connectivity(const TriMesh& m, const Options& options, QState& q, Q
     // maps with many quads) are released first.
     std::vector<Port>().swap(q.ports);
     std::vector<Connection>().swap(q.connections);
-    std::vector<char>().swap(q.dangling);
+    std::vector<char>().swap(q.into_boundary);
     std::vector<int>().swap(q.edge_first);
     std::vector<int>().swap(q.face_first);
     merge_vertices(m, q, std::move(faces), options, mesh, report);

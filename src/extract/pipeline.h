@@ -92,8 +92,9 @@ inline constexpr double kApproximateAngleError = 1e-4;
 /// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
 void count_valences(TriMesh& m, bool singular_only = false);
 
-/// Fallback: relaxes regular vertices within `rings` of a flipped triangle towards the average of
-/// their neighbours, through exact transitions. Returns the number of triangles still flipped.
+/// Fallback: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV area
+/// <= 0) towards the average of their neighbours, through exact transitions. Returns the number
+/// of triangles still flipped or degenerate.
 std::int64_t untangle(TriMesh& m, int rings, int iterations);
 
 /// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
@@ -147,7 +148,7 @@ struct Port {
 /// A traced iso-line from one port to another; `g` maps the chart of the source port's triangle
 /// to the chart of the target port's triangle.
 struct Connection {
-    int to = -1;          ///< target port, -1 if dangling (boundary) or failed
+    int to = -1;          ///< target port, -1 if the trace ran into the boundary or failed
     GridAutomorphism g;
 };
 
@@ -161,7 +162,7 @@ struct QState {
     std::vector<int> face_first;
     std::vector<Port> ports;
     std::vector<Connection> connections;     ///< per port
-    std::vector<char> dangling;              ///< per port: trace left the surface through a boundary
+    std::vector<char> into_boundary;         ///< per port: its trace left the surface through a boundary
 };
 
 /// Generates vertex-, edge- and face-q-vertices (Algorithm 3).
