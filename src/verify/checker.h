@@ -1,18 +1,170 @@
 // The checker's internal interface between its files. Like every file in src/verify/, it
 // includes only the public headers and the checker's own files: the build fails otherwise
-// (CMakeLists.txt, "the checker's wall").
+// (CMakeLists.txt, "the checker's wall"). Nothing here includes CGAL: the files that use it
+// (map_check.cpp, signed_area.cpp, surface.cpp) keep it to themselves.
 #pragma once
 
 #include "qex/verify.h"
 
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace qex::verify_detail {
+
+// ============================================================================ violations
+
+/// Most checks list a violation only while the list (all kinds together) is shorter than this;
+/// undecided checks likewise. A few are listed always: bad indices, non-finite positions, and
+/// verify.cpp's findings about the whole mesh.
+inline constexpr std::size_t kMaxListed = 1000;
+
+/// Appends the violation (or undecided check) to `out` unless it lists kMaxListed already.
+inline void add_capped(std::vector<Violation>& out, ViolationKind kind, std::string message, std::int64_t element) {
+    if (out.size() < kMaxListed) out.push_back({kind, std::move(message), element});
+}
+
+// ============================================================================ topology (topology.cpp)
+
+struct Topology {
+    std::int64_t vertices = 0, edges = 0, faces = 0, boundary_loops = 0, components = 0;
+    std::int64_t euler() const { return vertices - edges + faces; }
+};
+
+/// Per corner c: the other corner whose outgoing edge joins the same two vertices, when exactly
+/// two face sides share that edge (in either direction); -1 otherwise.
+using EdgePairs = std::vector<std::int32_t>;
+
+/// Topology of a polygon mesh with valid indices (at most 2^31 - 1 corners); appends violations
+/// when `out` is given. `offset` (size F+1) and `corner_vertex` describe the faces as flat
+/// arrays. Edges are found without hashing or a global sort: the corners are bucketed by the
+/// smaller vertex of their outgoing edge (a counting pass), and each bucket is ordered by the
+/// larger one. Everything is decided in the order (smaller vertex, larger vertex, corner),
+/// whatever the thread count. With `pairs_out`, the edge pairs; with `single_fan_out`, per
+/// vertex whether its faces form a single fan (0 for a vertex no face uses).
+Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offset,
+                 const std::vector<int>& corner_vertex, std::vector<Violation>* out, int threads,
+                 EdgePairs* pairs_out = nullptr, std::vector<char>* single_fan_out = nullptr);
+
+// ============================================================================ the input map's area (signed_area.cpp)
+
+/// The input map's signed UV area: `r.input_signed_uv_area` for display and
+/// `r.input_signed_uv_area_rounded`, the exact area rounded to the nearest integer, halves
+/// upwards (left 0 when a triangle's doubled area is not finite in doubles). The input's UVs
+/// must be 3 per triangle.
+void signed_uv_area(const Input& input, VerifyResult& r);
+
+// ============================================================================ the mesh's map (map_check.cpp)
+
+/// The map the mesh claims to come from (`mesh.map_uvs`, as many as the input's UVs): an exact
+/// integer-grid map (across every interior edge the two charts differ by a rotation by k*90
+/// degrees and an integer translation, every singularity on a grid point), and each vertex's
+/// provenance grid point lies on the element it names; also its displacement from the input's
+/// UVs. `pairs` and `single_fan` are the input's (analyse). Decided exactly.
+void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs, const std::vector<char>& single_fan,
+               int threads, VerifyResult& r, std::vector<Violation>& out);
+
+// ============================================================================ located mode (check_located.cpp)
 
 /// Located mode (meshes without provenance): locates every output vertex on the input surface
 /// and checks faces and coverage against the map; appends violations to `out` and undecided
 /// checks to `r.undecided`.
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
                    std::vector<Violation>& out);
+
+/// An integer grid point (or translation).
+using GridPoint = std::array<std::int64_t, 2>;
+
+/// x -> R^r x + t between the charts of two adjacent triangles (integers only).
+struct Transition {
+    int r = 0;
+    std::int64_t tx = 0, ty = 0;
+};
+
+/// The input's half-edges (corners 3t + k, the edge from corner k to corner k + 1) and the
+/// transitions across them, rounded to integers (transitions.cpp).
+struct InputEdges {
+    /// The half-edge across, when its transition was determined; -1 otherwise.
+    std::vector<std::int64_t> opposite;
+    /// The transition from the half-edge's chart to the chart across (where `opposite` >= 0).
+    std::vector<Transition> across;
+    /// The edge has exactly two half-edges (in either direction), crossed or not.
+    std::vector<char> paired;
+};
+
+/// The input's half-edges and their transitions. An edge is paired when exactly two half-edges
+/// share it; its transition is determined when both sides' edge vectors are longer than 4
+/// `uv_tolerance` (inf-norm) in UV, the quarter turn that carries the one closest onto the other
+/// does so within `uv_tolerance`, and the translation, rounded to integers, is below 9e15.
+InputEdges input_edges(const Input& in, double uv_tolerance);
+
+/// Per input vertex: singular, i.e. its fan is closed and the transitions around it compose to a
+/// turn, or it includes a paired edge whose transition was not determined.
+std::vector<char> singular_vertices(const Input& in, const InputEdges& edges);
+
+/// Where a point lies on the input surface (Surface::locate).
+struct SurfacePoint {
+    std::uint32_t triangle = 0;    ///< the input triangle of the closest surface point
+    std::array<double, 2> uv{0, 0}; ///< the closest point's UV in that triangle's chart
+    double distance = 0;            ///< from the point to the closest surface point
+    int corner = -1; ///< the triangle's first corner within the distance tolerance of the closest point, or -1
+};
+
+/// The input surface for locating points: an AABB tree over the triangles that are not
+/// degenerate in 3D (surface.cpp, the located mode's one use of CGAL's trees).
+class Surface {
+public:
+    /// The surface of `in`, or null when a position or UV of a triangle is not finite (not a map
+    /// this mode can judge; validation names the problem) or no triangle is non-degenerate.
+    /// Points count as on it within `distance_tolerance` times the bounding-box diagonal.
+    static std::unique_ptr<Surface> build(const Input& in, double distance_tolerance);
+    ~Surface();
+    /// The closest point of the surface to `x`.
+    SurfacePoint locate(const std::array<double, 3>& x) const;
+    /// The bounding-box diagonal of the input's triangles.
+    double diagonal() const;
+    /// The distance tolerance: distance_tolerance times the diagonal.
+    double max_distance() const;
+
+private:
+    struct Tree;
+    explicit Surface(std::unique_ptr<Tree> tree);
+    std::unique_ptr<Tree> tree_;
+};
+
+/// Per input triangle: a fold-over, i.e. its UV area is not positive (flipped: < 0, or
+/// degenerate: == 0), decided exactly. Adds the flipped ones to `r.map_flipped_triangles`
+/// (surface.cpp).
+std::vector<char> fold_overs(const Input& in, VerifyResult& r);
+
+/// Per half-edge c with `edges.opposite[c]` >= 0: the distance between the centroids of the
+/// two triangles, in 3D (surface.cpp); 0 for the others.
+std::vector<double> centroid_steps(const Input& in, const InputEdges& edges);
+
+/// An output vertex located on the input surface.
+struct Located {
+    std::uint32_t triangle = 0;
+    std::int64_t on_vertex = -1; ///< the input vertex it sits on (within the distance tolerance)
+    GridPoint grid{0, 0};        ///< its grid point in the chart of `triangle`
+    bool ok = false; ///< located, on the surface and on a grid point (else reported, here or as NonFinitePosition)
+};
+
+/// What the located mode knows of the input map, shared by its steps.
+struct LocatedMap {
+    const Input& in;
+    const Surface& surface;
+    InputEdges edges;
+    std::vector<char> singular;  ///< per input vertex (singular_vertices)
+    std::vector<char> fold_over; ///< per input triangle (fold_overs)
+};
+
+/// Faces: every quad's corners, carried into one chart along the input's transitions, must be
+/// the corners of one grid cell in counter-clockwise order (face_cells.cpp). Appends violations
+/// to `out`, and failures that paths across fold-overs or singular fans leave undecided to
+/// `r.undecided`.
+void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
+                      std::vector<Violation>& out);
 
 } // namespace qex::verify_detail

@@ -13,7 +13,8 @@ namespace qex::verify_detail {
 /// Loops over fewer elements than this stay serial: starting threads costs more than it saves.
 inline constexpr std::int64_t kParallelMinElements = std::int64_t{1} << 16;
 
-/// Threads for `requested` (VerifyOptions::threads): 0 means every core; without OpenMP 1.
+/// Threads for `requested` (VerifyOptions::threads): 0 (or less) means OpenMP's default, every
+/// core unless OMP_NUM_THREADS says otherwise; without OpenMP 1.
 inline int thread_count(int requested) {
 #if defined(_OPENMP)
     return requested > 0 ? requested : std::max(1, omp_get_max_threads());

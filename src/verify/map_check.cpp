@@ -1,0 +1,229 @@
+// The map a mesh of qex's own claims to come from (`mesh.map_uvs`, the sanitized map), and its
+// vertices' provenance: the map must be an exact integer-grid map, and every vertex's grid
+// point must lie on the input element it names. Everything is decided exactly: the transitions
+// with exact double sums (TwoSum), the provenance with CGAL's exact predicates.
+#include "checker.h"
+#include "grid.h"
+#include "parallel.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace qex::verify_detail {
+namespace {
+
+using UVs = std::vector<std::array<double, 2>>;
+
+/// Triangle f is still in the map: a collapse of UV-degenerate edges removed it otherwise (NaN UVs).
+bool alive(const UVs& U, std::size_t f) { return std::isfinite(U[3 * f][0]); }
+
+/// Exactly x + y == z? Knuth's TwoSum gives the rounding error of x + y without error
+/// (round-to-nearest, no contraction: the build uses -ffp-contract=off); the rounded sum must be
+/// z and its error zero.
+bool sums_exactly(double x, double y, double z) {
+    const double s = x + y;
+    const double bb = s - x;
+    const double err = (x - (s - bb)) + (y - bb);
+    return s == z && err == 0.0;
+}
+
+/// Largest and summed |map_uvs - input uvs| (inf-norm per corner) over the triangles still in
+/// the map, summed in fixed blocks of corners and then block by block in order: the sum is the
+/// same whatever the thread count.
+void map_displacement(const Input& input, const UVs& U, int threads, VerifyResult& r) {
+    constexpr std::size_t kBlock = std::size_t{1} << 14;
+    const auto blocks = static_cast<std::int64_t>((U.size() + kBlock - 1) / kBlock);
+    std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
+    double largest = 0.0;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, static_cast<std::int64_t>(U.size()))) reduction(max : largest)
+#else
+    (void)threads;
+#endif
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        const std::size_t from = static_cast<std::size_t>(b) * kBlock, to = std::min(U.size(), from + kBlock);
+        double sum = 0.0;
+        for (std::size_t c = from; c < to; ++c)
+            if (alive(U, c / 3)) {
+                const double d = std::max(std::abs(U[c][0] - input.uvs[c][0]), std::abs(U[c][1] - input.uvs[c][1]));
+                largest = std::max(largest, d);
+                sum += d;
+            }
+        block_sum[static_cast<std::size_t>(b)] = sum;
+    }
+    r.max_map_displacement = largest;
+    for (const double sum : block_sum) r.sum_map_displacement += sum;
+}
+
+/// The quarter turns R of the grid automorphism x -> R x + t (t integer) that carries a to a2
+/// and b to b2 exactly, or -1 when there is none. For an edge of non-zero length at most one
+/// rotation passes the first test; for a zero-length edge the first that passes is returned.
+int grid_automorphism(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& a2,
+                      const std::array<double, 2>& b2) {
+    // Necessary: R (b - a) == b2 - a2 in doubles (a rotation commutes with the rounding of a
+    // difference), which leaves one candidate for an edge of non-zero length.
+    const std::array<double, 2> d{b[0] - a[0], b[1] - a[1]}, d2{b2[0] - a2[0], b2[1] - a2[1]};
+    for (int rr = 0; rr < 4; ++rr) {
+        if (rotate_quarter(d, rr) != d2) continue;
+        const auto ra = rotate_quarter(a, rr), rb = rotate_quarter(b, rr);
+        const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
+        if (std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
+            sums_exactly(ra[1], ty, a2[1]) && sums_exactly(rb[0], tx, b2[0]) && sums_exactly(rb[1], ty, b2[1]))
+            return rr;
+    }
+    return -1;
+}
+
+/// The map's interior edges, matched across (the input's edge pairs give each half-edge its
+/// opposite). opposite[c]: the corner across the edge that starts at corner c, when the two
+/// charts were matched by a unique grid automorphism (rotation[c] quarter turns from c's chart
+/// to its neighbour's); -1 otherwise. rotation[c] == -1 marks an edge (found from its smaller
+/// corner c) whose charts no grid automorphism matches.
+struct ChartMatch {
+    std::vector<std::int32_t> opposite;
+    std::vector<std::int8_t> rotation;
+};
+
+ChartMatch match_charts(const UVs& U, const EdgePairs& pairs, int threads) {
+    const auto nc = static_cast<std::int64_t>(U.size());
+    ChartMatch m{std::vector<std::int32_t>(U.size(), -1), std::vector<std::int8_t>(U.size(), 0)};
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, static_cast<std::int64_t>(nc)))
+#else
+    (void)threads;
+#endif
+    for (std::int64_t ci = 0; ci < nc; ++ci) {
+        const auto c = static_cast<std::size_t>(ci);
+        // Boundary, non-manifold, or done from the pair's other corner:
+        if (pairs[c] < static_cast<std::int32_t>(ci)) continue;
+        const auto o = static_cast<std::size_t>(pairs[c]);
+        if (!alive(U, c / 3) || !alive(U, o / 3)) continue;
+        // In c's chart the edge runs a -> b; in o's chart b -> a (for a consistently oriented
+        // pair). Some rotation R and one integer translation t must give R a + t == a2 and
+        // R b + t == b2 exactly.
+        const auto &a = U[c], &b = U[next_corner(c)], &a2 = U[next_corner(o)], &b2 = U[o];
+        const int found = grid_automorphism(a, b, a2, b2);
+        // A zero-length edge admits every rotation: it is not matched, and the fan check skips
+        // its vertices.
+        if (found >= 0 && (a[0] != b[0] || a[1] != b[1])) {
+            m.opposite[c] = static_cast<std::int32_t>(o);
+            m.opposite[o] = static_cast<std::int32_t>(c);
+            m.rotation[c] = static_cast<std::int8_t>(found);
+            m.rotation[o] = static_cast<std::int8_t>((4 - found) & 3);
+        }
+        if (found < 0) m.rotation[c] = -1;
+    }
+    return m;
+}
+
+/// Per input vertex: the quarter turns (mod 4) its fan's transitions compose to, or -1 when the
+/// fan is not checked. Walking the fan crosses, once each, the edges that end at the vertex's
+/// corners (prev(c) -> c), so the composed turn is a sum over the corners, taken in one pass.
+/// A fan is left unchecked when an edge in it is unmatched (boundary, degenerate or not a grid
+/// automorphism), a triangle in it was collapsed, or the vertex is non-manifold.
+std::vector<std::int8_t> fan_turns(const Input& input, const UVs& U, const ChartMatch& m,
+                                   const std::vector<char>& single_fan) {
+    std::vector<std::int8_t> turns(single_fan.size(), 0);
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
+        if (turns[v] < 0) continue;
+        if (!alive(U, c / 3) || m.opposite[prev_corner(c)] < 0 || !single_fan[v])
+            turns[v] = -1;
+        else
+            turns[v] = static_cast<std::int8_t>((turns[v] + m.rotation[prev_corner(c)]) & 3);
+    }
+    return turns;
+}
+
+/// Singularities: around every interior vertex whose fan is matched edge by edge, the
+/// transitions compose to a rotation; each edge transition maps the vertex's UV onto itself
+/// exactly, so a composed identity closes the fan, and a composed rotation (a singularity) must
+/// have its fixed point, the vertex's UV, on an integer grid point (Algorithm 2). Counted and
+/// judged at each vertex's first corner, in the order of those corners.
+void check_singularities(const Input& input, const UVs& U, const ChartMatch& m, const std::vector<char>& single_fan,
+                         VerifyResult& r, std::vector<Violation>& out) {
+    const std::vector<std::int8_t> turns = fan_turns(input, U, m, single_fan);
+    std::vector<std::int32_t> first(single_fan.size(), -1);
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
+        if (first[v] < 0) first[v] = static_cast<std::int32_t>(c);
+    }
+    for (std::size_t c0 = 0; c0 < U.size(); ++c0) {
+        const auto v = static_cast<std::size_t>(input.triangles[c0 / 3][c0 % 3]);
+        if (first[v] != static_cast<std::int32_t>(c0) || turns[v] <= 0) continue;
+        ++r.map_singularities;
+        const auto& u = U[c0];
+        if (std::floor(u[0]) != u[0] || std::floor(u[1]) != u[1])
+            add_capped(out, ViolationKind::SingularityOffGrid,
+                       "input vertex " + std::to_string(v) + ": a singularity (" + std::to_string(turns[v] * 90) +
+                           " degree turn) at (" + std::to_string(u[0]) + ", " + std::to_string(u[1]) +
+                           ") in the chart of triangle " + std::to_string(c0 / 3) + ", not at an integer grid point",
+                       static_cast<std::int64_t>(v));
+    }
+}
+
+/// The provenance's grid point lies on the element it names, in the chart of its triangle
+/// (still in the map): on a corner for a vertex, strictly inside the named side for an edge,
+/// strictly inside the (non-degenerate) triangle for a face. Grid points with a coordinate of
+/// 2^53 or more are not exact in doubles and are judged off the element.
+bool on_named_element(const Provenance& p, const UVs& U, std::size_t nf) {
+    using P = CGAL::Epick::Point_2;
+    const auto T = static_cast<std::size_t>(p.chart_triangle);
+    constexpr std::int64_t kExact = std::int64_t{1} << 53;
+    if (!(p.chart_triangle >= 0 && T < nf && alive(U, T) && std::abs(p.grid[0]) < kExact &&
+          std::abs(p.grid[1]) < kExact))
+        return false;
+    const P g(static_cast<double>(p.grid[0]), static_cast<double>(p.grid[1]));
+    const std::array<P, 3> t{P(U[3 * T][0], U[3 * T][1]), P(U[3 * T + 1][0], U[3 * T + 1][1]),
+                             P(U[3 * T + 2][0], U[3 * T + 2][1])};
+    if (p.kind == QVertexKind::Vertex) {
+        // A corner of the named triangle sits on the grid point. (Its input vertex may be one
+        // that a collapse of UV-degenerate edges merged into p.element.)
+        return t[0] == g || t[1] == g || t[2] == g;
+    }
+    if (p.kind == QVertexKind::Edge) {
+        const int k = p.local_edge;
+        if (!(k >= 0 && k < 3 && static_cast<std::size_t>(p.element) == T)) return false;
+        const P &e0 = t[static_cast<std::size_t>(k)], &e1 = t[static_cast<std::size_t>((k + 1) % 3)];
+        return CGAL::collinear(e0, e1, g) && CGAL::collinear_are_strictly_ordered_along_line(e0, g, e1);
+    }
+    const auto s = CGAL::orientation(t[0], t[1], t[2]);
+    return s != CGAL::COLLINEAR && CGAL::orientation(t[0], t[1], g) == s && CGAL::orientation(t[1], t[2], g) == s &&
+           CGAL::orientation(t[2], t[0], g) == s;
+}
+
+/// Provenance: every vertex's grid point on the named vertex, edge or triangle, decided by
+/// CGAL's exact predicates.
+void check_provenance(const QuadMesh& mesh, std::size_t nf, std::vector<Violation>& out) {
+    for (std::size_t i = 0; i < mesh.provenance.size() && i < mesh.positions.size(); ++i) {
+        const Provenance& p = mesh.provenance[i];
+        if (!on_named_element(p, mesh.map_uvs, nf))
+            add_capped(out, ViolationKind::NotOnGridPoint,
+                       "vertex " + std::to_string(i) + ": grid point (" + std::to_string(p.grid[0]) + ", " +
+                           std::to_string(p.grid[1]) + ") is not on the element its provenance names (triangle " +
+                           std::to_string(p.chart_triangle) + ")",
+                       static_cast<std::int64_t>(i));
+    }
+}
+
+} // namespace
+
+void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs, const std::vector<char>& single_fan,
+               int threads, VerifyResult& r, std::vector<Violation>& out) {
+    const UVs& U = mesh.map_uvs;
+    map_displacement(input, U, threads, r);
+    const ChartMatch m = match_charts(U, pairs, threads);
+    for (std::size_t c = 0; c < U.size(); ++c)
+        if (m.rotation[c] < 0)
+            add_capped(out, ViolationKind::MapNotIntegerGrid,
+                       "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(pairs[c] / 3) +
+                           " do not differ by a grid automorphism along their shared edge",
+                       static_cast<std::int64_t>(c / 3));
+    check_singularities(input, U, m, single_fan, r, out);
+    check_provenance(mesh, input.triangles.size(), out);
+}
+
+} // namespace qex::verify_detail
