@@ -21,7 +21,7 @@ enum class ViolationKind {
     // Located mode (meshes without provenance, e.g. from other extractors):
     OffSurface,          ///< a vertex farther from the input surface than the distance tolerance
     FaceNotGridCell,     ///< a face's corners, carried into one chart, are not a ccw unit grid cell
-    CoverageMismatch,    ///< the faces do not cover the map once (map without fold-overs)
+    CoverageMismatch,    ///< the faces do not cover the map once (map without flipped triangles)
     TooLarge,            ///< more face corners (mesh or input) than the checker's 32-bit tables hold
 };
 const char* to_string(ViolationKind kind);
@@ -46,13 +46,16 @@ struct VerifyResult {
     bool located = false;
     double max_grid_distance = 0.0;    ///< largest UV distance (inf-norm) of a vertex to its grid point
     double max_surface_distance = 0.0; ///< largest distance to the surface / bounding-box diagonal
+    /// Located mode: input triangles of negative UV area (exact; degenerate ones not counted).
+    /// Any of them lifts the coverage check (CoverageMismatch).
     std::int64_t map_flipped_triangles = 0;
     std::int64_t coverage_difference = 0; ///< faces - input_signed_uv_area_rounded
     /// Located mode: checks that could not be decided because the map folds over there (a
-    /// face's corners carried across flipped triangles); not violations, listed for review.
+    /// face's corners carried across flipped or degenerate triangles, or next to them) or
+    /// through the fan of a singular vertex; not violations, listed for review.
     std::vector<Violation> undecided;
-    /// Signed UV area of the input map for display: the double sum, printed with six decimals
-    /// (not exact).
+    /// Signed UV area of the input map for display, printed with six decimals: the double sum,
+    /// or the exact area rounded to a double where the sum's error bound left the rounding open.
     std::string input_signed_uv_area;
     /// The exact signed UV area rounded to the nearest integer, halves upwards; decided with
     /// exact rationals wherever the double sum's error bound does not decide it.
