@@ -9,23 +9,22 @@
 
 namespace qex::detail {
 
-std::vector<int> canonicalize(QuadMesh& mesh) {
-    const std::size_t nv = mesh.positions.size();
-    std::vector<int> order(nv);
+namespace {
+
+/// Output vertices by position (ties by index).
+std::vector<int> vertex_order(const QuadMesh& mesh) {
+    std::vector<int> order(mesh.positions.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) {
         if (mesh.positions[a] != mesh.positions[b]) return mesh.positions[a] < mesh.positions[b];
         return a < b;
     });
-    std::vector<int> rank(nv);
-    for (std::size_t i = 0; i < nv; ++i) rank[order[i]] = static_cast<int>(i);
-    QuadMesh out;
-    out.positions.reserve(nv);
-    out.provenance.reserve(nv);
-    for (int i : order) {
-        out.positions.push_back(mesh.positions[i]);
-        out.provenance.push_back(mesh.provenance[i]);
-    }
+    return order;
+}
+
+/// Renumbers each face's vertices by `rank` and rotates it to start at its smallest vertex,
+/// with local UVs relative to that corner.
+void normalize_faces(QuadMesh& mesh, const std::vector<int>& rank) {
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
         auto& face = mesh.faces[f];
         auto& uv = mesh.face_uvs[f];
@@ -37,9 +36,12 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
         const auto o = uv.empty() ? std::array<std::int64_t, 2>{0, 0} : uv[0];
         for (auto& x : uv) x = {x[0] - o[0], x[1] - o[1]};
     }
-    // Faces in the order of their vertex lists (as std::vector's operator< orders them). The
-    // first four entries, padded with -1, are compared in place; longer faces that tie on them
-    // are compared in full.
+}
+
+/// Faces in the order of their vertex lists (as std::vector's operator< orders them). The first
+/// four entries, padded with -1, are compared in place; longer faces that tie on them are
+/// compared in full.
+std::vector<int> face_order(const QuadMesh& mesh) {
     struct FaceKey {
         std::array<int, 4> head;
         int face;
@@ -56,12 +58,29 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
             if (fa != fb) return fa < fb;
         return a.face < b.face;
     });
-    std::vector<int> forder(mesh.faces.size());
-    for (std::size_t i = 0; i < fkeys.size(); ++i) forder[i] = fkeys[i].face;
+    std::vector<int> order(mesh.faces.size());
+    for (std::size_t i = 0; i < fkeys.size(); ++i) order[i] = fkeys[i].face;
+    return order;
+}
+
+} // namespace
+
+std::vector<int> canonicalize(QuadMesh& mesh) {
+    const std::vector<int> order = vertex_order(mesh);
+    std::vector<int> rank(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) rank[order[i]] = static_cast<int>(i);
+    QuadMesh out;
+    out.positions.reserve(order.size());
+    out.provenance.reserve(order.size());
+    for (int i : order) {
+        out.positions.push_back(mesh.positions[i]);
+        out.provenance.push_back(mesh.provenance[i]);
+    }
+    normalize_faces(mesh, rank);
     std::vector<int> new_index(mesh.faces.size());
     out.faces.reserve(mesh.faces.size());
     out.face_uvs.reserve(mesh.faces.size());
-    for (int f : forder) {
+    for (int f : face_order(mesh)) {
         new_index[f] = static_cast<int>(out.faces.size());
         out.faces.push_back(std::move(mesh.faces[f]));
         out.face_uvs.push_back(std::move(mesh.face_uvs[f]));

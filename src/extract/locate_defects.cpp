@@ -12,48 +12,69 @@
 namespace qex::detail {
 namespace {
 
+double distance(const std::array<double, 3>& p, const std::array<double, 3>& q) {
+    return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+}
+
+/// The median length of the mesh's face sides; 0 for a mesh without faces or positions.
+double median_edge_length(const QuadMesh& mesh) {
+    std::vector<double> lengths;
+    for (const auto& f : mesh.faces)
+        for (std::size_t i = 0; i < f.size(); ++i)
+            lengths.push_back(distance(mesh.positions[static_cast<std::size_t>(f[i])],
+                                       mesh.positions[static_cast<std::size_t>(f[(i + 1) % f.size()])]));
+    if (lengths.empty() || mesh.positions.empty()) return 0.0;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    return lengths[lengths.size() / 2];
+}
+
+/// Points bucketed in a uniform grid of cubes `cell` wide (a sorted list of cube keys).
+class CellGrid {
+public:
+    using Key = std::array<std::int64_t, 3>;
+    CellGrid(const std::vector<std::array<double, 3>>& points, double cell) : points_(points), cell_(cell) {
+        entries_.reserve(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) entries_.push_back({key(points[i], 0, 0, 0), static_cast<int>(i)});
+        std::sort(entries_.begin(), entries_.end());
+    }
+    /// The cube of p, shifted by (dx, dy, dz) cubes.
+    Key key(const std::array<double, 3>& p, int dx, int dy, int dz) const {
+        const auto c = [&](double x, int d) { return static_cast<std::int64_t>(std::floor(x / cell_)) + d; };
+        return {c(p[0], dx), c(p[1], dy), c(p[2], dz)};
+    }
+    /// The distance from p to the nearest point within `rings` cubes of p's cube (HUGE_VAL if none).
+    double nearest(const std::array<double, 3>& p, int rings) const {
+        double best = HUGE_VAL;
+        for (int dx = -rings; dx <= rings; ++dx)
+            for (int dy = -rings; dy <= rings; ++dy)
+                for (int dz = -rings; dz <= rings; ++dz) {
+                    const Key k = key(p, dx, dy, dz);
+                    auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(k, -1));
+                    for (; it != entries_.end() && it->first == k; ++it)
+                        best = std::min(best, distance(p, points_[static_cast<std::size_t>(it->second)]));
+                }
+        return best;
+    }
+
+private:
+    const std::vector<std::array<double, 3>>& points_;
+    double cell_;
+    std::vector<std::pair<Key, int>> entries_;
+};
+
 /// Where the output leaves the input surface bare: the input vertex farthest from every output
 /// vertex, and that distance in median output edge lengths. A lost handle or a hole shows up as
 /// a bare region. A uniform grid of cells one median edge wide holds the output vertices, and
 /// each input vertex searches up to 4 rings of cells around its own.
 std::pair<int, double> barest_input_vertex(const Input& input, const QuadMesh& mesh) {
-    std::vector<double> lengths;
-    for (const auto& f : mesh.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) {
-            const auto &a = mesh.positions[static_cast<std::size_t>(f[i])],
-                       &b = mesh.positions[static_cast<std::size_t>(f[(i + 1) % f.size()])];
-            lengths.push_back(std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])));
-        }
-    if (lengths.empty() || mesh.positions.empty()) return {-1, 0.0};
-    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
-    const double cell = lengths[lengths.size() / 2];
+    const double cell = median_edge_length(mesh);
     if (!(cell > 0) || !std::isfinite(cell)) return {-1, 0.0};
-    auto key = [&](const std::array<double, 3>& p, int dx, int dy, int dz) {
-        const auto c = [&](double x, int d) { return static_cast<std::int64_t>(std::floor(x / cell)) + d; };
-        return std::array<std::int64_t, 3>{c(p[0], dx), c(p[1], dy), c(p[2], dz)};
-    };
-    std::vector<std::pair<std::array<std::int64_t, 3>, int>> grid;
-    grid.reserve(mesh.positions.size());
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) grid.push_back({key(mesh.positions[i], 0, 0, 0), static_cast<int>(i)});
-    std::sort(grid.begin(), grid.end());
+    const CellGrid grid(mesh.positions, cell);
     const int rings = 4;
     int worst = -1;
     double worst_d = -1;
     for (std::size_t v = 0; v < input.positions.size(); ++v) {
-        const auto& p = input.positions[v];
-        double best = HUGE_VAL;
-        for (int dx = -rings; dx <= rings; ++dx)
-            for (int dy = -rings; dy <= rings; ++dy)
-                for (int dz = -rings; dz <= rings; ++dz) {
-                    const auto k = key(p, dx, dy, dz);
-                    auto it = std::lower_bound(grid.begin(), grid.end(), std::make_pair(k, -1));
-                    for (; it != grid.end() && it->first == k; ++it) {
-                        const auto& q = mesh.positions[static_cast<std::size_t>(it->second)];
-                        best = std::min(best, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                                        (p[2] - q[2]) * (p[2] - q[2])));
-                    }
-                }
-        best = std::min(best, (rings + 1) * cell); // beyond the searched rings
+        const double best = std::min(grid.nearest(input.positions[v], rings), (rings + 1) * cell); // beyond the rings
         if (best > worst_d) worst_d = best, worst = static_cast<int>(v);
     }
     return {worst, worst_d / cell};
