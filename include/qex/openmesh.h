@@ -5,14 +5,26 @@
 
 #include "qex/qex.h"
 
+// OpenMesh's property arrays grow by copying a default-constructed VectorT, whose elements are
+// left uninitialized by design; GCC 12 flags that copy (-Wmaybe-uninitialized) in every
+// translation unit that adds a vertex, so the warning is silenced for OpenMesh's headers only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 #include <array>
+#include <cstddef>
+#include <vector>
 
 namespace qex {
 
-/// Builds a qex::Input from a triangle mesh with halfedge_texcoords2D (throws nothing; faces that
-/// are not triangles are skipped and counted in `skipped_faces`).
+/// Builds a qex::Input from a triangle mesh with halfedge_texcoords2D. Faces that are not
+/// triangles are skipped and counted in `*skipped_faces` when it is given.
 template <class Mesh>
 Input from_openmesh(const Mesh& mesh, int* skipped_faces = nullptr) {
     Input in;
@@ -41,11 +53,22 @@ Input from_openmesh(const Mesh& mesh, int* skipped_faces = nullptr) {
     return in;
 }
 
-/// The quad mesh as an OpenMesh polygon mesh, local UVs as halfedge texcoords.
+/// The quad mesh as an OpenMesh polygon mesh (positions and UVs through float), local UVs as
+/// halfedge texcoords if every face has them. Every vertex index in `q.faces` must be below
+/// `q.positions.size()`.
+///
+/// OpenMesh's add_face rejects a face its halfedge structure cannot hold: one that would take the
+/// side of an edge another face already has (a third face on an edge, or a second one running
+/// along it in the same direction), one at a vertex whose faces already close around it, or one
+/// whose fans at a vertex cannot be relinked. Such faces are left out of the result. Their
+/// indices into `q.faces`, ascending, are stored in `*rejected_faces` (cleared first) when it is
+/// given: the result has `q.faces.size() - rejected_faces->size()` faces, the accepted ones in
+/// their order in `q`. Pass it unless the mesh is known to be manifold (qex's valid meshes are).
 template <class PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>>
-PolyMesh to_openmesh(const QuadMesh& q) {
+PolyMesh to_openmesh(const QuadMesh& q, std::vector<std::size_t>* rejected_faces = nullptr) {
     PolyMesh mesh;
     mesh.request_halfedge_texcoords2D();
+    if (rejected_faces) rejected_faces->clear();
     std::vector<typename PolyMesh::VertexHandle> vh;
     vh.reserve(q.positions.size());
     for (const auto& p : q.positions)
@@ -55,11 +78,14 @@ PolyMesh to_openmesh(const QuadMesh& q) {
         std::vector<typename PolyMesh::VertexHandle> face;
         for (int v : q.faces[f]) face.push_back(vh[v]);
         const auto fh = mesh.add_face(face);
-        if (!fh.is_valid() || q.face_uvs.size() != q.faces.size()) continue;
+        if (!fh.is_valid()) {
+            if (rejected_faces) rejected_faces->push_back(f);
+            continue;
+        }
+        if (q.face_uvs.size() != q.faces.size()) continue;
         std::size_t k = 0;
         for (auto heh : mesh.fh_range(fh)) {
-            // Corners in face order: the halfedge into corner k is the k-th of fh_range starting at
-            // the halfedge into the first vertex.
+            // The halfedge's texcoord is the UV of the corner it points to.
             for (std::size_t i = 0; i < q.faces[f].size(); ++i)
                 if (mesh.to_vertex_handle(heh) == vh[q.faces[f][i]]) k = i;
             const auto& t = q.face_uvs[f][k];

@@ -1,0 +1,63 @@
+// Polygon OBJ files (any quad mesh, e.g. one to check): `v` and `f` records, everything else
+// skipped.
+#include "qex/io.h"
+
+#include "io/text_cursor.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace qex {
+namespace {
+
+using io_detail::Cursor;
+using io_detail::err;
+
+/// An `f` record after its key: a vertex index per corner, resolved against the vertices so
+/// far; what follows an index up to the next blank (`/vt`, `/vt/vn`) is skipped.
+IoError read_polygon_face(Cursor& c, QuadMesh& out) {
+    std::vector<int> face;
+    while (!c.at_eol()) {
+        std::int64_t v;
+        if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+        int vi;
+        if (!io_detail::resolve(v, out.positions.size(), vi))
+            return err(IoError::Code::IndexOutOfRange, c.line, "vertex index out of range");
+        face.push_back(vi);
+        while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n') ++c.p;
+    }
+    out.faces.push_back(std::move(face));
+    return {};
+}
+
+} // namespace
+
+IoError read_polygon_obj(const std::string& path, QuadMesh& out) {
+    out = QuadMesh{};
+    std::string data;
+    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    Cursor c{data.data(), data.data() + data.size()};
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p >= c.end) break;
+        if (*c.p == '\n') { ++c.p; ++c.line; continue; }
+        if (*c.p == '#') { c.skip_line(); continue; }
+        const std::string_view key = c.read_key();
+        if (key == "v") {
+            std::array<double, 3> p{};
+            for (double& x : p)
+                if (!c.read_double(x)) return err(IoError::Code::Syntax, c.line, "expected 3 numbers after 'v'");
+            out.positions.push_back(p);
+        } else if (key == "f") {
+            if (IoError e = read_polygon_face(c, out); !e.ok()) return e;
+        }
+        c.skip_line(); // the rest of the record, and any record without meaning here
+    }
+    return {};
+}
+
+} // namespace qex

@@ -1,0 +1,57 @@
+// VVAL valence files: a JSON header line, the vertex count, then one valence per vertex.
+#include "qex/io.h"
+
+#include "io/text_cursor.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace qex {
+
+using io_detail::Cursor;
+using io_detail::err;
+
+IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {
+    valences.clear();
+    Cursor c{data, data + size};
+    // Line 1: the JSON header.
+    const char* nl = static_cast<const char*>(std::memchr(data, '\n', size));
+    const std::string header(data, nl ? nl : data + size);
+    if (header.find("\"VVAL\"") == std::string::npos)
+        return err(IoError::Code::VvalSyntax, 1, "expected the header {\"file_format\":\"VVAL\",\"version\":1}");
+    c.skip_line();
+    std::int64_t count = -1;
+    while (c.p < c.end) {
+        c.skip_blanks();
+        if (c.p < c.end && *c.p == '\n') { ++c.p; ++c.line; continue; }
+        if (c.p >= c.end) break;
+        std::int64_t x;
+        if (!c.read_int(x)) return err(IoError::Code::VvalSyntax, c.line, "expected an integer");
+        if (count < 0) {
+            if (x < 0 || x > (std::int64_t{1} << 30))
+                return err(IoError::Code::VvalSyntax, c.line, "implausible vertex count");
+            count = x;
+            valences.reserve(static_cast<std::size_t>(std::min<std::int64_t>(count, 1 << 24)));
+        } else {
+            if (x < 0 || x > 1000) return err(IoError::Code::VvalSyntax, c.line, "implausible valence");
+            valences.push_back(static_cast<int>(x));
+        }
+        if (!c.at_eol()) return err(IoError::Code::VvalSyntax, c.line, "trailing characters");
+    }
+    if (count < 0) return err(IoError::Code::VvalSyntax, c.line, "missing vertex count");
+    if (static_cast<std::int64_t>(valences.size()) != count)
+        return err(IoError::Code::VvalSyntax, c.line,
+                   "expected " + std::to_string(count) + " valences, found " + std::to_string(valences.size()));
+    return {};
+}
+
+IoError read_vval(const std::string& path, std::vector<int>& valences) {
+    std::string data;
+    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    return parse_vval(data.data(), data.size(), valences);
+}
+
+} // namespace qex
