@@ -54,13 +54,13 @@ Input from_openmesh(const Mesh& mesh, int* skipped_faces = nullptr) {
 }
 
 /// The quad mesh as an OpenMesh polygon mesh (positions and UVs through float), local UVs as
-/// halfedge texcoords if every face has them. Every vertex index in `q.faces` must be below
-/// `q.positions.size()`.
+/// halfedge texcoords if every face has them.
 ///
 /// OpenMesh's add_face rejects a face its halfedge structure cannot hold: one that would take the
 /// side of an edge another face already has (a third face on an edge, or a second one running
 /// along it in the same direction), one at a vertex whose faces already close around it, or one
-/// whose fans at a vertex cannot be relinked. Such faces are left out of the result. Their
+/// whose fans at a vertex cannot be relinked; and here a face with a vertex index out of range.
+/// Such faces are left out of the result. Their
 /// indices into `q.faces`, ascending, are stored in `*rejected_faces` (cleared first) when it is
 /// given: the result has `q.faces.size() - rejected_faces->size()` faces, the accepted ones in
 /// their order in `q`. Pass it unless the mesh is known to be manifold (qex's valid meshes are).
@@ -76,8 +76,9 @@ PolyMesh to_openmesh(const QuadMesh& q, std::vector<std::size_t>* rejected_faces
                                                               static_cast<float>(p[2]))));
     for (std::size_t f = 0; f < q.faces.size(); ++f) {
         std::vector<typename PolyMesh::VertexHandle> face;
-        for (int v : q.faces[f]) face.push_back(vh[v]);
-        const auto fh = mesh.add_face(face);
+        for (int v : q.faces[f])
+            if (v >= 0 && static_cast<std::size_t>(v) < vh.size()) face.push_back(vh[static_cast<std::size_t>(v)]);
+        const auto fh = face.size() == q.faces[f].size() ? mesh.add_face(face) : typename PolyMesh::FaceHandle();
         if (!fh.is_valid()) {
             if (rejected_faces) rejected_faces->push_back(f);
             continue;

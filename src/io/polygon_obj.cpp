@@ -26,7 +26,9 @@ IoError read_polygon_face(Cursor& c, QuadMesh& out) {
         if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
         int vi;
         if (!io_detail::resolve(v, out.positions.size(), vi))
-            return err(IoError::Code::IndexOutOfRange, c.line, "vertex index out of range");
+            return err(IoError::Code::IndexOutOfRange, c.line,
+                       "vertex index " + std::to_string(v) + " out of range (" + std::to_string(out.positions.size()) +
+                           " vertices so far)");
         face.push_back(vi);
         while (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\r' && *c.p != '\n') ++c.p;
     }
@@ -34,12 +36,8 @@ IoError read_polygon_face(Cursor& c, QuadMesh& out) {
     return {};
 }
 
-} // namespace
-
-IoError read_polygon_obj(const std::string& path, QuadMesh& out) {
-    out = QuadMesh{};
-    std::string data;
-    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+/// The records of `data`, into `out` (which may hold a part on a problem).
+IoError parse_polygon_obj(const std::string& data, QuadMesh& out) {
     Cursor c{data.data(), data.data() + data.size()};
     while (c.p < c.end) {
         c.skip_blanks();
@@ -58,6 +56,17 @@ IoError read_polygon_obj(const std::string& path, QuadMesh& out) {
         c.skip_line(); // the rest of the record, and any record without meaning here
     }
     return {};
+}
+
+} // namespace
+
+IoError read_polygon_obj(const std::string& path, QuadMesh& out) {
+    out = QuadMesh{};
+    std::string data;
+    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    IoError e = parse_polygon_obj(data, out);
+    if (!e.ok()) out = QuadMesh{}; // like every reader: nothing from a file with a problem
+    return e;
 }
 
 } // namespace qex
