@@ -1,6 +1,7 @@
 # ctest's install_consumer: installs the build tree BUILD into a fresh prefix under WORK, then
-# configures, builds and runs the consumer project against that prefix alone.
-foreach(var BUILD SOURCE WORK SAMPLE)
+# configures, builds and runs the consumer project against that prefix alone; then configures
+# it with the qex sources QEX as a subproject.
+foreach(var BUILD SOURCE WORK SAMPLE QEX)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "install_consumer: -D${var}=... is required")
   endif()
@@ -24,3 +25,6 @@ step(${CMAKE_COMMAND} -S ${SOURCE} -B ${WORK}/build -G Ninja -DCMAKE_BUILD_TYPE=
 step(${CMAKE_COMMAND} --build ${WORK}/build)
 step(${WORK}/build/consumer ${SAMPLE})
 step(${WORK}/build/checker_only)
+# As a subproject (configuration only: the libraries' targets exist, the CLI, tests and fuzzers
+# do not).
+step(${CMAKE_COMMAND} -S ${SOURCE} -B ${WORK}/subproject -G Ninja -DQEX_SOURCE_DIR=${QEX})
