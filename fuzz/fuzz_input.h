@@ -4,9 +4,19 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace qex::fuzz {
+
+/// Reports a broken invariant on stderr (the replay runs many inputs; this says which check) and
+/// aborts, which the fuzzer records as a crash.
+[[noreturn]] inline void fail(const std::string& why) {
+    std::fprintf(stderr, "invariant broken: %s\n", why.c_str());
+    std::abort();
+}
 
 class Bytes {
 public:

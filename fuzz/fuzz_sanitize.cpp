@@ -4,8 +4,6 @@
 #include "map_generators.h"
 #include "pipeline.h"
 
-#include <cstdlib>
-
 using namespace qex;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -20,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
     if (detail::validate_input_values(in).code != ErrorCode::None) return 0;
     detail::TriMesh m = detail::make_mesh(in);
-    if (detail::build_topology(m, "fuzz").code != ErrorCode::None) std::abort(); // topology is fixed
+    if (detail::build_topology(m, "fuzz").code != ErrorCode::None) fuzz::fail("the fixed mesh's topology was rejected");
     std::int64_t collapsed = 0;
     if (detail::collapse(m, collapsed).code != ErrorCode::None) return 0;
     detail::compute_transitions(m);
@@ -30,10 +28,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
         const int o = m.opp[h];
         if (o < 0) continue;
-        if (!(m.map.transition[o] == m.map.transition[h].inverse())) std::abort();
+        if (!(m.map.transition[o] == m.map.transition[h].inverse()))
+            fuzz::fail("opposite transitions are not inverses");
         // Exactness holds while coordinates stay below 2^52 (validated).
-        if (m.map.transition[h](m.uv[h]) != m.uv[detail::TriMesh::next(o)]) std::abort();
-        if (m.map.transition[h](m.uv[detail::TriMesh::next(h)]) != m.uv[o]) std::abort();
+        if (m.map.transition[h](m.uv[h]) != m.uv[detail::TriMesh::next(o)])
+            fuzz::fail("a transition does not map an edge's first corner exactly");
+        if (m.map.transition[h](m.uv[detail::TriMesh::next(h)]) != m.uv[o])
+            fuzz::fail("a transition does not map an edge's second corner exactly");
     }
     return 0;
 }

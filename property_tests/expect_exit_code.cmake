@@ -1,5 +1,6 @@
 # Runs `qex extract IN -o OUT` (or, with MESH given, `qex check --param IN MESH`) and fails
-# unless the exit code is EXPECT, an error message was printed and OUT was not written.
+# unless the exit code is EXPECT, an error message was printed (matching the regular expression
+# MESSAGE, if given) and OUT was not written.
 if(DEFINED MESH)
   execute_process(COMMAND ${QEX} check --param ${IN} ${MESH} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
 else()
@@ -13,4 +14,7 @@ if(EXISTS ${OUT} OR EXISTS ${OUT}.tmp)
 endif()
 if(err STREQUAL "")
   message(FATAL_ERROR "no error message")
+endif()
+if(DEFINED MESSAGE AND NOT err MATCHES "${MESSAGE}")
+  message(FATAL_ERROR "the error message does not match '${MESSAGE}': ${err}")
 endif()

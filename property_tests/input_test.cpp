@@ -1,10 +1,12 @@
 // Bad input: every problem gets its own error code and names its place; nothing crashes.
+#include "result_checks.h"
 #include "test_support.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <set>
 #include <string>
 
 namespace qex::testing {
@@ -142,13 +144,52 @@ TEST(Obj, ErrorsNameTheLine) {
     }
 }
 
-TEST(Obj, TruncatedFilesNeverCrash) {
-    const std::string good = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
-    for (std::size_t n = 0; n <= good.size(); ++n) {
-        Input in;
-        const IoError e = parse(good.substr(0, n), in);
-        if (e.ok()) (void)extract(in); // whatever parsed must be handled cleanly
+/// What became of one truncation of an OBJ text: a parse error, an extraction error, an
+/// extracted mesh the checker rejects (with the defects reported), or a valid one.
+enum class Outcome { ParseError, ExtractionError, Invalid, Valid };
+
+/// Asserts what must hold for `text`: a parse error has a message, a line of the text and leaves
+/// nothing read; parsed data has consistent sizes and indices; an extraction error has a code
+/// and a message; an extracted mesh comes with a consistent result (result_checks.h).
+Outcome truncation_outcome(const std::string& text) {
+    Input in;
+    const IoError e = parse(text, in);
+    if (!e.ok()) {
+        const auto lines = std::count(text.begin(), text.end(), '\n') + (!text.empty() && text.back() != '\n');
+        EXPECT_FALSE(e.message.empty()) << text;
+        EXPECT_GE(e.line, 1) << text;
+        EXPECT_LE(e.line, lines) << text;
+        EXPECT_TRUE(in.positions.empty() && in.triangles.empty() && in.uvs.empty()) << text;
+        return Outcome::ParseError;
     }
+    EXPECT_EQ(in.uvs.size(), 3 * in.triangles.size()) << text;
+    for (const auto& t : in.triangles)
+        for (int v : t) EXPECT_TRUE(v >= 0 && v < static_cast<int>(in.positions.size())) << text;
+    const Result r = extract(in);
+    if (!r.ok()) {
+        EXPECT_FALSE(r.error.message.empty()) << text;
+        return Outcome::ExtractionError;
+    }
+    EXPECT_EQ(result_inconsistency(in, r), "") << text;
+    if (r.check.valid) return Outcome::Valid;
+    EXPECT_FALSE(r.report.defects.empty()) << text;
+    return Outcome::Invalid;
+}
+
+TEST(Obj, TruncatedFilesNeverCrash) {
+    // A unit square of two triangles, the second one's vertex after the first one's face; cut
+    // after any byte. The first triangle alone extracts to an empty mesh (its cell is cut by the
+    // diagonal boundary), which the report explains.
+    const std::string good = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n"
+                             "v 0 1 0\nvt 0 1\nf 1/1 3/3 4/4\n";
+    std::set<Outcome> seen;
+    for (std::size_t n = 0; n <= good.size(); ++n) seen.insert(truncation_outcome(good.substr(0, n)));
+    // Every outcome occurs, and the whole text gives the one quad.
+    EXPECT_EQ(seen.size(), 4u);
+    Input in;
+    ASSERT_TRUE(parse(good, in).ok());
+    const Result r = extract_valid(in);
+    EXPECT_EQ(r.mesh.faces.size(), 1u);
 }
 
 TEST(Obj, FilesAreReadInChunksLikeOneBuffer) {

@@ -1,5 +1,6 @@
 // Real parametrizations from ../shared (skipped with a message where absent): the paper's six
 // maps must extract to valid quad meshes; the 25 MIQ maps must end valid or with located defects.
+#include "result_checks.h"
 #include "test_support.h"
 
 #include <filesystem>
@@ -31,6 +32,7 @@ TEST(RealMaps, PaperMapsGiveValidQuadMeshes) {
         ASSERT_TRUE(r.ok()) << path << ": " << r.error.message;
         const VerifyResult v = verify(in, r.mesh);
         EXPECT_TRUE(v.valid) << path << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+        EXPECT_EQ(result_inconsistency(in, r, &v), "") << path;
         // The oracle for other extractors accepts it too: positions only, located on the raw map.
         QuadMesh bare = r.mesh;
         bare.provenance.clear();
@@ -82,6 +84,9 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
             continue;
         }
         const VerifyResult v = verify(in, r.mesh);
+        // The verdict is the checker's, the checker defects its violations kind for kind, and
+        // every defect names a place (result_checks.h).
+        EXPECT_EQ(result_inconsistency(in, r, &v), "") << path;
         if (v.valid) { ++valid; continue; }
         // Invalid: every violation names an element, and the report locates defects on the input.
         EXPECT_EQ(r.report.check_violations, static_cast<std::int64_t>(v.violations.size())) << path;

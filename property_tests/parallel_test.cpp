@@ -1,0 +1,117 @@
+// The parallel loops: any thread count gives the serial output, and the serial error.
+#include "test_support.h"
+
+#include <cstdio>
+#include <random>
+
+namespace qex::testing {
+namespace {
+
+TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
+    // Options::threads changes who computes, not what: bit-identical meshes, provenance and maps.
+    std::vector<Input> inputs;
+    // Loops run in parallel from 2^16 corners on; the large torus and its subdivided cube are
+    // above that, the others below.
+    for (const auto& layout : {cube_layout(), prism_layout(5), annulus_layout(), torus_layout(32, 16)}) {
+        Input in = make_map(layout, 2, layout.quads.size() > 100 ? 6 : 5, 2, 7);
+        std::mt19937 rng(3);
+        rechart(in, rng);
+        add_noise(in, 1e-9, rng);
+        inputs.push_back(in);
+    }
+    {
+        std::vector<char> single;
+        Input folded = make_map(torus_layout(), 2, 5, 1, 1, &single);
+        for (int v = 0; v < static_cast<int>(folded.positions.size()); ++v)
+            if (single[v] && displace_vertex(folded, v, 0.7, 0.7) > 0) break;
+        inputs.push_back(folded);
+        inputs.push_back(subdivide(subdivide(subdivide(subdivide(make_map(cube_layout(), 3, 3, 2, 5))))));
+    }
+    ASSERT_GE(3 * inputs[3].triangles.size(), std::size_t{1} << 16);
+    ASSERT_GE(3 * inputs.back().triangles.size(), std::size_t{1} << 16);
+    for (const Input& in : inputs) {
+        Options serial, parallel;
+        serial.threads = 1;
+        parallel.threads = 2;
+        const Result a = extract(in, serial), b = extract(in, parallel);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+        EXPECT_EQ(a.mesh.faces, b.mesh.faces);
+        EXPECT_EQ(a.mesh.face_uvs, b.mesh.face_uvs);
+        EXPECT_EQ(a.mesh.map_uvs, b.mesh.map_uvs);
+        ASSERT_EQ(a.mesh.provenance.size(), b.mesh.provenance.size());
+        for (std::size_t i = 0; i < a.mesh.provenance.size(); ++i) {
+            EXPECT_EQ(a.mesh.provenance[i].grid, b.mesh.provenance[i].grid);
+            EXPECT_EQ(a.mesh.provenance[i].chart_triangle, b.mesh.provenance[i].chart_triangle);
+        }
+        EXPECT_EQ(a.report.singularities, b.report.singularities);
+    }
+}
+
+TEST(Extraction, ParallelTopologyReportsTheSerialError) {
+    // The edge table is filled and checked on several threads; a broken large input must get
+    // the error (kind, message, element) a serial run reports: the first in the serial order.
+    const Input base = subdivide(subdivide(subdivide(subdivide(make_map(cube_layout(), 3, 3, 2, 5)))));
+    ASSERT_GE(3 * base.triangles.size(), std::size_t{1} << 16);
+    ASSERT_GT(base.triangles.size(), std::size_t{25000});
+    // Two defects of one kind per input; the serial order reports the one on the edge whose
+    // smaller vertex comes first, so each is also extracted alone to know its message.
+    auto doubled = [&](std::vector<std::size_t> faces) {
+        Input in = base;
+        for (std::size_t f : faces) {
+            in.triangles.push_back(in.triangles[f]);
+            for (std::size_t k = 0; k < 3; ++k) in.uvs.push_back(in.uvs[3 * f + k]);
+        }
+        return in;
+    };
+    auto flipped = [&](std::vector<std::size_t> faces) {
+        Input in = base;
+        for (std::size_t f : faces) {
+            std::swap(in.triangles[f][1], in.triangles[f][2]);
+            std::swap(in.uvs[3 * f + 1], in.uvs[3 * f + 2]);
+        }
+        return in;
+    };
+    auto smaller_vertex = [](const std::string& message) {
+        int a = -1, b = -1;
+        EXPECT_EQ(std::sscanf(message.c_str(), "edge (%d, %d)", &a, &b), 2) << message;
+        return std::min(a, b);
+    };
+    Options serial, parallel;
+    serial.threads = 1;
+    parallel.threads = 2;
+    for (int kind = 0; kind < 2; ++kind) {
+        const std::size_t f1 = kind == 0 ? 20000 : 25000, f2 = kind == 0 ? 7 : 123;
+        auto make = [&](std::vector<std::size_t> faces) { return kind == 0 ? doubled(faces) : flipped(faces); };
+        const Input both = make({f1, f2});
+        const Result a = extract(both, serial), b = extract(both, parallel);
+        ASSERT_FALSE(a.ok());
+        EXPECT_EQ(a.error.code, b.error.code);
+        EXPECT_EQ(a.error.message, b.error.message);
+        EXPECT_EQ(a.error.element, b.error.element);
+        const Result one = extract(make({f1}), parallel), two = extract(make({f2}), parallel);
+        const Result& first = smaller_vertex(one.error.message) < smaller_vertex(two.error.message) ? one : two;
+        EXPECT_EQ(b.error.message, first.error.message);
+    }
+    // Q-vertices are generated in ranges on all threads: a budget exhausted partway is reported
+    // at the same triangle as in a serial run, for edge- and for face-q-vertices.
+    const Input grid = make_map(torus_layout(32, 16), 8, 7);
+    ASSERT_GE(3 * grid.triangles.size(), std::size_t{1} << 16);
+    const Result full = extract(grid, parallel);
+    ASSERT_TRUE(full.ok());
+    ASSERT_GT(full.report.qvertices_on_edges, 1000);
+    ASSERT_GT(full.report.qvertices_in_faces, 1000);
+    const std::int64_t total = full.report.qvertices_on_vertices + full.report.qvertices_on_edges + full.report.qvertices_in_faces;
+    for (const std::int64_t budget : {full.report.qvertices_on_vertices + full.report.qvertices_on_edges / 2,
+                                      total - full.report.qvertices_in_faces / 3}) {
+        Options a = serial, b = parallel;
+        a.max_qvertices = b.max_qvertices = budget;
+        const Result x = extract(grid, a), y = extract(grid, b);
+        EXPECT_EQ(x.error.code, ErrorCode::MapTooLarge);
+        EXPECT_EQ(x.error.code, y.error.code);
+        EXPECT_EQ(x.error.element, y.error.element);
+        EXPECT_GE(x.error.element, 0);
+    }
+}
+} // namespace
+} // namespace qex::testing

@@ -1,0 +1,74 @@
+// Stage-level unit tests: sanitization (Section 3) and the transition table on the working mesh.
+#include "pipeline.h"
+#include "test_support.h"
+
+#include <limits>
+#include <random>
+
+namespace qex::testing {
+namespace {
+
+TEST(Extraction, SanitizationIsIdempotent) {
+    Input in = make_map(icosahedron_layout(), 2, 3);
+    std::mt19937 rng(5);
+    add_noise(in, 1e-8, rng);
+    rechart(in, rng);
+    detail::TriMesh m = detail::make_mesh(in);
+    ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    Report rep;
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    ASSERT_EQ(detail::sanitize(m, {}, {}, rep).code, ErrorCode::None);
+    const auto once = m.uv;
+    // Every transition maps both corners of its edge exactly.
+    for (int h = 0; h < 3 * m.num_faces(); ++h) {
+        const int o = m.opp[h];
+        if (o < 0) continue;
+        EXPECT_EQ(m.map.transition[h](m.uv[h]), m.uv[detail::TriMesh::next(o)]);
+        EXPECT_EQ(m.map.transition[h](m.uv[detail::TriMesh::next(h)]), m.uv[o]);
+    }
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    Report rep2;
+    ASSERT_EQ(detail::sanitize(m, {}, {}, rep2).code, ErrorCode::None);
+    EXPECT_EQ(m.uv, once);
+    EXPECT_EQ(rep2.max_sanitization_displacement, 0.0);
+}
+
+TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
+    // The table is allocated without clearing (and reused when the size is unchanged), so
+    // compute_transitions must write every entry: boundary half-edges and edges of a triangle
+    // without UVs (collapsed away) get the identity, every interior pair two inverses.
+    Input in = make_map(annulus_layout(), 2, 3);
+    std::mt19937 rng(9);
+    rechart(in, rng);
+    detail::TriMesh m = detail::make_mesh(in);
+    ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    const int nh = 3 * m.num_faces();
+    int interior_face = -1;
+    for (int f = 0; f < m.num_faces() && interior_face < 0; ++f)
+        if (m.opp[3 * f] >= 0 && m.opp[3 * f + 1] >= 0 && m.opp[3 * f + 2] >= 0) interior_face = f;
+    ASSERT_GE(interior_face, 0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int k = 0; k < 3; ++k) m.uv[3 * interior_face + k] = {nan, nan};
+    m.map.transition.allocate(static_cast<std::size_t>(nh));
+    const detail::GridAutomorphism junk{3, 12345, -678};
+    for (int h = 0; h < nh; ++h) m.map.transition.set(static_cast<std::size_t>(h), junk);
+    detail::compute_transitions(m);
+    int boundary = 0, missing = 0;
+    for (int h = 0; h < nh; ++h) {
+        const int o = m.opp[h];
+        const bool no_uv = detail::TriMesh::face(h) == interior_face || (o >= 0 && detail::TriMesh::face(o) == interior_face);
+        if (o < 0 || no_uv) {
+            EXPECT_TRUE(m.map.transition[h] == detail::GridAutomorphism{}) << h;
+            boundary += o < 0;
+            missing += no_uv;
+        } else {
+            EXPECT_TRUE(m.map.transition[h].after(m.map.transition[o]) == detail::GridAutomorphism{}) << h;
+        }
+    }
+    EXPECT_GT(boundary, 0);
+    EXPECT_EQ(missing, 6); // the triangle's three half-edges and their three opposites
+}
+} // namespace
+} // namespace qex::testing
