@@ -21,19 +21,6 @@ inline bool is_whole_mesh_violation(ViolationKind k) {
            k == ViolationKind::CoverageMismatch || k == ViolationKind::TooLarge;
 }
 
-/// Violations of one place that the extractor does not locate yet (src/extract/locate_defects.cpp
-/// turns only a face's or a vertex's violation into an input triangle and grid point; an edge, an
-/// input vertex or a located vertex is left without one). A known gap, listed here so that the
-/// check holds for every other kind: the fuzz corpus has NotOnGridPoint, SingularityOffGrid and
-/// NonManifoldEdge defects without a place.
-inline bool is_left_unplaced(ViolationKind k) {
-    return k == ViolationKind::BadIndex || k == ViolationKind::NonManifoldEdge ||
-           k == ViolationKind::UnreferencedVertex || k == ViolationKind::NonFinitePosition ||
-           k == ViolationKind::MapNotIntegerGrid || k == ViolationKind::NotOnGridPoint ||
-           k == ViolationKind::SingularityOffGrid || k == ViolationKind::OffSurface ||
-           k == ViolationKind::FaceNotGridCell;
-}
-
 /// An explanation of a quad count below the UV area, not a defect.
 inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
@@ -104,9 +91,21 @@ inline bool names_an_output_vertex(const Result& r, const Defect& d) {
     return false;
 }
 
+/// The check's violation a checker defect came from: the checker defects are the violations
+/// one to one and in order (verdict_inconsistency), so the k-th checker defect is violation k.
+inline const Violation* violation_of(const Result& r, const Defect& d) {
+    std::size_t k = 0;
+    for (const Defect& e : r.report.defects) {
+        if (&e == &d) return k < r.check.violations.size() ? &r.check.violations[k] : nullptr;
+        k += e.violation.has_value();
+    }
+    return nullptr;
+}
+
 /// "" when the defect names a place that exists: an input triangle or an output face in range;
-/// every defect of the extractor names an input triangle; a checker defect of one place (not of
-/// the whole mesh, nor of a kind left unplaced) names an output vertex's triangle and grid point.
+/// every defect of the extractor names an input triangle; a checker defect of one element names
+/// an input triangle, and for an output face or vertex that face and an output vertex's
+/// triangle and grid point.
 inline std::string misplaced(const Input& in, const Result& r, const Defect& d) {
     const auto triangles = static_cast<std::int64_t>(in.triangles.size());
     const auto faces = static_cast<std::int64_t>(r.mesh.faces.size());
@@ -118,9 +117,20 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d) 
         return what + ": does not name a face with other than 4 vertices";
     if (d.kind != DefectKind::CheckerViolation)
         return d.input_element < 0 ? what + ": names no input triangle" : std::string();
-    if (is_whole_mesh_violation(*d.violation) || is_left_unplaced(*d.violation)) return {};
+    const ViolationElement element = element_kind(*d.violation);
+    if (is_whole_mesh_violation(*d.violation) != (element == ViolationElement::None))
+        return what + ": element_kind disagrees with the kind's scope";
+    if (element == ViolationElement::None) return {};
+    const Violation* v = violation_of(r, d);
+    if (!v) return what + ": matches no violation of the check";
+    if (v->element < 0) return {}; // the checker named no single element
     if (d.input_element < 0) return what + ": names no place";
-    if (!names_an_output_vertex(r, d)) return what + ": its triangle and grid point are no output vertex's there";
+    if (element == ViolationElement::OutputFace && d.output_face != v->element)
+        return what + ": names face " + std::to_string(d.output_face) + ", the violation face " +
+               std::to_string(v->element);
+    if ((element == ViolationElement::OutputFace || element == ViolationElement::OutputVertex) &&
+        !names_an_output_vertex(r, d))
+        return what + ": its triangle and grid point are no output vertex's there";
     return {};
 }
 

@@ -26,10 +26,23 @@ enum class ViolationKind {
 };
 const char* to_string(ViolationKind kind);
 
+/// What Violation::element indexes, for each kind of violation.
+enum class ViolationElement {
+    None,          ///< nothing: a violation of the whole mesh (topology counts, coverage, size)
+    OutputFace,    ///< a face of the judged mesh
+    OutputVertex,  ///< a vertex of the judged mesh
+    InputVertex,   ///< a vertex of the input (SingularityOffGrid)
+    InputTriangle, ///< a triangle of the input (MapNotIntegerGrid)
+};
+/// What a violation of kind `kind` names in Violation::element.
+ViolationElement element_kind(ViolationKind kind);
+
 struct Violation {
     ViolationKind kind;
     std::string message;
-    std::int64_t element = -1; ///< output face, vertex or edge (see message)
+    /// The element at fault, of the kind element_kind(kind) says; -1 when the violation has no
+    /// single place (always for ViolationElement::None).
+    std::int64_t element = -1;
 };
 
 struct VerifyResult {

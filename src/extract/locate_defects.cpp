@@ -1,5 +1,7 @@
 // Where a rejected mesh is wrong: every checker violation becomes a defect that keeps the
-// violation's kind and names the output face, the input triangle and the grid point it is near.
+// violation's kind and names what its element says (element_kind): for an output face or
+// vertex, the face and the input triangle and grid point of the vertex's provenance; for an
+// input vertex or triangle, an input triangle.
 // A global violation (Euler characteristic, boundary loops, components) names where faces were
 // removed and the input vertex farthest from the output, where a lost handle or a hole shows.
 #include "pipeline.h"
@@ -80,17 +82,6 @@ std::pair<int, double> barest_input_vertex(const Input& input, const QuadMesh& m
     return {worst, worst_d / cell};
 }
 
-bool is_global(ViolationKind k) {
-    return k == ViolationKind::EulerMismatch || k == ViolationKind::BoundaryMismatch ||
-           k == ViolationKind::ComponentMismatch;
-}
-
-/// Whether the checker's `element` of a violation of this kind is an output face.
-bool is_per_face(ViolationKind k) {
-    return k == ViolationKind::NotQuad || k == ViolationKind::RepeatedVertex ||
-           k == ViolationKind::InconsistentOrientation || k == ViolationKind::LocalUvNotUnitSquare;
-}
-
 /// A global defect has no single place; the places where faces were removed are where the
 /// topology can have changed, and the barest input vertex is where the output is missing.
 void describe_global(const Input& input, const Result& result, Defect& d) {
@@ -112,31 +103,67 @@ void describe_global(const Input& input, const Result& result, Defect& d) {
     }
 }
 
+/// The first vertex of face `f` that has a provenance, or -1.
+int vertex_of_face(const QuadMesh& mesh, std::int64_t f) {
+    if (f < 0 || f >= static_cast<std::int64_t>(mesh.faces.size())) return -1;
+    for (int v : mesh.faces[static_cast<std::size_t>(f)])
+        if (v >= 0 && v < static_cast<int>(mesh.provenance.size())) return v;
+    return -1;
+}
+
+/// The first input triangle with vertex `v`, or -1.
+std::int64_t triangle_of_vertex(const Input& input, std::int64_t v) {
+    for (std::size_t t = 0; t < input.triangles.size(); ++t)
+        for (int w : input.triangles[t])
+            if (w == v) return static_cast<std::int64_t>(t);
+    return -1;
+}
+
+/// Names the place of a violation of one output vertex: its provenance's triangle and grid point.
+void place_at_vertex(const QuadMesh& mesh, int vertex, Defect& d) {
+    if (vertex < 0 || vertex >= static_cast<int>(mesh.provenance.size())) return;
+    const Provenance& p = mesh.provenance[static_cast<std::size_t>(vertex)];
+    d.input_element = p.chart_triangle;
+    d.grid = p.grid;
+    d.message += " (near grid point (" + std::to_string(p.grid[0]) + ", " + std::to_string(p.grid[1]) +
+                 ") of input triangle " + std::to_string(p.chart_triangle) + ")";
+}
+
+/// The defect for one violation, placed by what its element indexes.
+Defect locate(const Input& input, const Result& result, const Violation& v) {
+    const QuadMesh& mesh = result.mesh;
+    Defect d{DefectKind::CheckerViolation, v.message, -1, -1, {0, 0}, v.kind};
+    switch (element_kind(v.kind)) {
+        case ViolationElement::OutputFace:
+            if (const int vertex = vertex_of_face(mesh, v.element); vertex >= 0) {
+                d.output_face = v.element;
+                place_at_vertex(mesh, vertex, d);
+            }
+            break;
+        case ViolationElement::OutputVertex:
+            if (v.element >= 0 && v.element < static_cast<std::int64_t>(mesh.positions.size()))
+                place_at_vertex(mesh, static_cast<int>(v.element), d);
+            break;
+        case ViolationElement::InputVertex:
+            d.input_element = triangle_of_vertex(input, v.element);
+            break;
+        case ViolationElement::InputTriangle:
+            if (v.element >= 0 && v.element < static_cast<std::int64_t>(input.triangles.size()))
+                d.input_element = v.element;
+            break;
+        case ViolationElement::None:
+            if (v.kind == ViolationKind::EulerMismatch || v.kind == ViolationKind::BoundaryMismatch ||
+                v.kind == ViolationKind::ComponentMismatch)
+                describe_global(input, result, d);
+            break;
+    }
+    return d;
+}
+
 } // namespace
 
 void locate_violations(const Input& input, Result& result) {
-    const QuadMesh& mesh = result.mesh;
-    for (const Violation& v : result.check.violations) {
-        Defect d{DefectKind::CheckerViolation, v.message, -1, -1, {0, 0}, v.kind};
-        int vertex = -1;
-        if (is_per_face(v.kind) && v.element >= 0 && v.element < static_cast<std::int64_t>(mesh.faces.size())) {
-            d.output_face = v.element;
-            if (!mesh.faces[static_cast<std::size_t>(v.element)].empty())
-                vertex = mesh.faces[static_cast<std::size_t>(v.element)][0];
-        } else if (v.kind == ViolationKind::NonManifoldVertex) {
-            vertex = static_cast<int>(v.element);
-        } else if (is_global(v.kind)) {
-            describe_global(input, result, d);
-        }
-        if (vertex >= 0 && vertex < static_cast<int>(mesh.provenance.size())) {
-            const Provenance& p = mesh.provenance[static_cast<std::size_t>(vertex)];
-            d.input_element = p.chart_triangle;
-            d.grid = p.grid;
-            d.message += " (near grid point (" + std::to_string(p.grid[0]) + ", " + std::to_string(p.grid[1]) +
-                         ") of input triangle " + std::to_string(p.chart_triangle) + ")";
-        }
-        result.report.defects.push_back(std::move(d));
-    }
+    for (const Violation& v : result.check.violations) result.report.defects.push_back(locate(input, result, v));
 }
 
 } // namespace qex::detail

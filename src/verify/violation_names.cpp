@@ -1,4 +1,5 @@
-// Names of the checker's violation kinds, for messages and JSON reports.
+// Names of the checker's violation kinds, for messages and JSON reports, and what each kind's
+// Violation::element indexes.
 #include "qex/verify.h"
 
 namespace qex {
@@ -27,6 +28,32 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::CoverageMismatch: return "CoverageMismatch";
     }
     return "Unknown";
+}
+
+ViolationElement element_kind(ViolationKind k) {
+    switch (k) {
+        case ViolationKind::NotQuad:
+        case ViolationKind::BadIndex:
+        case ViolationKind::RepeatedVertex:
+        case ViolationKind::NonManifoldEdge:
+        case ViolationKind::InconsistentOrientation:
+        case ViolationKind::LocalUvNotUnitSquare:
+        case ViolationKind::FaceNotGridCell: return ViolationElement::OutputFace;
+        case ViolationKind::NonManifoldVertex:
+        case ViolationKind::UnreferencedVertex:
+        case ViolationKind::NonFinitePosition:
+        case ViolationKind::NotOnGridPoint:
+        case ViolationKind::OffSurface: return ViolationElement::OutputVertex;
+        case ViolationKind::SingularityOffGrid: return ViolationElement::InputVertex;
+        case ViolationKind::MapNotIntegerGrid: return ViolationElement::InputTriangle;
+        case ViolationKind::BoundaryMismatch:
+        case ViolationKind::EulerMismatch:
+        case ViolationKind::ComponentMismatch:
+        case ViolationKind::EmptyMesh:
+        case ViolationKind::CoverageMismatch:
+        case ViolationKind::TooLarge: return ViolationElement::None;
+    }
+    return ViolationElement::None;
 }
 
 } // namespace qex
