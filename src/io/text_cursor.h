@@ -27,7 +27,7 @@ struct Cursor {
     bool at_eol() { skip_blanks(); return p >= end || *p == '\n' || *p == '#'; }
     /// Moves past the next line end (to the buffer end if there is none) and counts a line.
     void skip_line() {
-        const void* nl = std::memchr(p, '\n', static_cast<std::size_t>(end - p));
+        const void* nl = p < end ? std::memchr(p, '\n', static_cast<std::size_t>(end - p)) : nullptr;
         p = nl ? static_cast<const char*>(nl) + 1 : end;
         ++line;
     }

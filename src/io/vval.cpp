@@ -18,7 +18,7 @@ IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valence
     valences.clear();
     Cursor c{data, data + size};
     // Line 1: the JSON header.
-    const char* nl = static_cast<const char*>(std::memchr(data, '\n', size));
+    const char* nl = size > 0 ? static_cast<const char*>(std::memchr(data, '\n', size)) : nullptr;
     const std::string header(data, nl ? nl : data + size);
     if (header.find("\"VVAL\"") == std::string::npos)
         return err(IoError::Code::VvalSyntax, 1, "expected the header {\"file_format\":\"VVAL\",\"version\":1}");
