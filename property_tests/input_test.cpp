@@ -314,5 +314,34 @@ TEST(Vval, HeaderCountAndValues) {
     EXPECT_EQ(parse_vval(no_header.data(), no_header.size(), val).code, IoError::Code::VvalSyntax);
 }
 
+TEST(Readers, LeaveNothingOnAProblem) {
+    // io.h: on a problem every reader leaves its output empty, whatever it held or had read.
+    const std::string missing = ::testing::TempDir() + "qex_no_such_file.obj";
+    Input in = make_map(torus_layout(), 1, 1);
+    EXPECT_EQ(read_obj(missing, in).code, IoError::Code::CannotOpen);
+    EXPECT_TRUE(in.positions.empty() && in.triangles.empty() && in.uvs.empty());
+    std::vector<int> val{4, 4, 4};
+    EXPECT_EQ(read_vval(missing, val).code, IoError::Code::CannotOpen);
+    EXPECT_TRUE(val.empty());
+    const std::string late = "{\"file_format\":\"VVAL\",\"version\":1}\n3\n4\n5\nx\n"; // two read, then junk
+    EXPECT_EQ(parse_vval(late.data(), late.size(), val).line, 5);
+    EXPECT_TRUE(val.empty());
+    QuadMesh mesh;
+    mesh.faces = {{0, 1, 2, 3}};
+    EXPECT_EQ(read_polygon_obj(missing, mesh).code, IoError::Code::CannotOpen);
+    EXPECT_TRUE(mesh.faces.empty());
+    const std::string path = ::testing::TempDir() + "qex_polygon_late_error.obj";
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fputs("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 9\n", f);
+    std::fclose(f);
+    const IoError e = read_polygon_obj(path, mesh);
+    EXPECT_EQ(e.code, IoError::Code::IndexOutOfRange);
+    EXPECT_EQ(e.line, 6);
+    EXPECT_NE(e.message.find("vertex index 9"), std::string::npos) << e.message;
+    EXPECT_TRUE(mesh.positions.empty() && mesh.faces.empty());
+    std::remove(path.c_str());
+}
+
 } // namespace
 } // namespace qex::testing

@@ -90,7 +90,9 @@ struct Defect {
     std::int64_t input_element = -1;
     /// Output face at fault (NonQuadFace, and a CheckerViolation of one face); -1 otherwise.
     std::int64_t output_face = -1;
-    /// Integer grid point in the chart of triangle `input_element`.
+    /// Integer grid point in the chart of triangle `input_element`; (0, 0) for a defect that
+    /// names no grid point (a checker violation of an input vertex or triangle, or of the
+    /// whole mesh).
     std::array<std::int64_t, 2> grid{0, 0};
     /// For CheckerViolation: the kind of the checker's violation.
     std::optional<ViolationKind> violation;
@@ -134,7 +136,8 @@ struct Report {
     /// given map (they stay where the relaxed map put them, and the checker rejects them).
     std::int64_t unplaced_vertices = 0;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
-    /// name; see the README's pipeline table), summed over repeated runs, in first-run order.
+    /// name; see the README's pipeline table), summed over every run of the stage in this
+    /// extraction (sanitize rounds, and every rung tried), in first-run order.
     std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

@@ -227,7 +227,8 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     timer.done(Stage::check);
 }
 
-/// A fresh result for rung `r`, with what stages validate and collapse reported.
+/// A fresh result for rung `r`, with what stages validate and collapse reported, and the stage
+/// times so far (the rungs before it included).
 Result start_attempt(const Report& prepared, int r) {
     Result attempt;
     Report& report = attempt.report;
@@ -269,15 +270,19 @@ Result extract(const Input& input, const Options& options) {
     std::size_t best_violations = SIZE_MAX;
     std::vector<std::array<double, 2>> given_map; // the first rung's sanitized map
     for (int r = 0; r < rungs; ++r) {
-        Result attempt = start_attempt(prepared.report, r);
         // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
         // rather than every run paying for a copy. Preparing succeeded once, so it does again.
+        // Its time, like every rung's, is added to the stages' totals.
         if (r > 0) {
-            Report unused;
-            (void)prepare_mesh(input, options, m, unused);
+            Report again;
+            again.stage_seconds = std::move(prepared.report.stage_seconds);
+            (void)prepare_mesh(input, options, m, again);
+            prepared.report.stage_seconds = std::move(again.stage_seconds);
         }
+        Result attempt = start_attempt(prepared.report, r);
         if (!run_rung(std::move(m), input, options, kLadder[r], attempt)) return attempt;
         judge(input, options, kLadder[r], given_map, attempt);
+        prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
         if (r == 0) given_map = attempt.mesh.map_uvs; // only a failed first rung needs it
         // Untangling moves only vertices near flipped or degenerate triangles: without any,
@@ -290,6 +295,7 @@ Result extract(const Input& input, const Options& options) {
         best.report.rungs_tried = r + 1;
         if (!untangling_can_help) break;
     }
+    best.report.stage_seconds = std::move(prepared.report.stage_seconds);
     // No rung gave a valid mesh: locate every violation on the input through the provenance.
     locate_violations(input, best);
     return best;

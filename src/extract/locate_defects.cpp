@@ -111,12 +111,13 @@ int vertex_of_face(const QuadMesh& mesh, std::int64_t f) {
     return -1;
 }
 
-/// The first input triangle with vertex `v`, or -1.
-std::int64_t triangle_of_vertex(const Input& input, std::int64_t v) {
-    for (std::size_t t = 0; t < input.triangles.size(); ++t)
+/// Per input vertex, the first input triangle that has it (-1 for none).
+std::vector<std::int64_t> first_triangles(const Input& input) {
+    std::vector<std::int64_t> first(input.positions.size(), -1);
+    for (std::size_t t = input.triangles.size(); t-- > 0;)
         for (int w : input.triangles[t])
-            if (w == v) return static_cast<std::int64_t>(t);
-    return -1;
+            if (w >= 0 && static_cast<std::size_t>(w) < first.size()) first[static_cast<std::size_t>(w)] = static_cast<std::int64_t>(t);
+    return first;
 }
 
 /// Names the place of a violation of one output vertex: its provenance's triangle and grid point.
@@ -129,15 +130,17 @@ void place_at_vertex(const QuadMesh& mesh, int vertex, Defect& d) {
                  ") of input triangle " + std::to_string(p.chart_triangle) + ")";
 }
 
-/// The defect for one violation, placed by what its element indexes.
-Defect locate(const Input& input, const Result& result, const Violation& v) {
+/// The defect for one violation, placed by what its element indexes (`first_triangle`: per
+/// input vertex, a triangle that has it).
+Defect locate(const Input& input, const Result& result, const std::vector<std::int64_t>& first_triangle,
+              const Violation& v) {
     const QuadMesh& mesh = result.mesh;
     Defect d{DefectKind::CheckerViolation, v.message, -1, -1, {0, 0}, v.kind};
     switch (element_kind(v.kind)) {
         case ViolationElement::OutputFace:
-            if (const int vertex = vertex_of_face(mesh, v.element); vertex >= 0) {
+            if (v.element >= 0 && v.element < static_cast<std::int64_t>(mesh.faces.size())) {
                 d.output_face = v.element;
-                place_at_vertex(mesh, vertex, d);
+                place_at_vertex(mesh, vertex_of_face(mesh, v.element), d);
             }
             break;
         case ViolationElement::OutputVertex:
@@ -145,7 +148,8 @@ Defect locate(const Input& input, const Result& result, const Violation& v) {
                 place_at_vertex(mesh, static_cast<int>(v.element), d);
             break;
         case ViolationElement::InputVertex:
-            d.input_element = triangle_of_vertex(input, v.element);
+            if (v.element >= 0 && v.element < static_cast<std::int64_t>(first_triangle.size()))
+                d.input_element = first_triangle[static_cast<std::size_t>(v.element)];
             break;
         case ViolationElement::InputTriangle:
             if (v.element >= 0 && v.element < static_cast<std::int64_t>(input.triangles.size()))
@@ -163,7 +167,12 @@ Defect locate(const Input& input, const Result& result, const Violation& v) {
 } // namespace
 
 void locate_violations(const Input& input, Result& result) {
-    for (const Violation& v : result.check.violations) result.report.defects.push_back(locate(input, result, v));
+    std::vector<std::int64_t> first_triangle;
+    for (const Violation& v : result.check.violations)
+        if (element_kind(v.kind) == ViolationElement::InputVertex && first_triangle.empty())
+            first_triangle = first_triangles(input);
+    for (const Violation& v : result.check.violations)
+        result.report.defects.push_back(locate(input, result, first_triangle, v));
 }
 
 } // namespace qex::detail

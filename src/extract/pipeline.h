@@ -1,6 +1,7 @@
 // The extraction pipeline: its stage table, the data the stages hand on, and the stages in the
 // order they run. A stage has one name, used by its file (src/extract/NN_<name>.cpp, NN its
-// place in the pipeline), its function, its timer label in Report::stage_seconds and its
+// place in the pipeline; validate's topology half is build_topology.cpp, and check is the
+// checker, src/verify/), its function, its timer label in Report::stage_seconds and its
 // benchmark (BM_<name>/<input>).
 #pragma once
 
@@ -21,7 +22,7 @@ namespace qex::detail {
 /// The pipeline's stages, in the order extract() runs them (README: the pipeline table).
 enum class Stage : int {
     validate,            ///< 01: values, indices and topology of the input; the working mesh
-    collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round)
+    collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round but a capped last)
     untangle,            ///< 03: relaxed rungs of the fallback ladder only
     compute_transitions, ///< 04: Section 3.1
     count_valences,      ///< 05: Algorithm 8
@@ -38,10 +39,12 @@ enum class Stage : int {
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
-inline constexpr const char* kStageNames[kNumStages] = {
+inline constexpr const char* kStageNames[] = {
     "validate",       "collapse",        "untangle",    "compute_transitions", "count_valences",
     "sanitize",       "generate_qvertices", "enumerate_ports", "trace_ports", "extract_faces",
     "merge_vertices", "canonicalize",    "place_on_given_map", "check"};
+
+static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
 inline const char* stage_name(Stage s) { return kStageNames[static_cast<int>(s)]; }
 

@@ -2,6 +2,7 @@
 // vertices, merging glues q-vertex clones).
 #pragma once
 
+#include <cstddef>
 #include <numeric>
 #include <vector>
 

@@ -307,6 +307,7 @@ IoError parse_obj(const char* data, std::size_t size, Input& out, int threads) {
 }
 
 IoError read_obj(const std::string& path, Input& out, int threads) {
+    out = Input{};
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
     std::error_code ec;

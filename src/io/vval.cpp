@@ -14,8 +14,10 @@ namespace qex {
 using io_detail::Cursor;
 using io_detail::err;
 
-IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {
-    valences.clear();
+namespace {
+
+/// The VVAL records of `data` into `valences`, which may hold a part on a problem.
+IoError parse_vval_records(const char* data, std::size_t size, std::vector<int>& valences) {
     Cursor c{data, data + size};
     // Line 1: the JSON header.
     const char* nl = size > 0 ? static_cast<const char*>(std::memchr(data, '\n', size)) : nullptr;
@@ -48,7 +50,17 @@ IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valence
     return {};
 }
 
+} // namespace
+
+IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences) {
+    valences.clear();
+    IoError e = parse_vval_records(data, size, valences);
+    if (!e.ok()) valences.clear(); // nothing from a file with a problem
+    return e;
+}
+
 IoError read_vval(const std::string& path, std::vector<int>& valences) {
+    valences.clear();
     std::string data;
     if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
     return parse_vval(data.data(), data.size(), valences);
