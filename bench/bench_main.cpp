@@ -30,7 +30,8 @@ void BM_Extract(benchmark::State& state, const Input* in) {
         for (const auto& [name, s] : r.report.stage_seconds) stage[name] += s;
         benchmark::DoNotOptimize(r.mesh.faces.data());
     }
-    for (const auto& [name, s] : stage) state.counters[name + "_ms"] = 1e3 * s / static_cast<double>(state.iterations());
+    for (const auto& [name, s] : stage)
+        state.counters[name + "_ms"] = 1e3 * s / static_cast<double>(state.iterations());
     state.counters["quads"] = static_cast<double>(quads);
     state.counters["triangles"] = static_cast<double>(in->triangles.size());
 }
@@ -128,12 +129,14 @@ int main(int argc, char** argv) {
     for (const auto& e : fs::directory_iterator(shared, ec))
         if (e.path().extension() == ".obj") files.push_back(e.path());
     std::sort(files.begin(), files.end());
-    if (files.empty()) std::fprintf(stderr, "note: no maps in %s; only generated inputs are benchmarked\n", shared.c_str());
+    if (files.empty())
+        std::fprintf(stderr, "note: no maps in %s; only generated inputs are benchmarked\n", shared.c_str());
     for (const auto& path : files) {
         const std::string name = path.stem().string();
         Input in;
         if (!qex::read_obj(path.string(), in).ok()) continue;
-        benchmark::RegisterBenchmark(("BM_ReadObj/" + name).c_str(), BM_ReadObj, path.string(), 0)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("BM_ReadObj/" + name).c_str(), BM_ReadObj, path.string(), 0)
+            ->Unit(benchmark::kMillisecond);
         const Input* base = keep(std::move(in));
         benchmark::RegisterBenchmark(("BM_Extract/" + name).c_str(), BM_Extract, base)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("BM_Verify/" + name).c_str(), BM_Verify, base)->Unit(benchmark::kMillisecond);
@@ -141,9 +144,12 @@ int main(int argc, char** argv) {
         if (name == "duck_miq_8_param") {
             const Input* s1 = keep(qex::testing::subdivide(*base));
             const Input* s2 = keep(qex::testing::subdivide(*s1));
-            benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub1").c_str(), BM_Extract, s1)->Unit(benchmark::kMillisecond);
-            benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub2").c_str(), BM_Extract, s2)->Unit(benchmark::kMillisecond);
-            benchmark::RegisterBenchmark(("BM_Verify/" + name + "_sub2").c_str(), BM_Verify, s2)->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub1").c_str(), BM_Extract, s1)
+                ->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub2").c_str(), BM_Extract, s2)
+                ->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark(("BM_Verify/" + name + "_sub2").c_str(), BM_Verify, s2)
+                ->Unit(benchmark::kMillisecond);
             register_stages(name + "_sub1", s1, 10);
             register_stages(name + "_sub2", s2, 4);
             // The reader on the twice-subdivided duck as a file (61 MB), serial and on 2 threads.
@@ -155,8 +161,10 @@ int main(int argc, char** argv) {
             if (std::getenv("QEX_BENCH_LARGE")) {
                 const Input* s3 = keep(qex::testing::subdivide(*s2));
                 const Input* s4 = keep(qex::testing::subdivide(*s3));
-                benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub3").c_str(), BM_Extract, s3)->Unit(benchmark::kMillisecond);
-                benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub4").c_str(), BM_Extract, s4)->Unit(benchmark::kMillisecond);
+                benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub3").c_str(), BM_Extract, s3)
+                    ->Unit(benchmark::kMillisecond);
+                benchmark::RegisterBenchmark(("BM_Extract/" + name + "_sub4").c_str(), BM_Extract, s4)
+                    ->Unit(benchmark::kMillisecond);
             }
         }
     }

@@ -73,14 +73,24 @@ void perturb(fuzz::Bytes& b, int op, std::vector<char>& single_chart, std::mt199
         case 6:
         case 7: { // a collapsed edge (handled), or a zero-area triangle (see KnownFailures)
             const int f = b.range(0, nf - 1), corner = b.range(0, 2);
-            if (op == 6) insert_collapsed_edge(in, f, corner), c.collapsed = true;
-            else insert_zero_area_triangle(in, f, corner), c.benign = false;
+            if (op == 6)
+                insert_collapsed_edge(in, f, corner), c.collapsed = true;
+            else
+                insert_zero_area_triangle(in, f, corner), c.benign = false;
             single_chart.push_back(0);
             in.valences.clear();
             break;
         }
-        case 8: in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] = (b.byte() & 1) ? std::numeric_limits<double>::quiet_NaN() : std::numeric_limits<double>::infinity(); c.benign = false; break;
-        case 9: in.triangles.push_back(in.triangles[b.range(0, nf - 1)]); in.uvs.resize(3 * in.triangles.size()); c.benign = false; break;
+        case 8:
+            in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] =
+                (b.byte() & 1) ? std::numeric_limits<double>::quiet_NaN() : std::numeric_limits<double>::infinity();
+            c.benign = false;
+            break;
+        case 9:
+            in.triangles.push_back(in.triangles[b.range(0, nf - 1)]);
+            in.uvs.resize(3 * in.triangles.size());
+            c.benign = false;
+            break;
         case 11: { // a feature edge: an edge of the mesh, or (rarely) an arbitrary pair
             const int f = b.range(0, nf - 1), corner = b.range(0, 2);
             if (b.byte() < 240) {
@@ -124,8 +134,14 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
         if (face.size() < 2) continue;
         switch (b.range(0, 3)) {
             case 0: std::swap(face[0], face[b.range(1, static_cast<int>(face.size()) - 1)]); break;
-            case 1: face[b.range(0, static_cast<int>(face.size()) - 1)] = b.range(-1, static_cast<int>(bare.positions.size())); break;
-            case 2: bare.positions[b.range(0, static_cast<int>(bare.positions.size()) - 1)][b.range(0, 2)] += b.unit() - 0.5; break;
+            case 1:
+                face[b.range(0, static_cast<int>(face.size()) - 1)] =
+                    b.range(-1, static_cast<int>(bare.positions.size()));
+                break;
+            case 2:
+                bare.positions[b.range(0, static_cast<int>(bare.positions.size()) - 1)][b.range(0, 2)] +=
+                    b.unit() - 0.5;
+                break;
             default: face.pop_back(); break;
         }
     }
@@ -136,8 +152,8 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     fuzz::Bytes b(data, size);
-    const QuadLayout layouts[] = {torus_layout(), cube_layout(), icosahedron_layout(), prism_layout(8),
-                                  disk_layout(2), annulus_layout()};
+    const QuadLayout layouts[] = {torus_layout(),  cube_layout(),  icosahedron_layout(),
+                                  prism_layout(8), disk_layout(2), annulus_layout()};
     Case c;
     c.layout = &layouts[b.range(0, 5)];
     c.n = b.range(1, 3);
@@ -164,8 +180,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::int64_t generated = expected_quads(*c.layout, c.n);
     if (exact_expected && (!v.valid || quads != v.input_signed_uv_area_rounded || quads != generated))
         fuzz::fail(std::string(v.valid ? "valid" : "invalid") + " mesh of " + std::to_string(quads) +
-                   " quads on a map of area " + std::to_string(v.input_signed_uv_area_rounded) + " (generated: " +
-                   std::to_string(generated) + ")");
+                   " quads on a map of area " + std::to_string(v.input_signed_uv_area_rounded) +
+                   " (generated: " + std::to_string(generated) + ")");
     check_without_provenance(b, c, opt, r, v.valid);
     return 0;
 }

@@ -59,7 +59,8 @@ TEST_P(Singularities, ValidAndAreaPreserving) {
     for (int k : {2, 3, 5}) {
         const Input in = make_map(layout, 2, k);
         const Result r = extract_valid(in);
-        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2)) << layout.name << " k=" << k;
+        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2))
+            << layout.name << " k=" << k;
         // The singular layout vertices are output vertices of the expected valence.
         std::vector<int> degree(r.mesh.positions.size(), 0);
         for (const auto& f : r.mesh.faces)
@@ -131,8 +132,10 @@ DiskCells disk_cells() {
         for (std::int64_t j = -7; j <= 6; ++j) {
             const bool a = inside_rim(i, j), b = inside_rim(i + 1, j);
             const bool d = inside_rim(i + 1, j + 1), e = inside_rim(i, j + 1);
-            if (a && b && d && e) c.full.insert({i, j});
-            else if ((a && b) || (b && d) || (d && e) || (e && a)) c.cut.insert({i, j});
+            if (a && b && d && e)
+                c.full.insert({i, j});
+            else if ((a && b) || (b && d) || (d && e) || (e && a))
+                c.cut.insert({i, j});
         }
     return c;
 }
@@ -164,9 +167,9 @@ void expect_the_cells_inside_the_rim(const Result& r) {
             << "cell " << cell[0] << " " << cell[1];
     for (const Defect& d : r.report.explanations) {
         EXPECT_EQ(d.kind, DefectKind::BoundaryFaceDiscarded);
-        EXPECT_TRUE(std::any_of(cells.cut.begin(), cells.cut.end(),
-                                [&](const auto& cell) { return corner_of(cell, d.grid); }))
-            << d.message;
+        EXPECT_TRUE(std::any_of(cells.cut.begin(), cells.cut.end(), [&](const auto& cell) {
+            return corner_of(cell, d.grid);
+        })) << d.message;
     }
 }
 

@@ -84,7 +84,8 @@ void squeeze_fan(Input& in, int v, double factor) {
         for (const auto& [corner, developed] : {std::pair{ca, angle}, std::pair{cb, angle + sweep}}) {
             const double r = std::hypot(in.uvs[corner][0] - c[0], in.uvs[corner][1] - c[1]);
             const double turned = dir(corner) - developed + developed / factor;
-            moved.push_back({in.triangles[corner / 3][corner % 3], in.uvs[corner],
+            moved.push_back({in.triangles[corner / 3][corner % 3],
+                             in.uvs[corner],
                              {c[0] + r * std::cos(turned), c[1] + r * std::sin(turned)}});
         }
         angle += sweep;
@@ -123,7 +124,8 @@ TEST(Extraction, FoldOverTakingAFullTurnFromASingularity) {
     Input in = make_map(layout, 2, 8, 0);
     int centre = -1;
     for (std::size_t i = 0; i < in.positions.size(); ++i)
-        if (in.positions[i][0] == 0 && in.positions[i][1] == 0 && in.positions[i][2] == 1.5) centre = static_cast<int>(i);
+        if (in.positions[i][0] == 0 && in.positions[i][1] == 0 && in.positions[i][2] == 1.5)
+            centre = static_cast<int>(i);
     ASSERT_GE(centre, 0);
     const Result before = extract_valid(in);
     squeeze_fan(in, centre, 5.0);

@@ -122,7 +122,11 @@ TEST(Obj, ParsesCornerUvsAndRelativeIndices) {
 }
 
 TEST(Obj, ErrorsNameTheLine) {
-    struct Bad { const char* text; IoError::Code code; std::int64_t line; };
+    struct Bad {
+        const char* text;
+        IoError::Code code;
+        std::int64_t line;
+    };
     const Bad cases[] = {
         {"v 0 0 0\nv 1 0\n", IoError::Code::Syntax, 2},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", IoError::Code::MissingUv, 4},
@@ -180,8 +184,9 @@ TEST(Obj, TruncatedFilesNeverCrash) {
     // A unit square of two triangles, the second one's vertex after the first one's face; cut
     // after any byte. The first triangle alone extracts to an empty mesh (its cell is cut by the
     // diagonal boundary), which the report explains.
-    const std::string good = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n"
-                             "v 0 1 0\nvt 0 1\nf 1/1 3/3 4/4\n";
+    const std::string good =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n"
+        "v 0 1 0\nvt 0 1\nf 1/1 3/3 4/4\n";
     std::set<Outcome> seen;
     for (std::size_t n = 0; n <= good.size(); ++n) seen.insert(truncation_outcome(good.substr(0, n)));
     // Every outcome occurs, and the whole text gives the one quad.
@@ -229,7 +234,8 @@ TEST(Obj, FilesAreReadInChunksLikeOneBuffer) {
     // A comment line longer than a chunk: no line end among a whole chunk's bytes.
     const std::size_t mid = text.find("\nvt ");
     ASSERT_NE(mid, std::string::npos);
-    const std::string long_line = text.substr(0, mid + 1) + "# " + std::string(std::size_t{5} << 20, 'x') + "\n" + text.substr(mid + 1);
+    const std::string long_line =
+        text.substr(0, mid + 1) + "# " + std::string(std::size_t{5} << 20, 'x') + "\n" + text.substr(mid + 1);
     write(long_line);
     Input c;
     ASSERT_TRUE(read_obj(path, c).ok());
@@ -250,8 +256,8 @@ TEST(Obj, PiecesParsedInParallelReadLikeASerialRead) {
     for (std::size_t f = 0; f < base.triangles.size(); ++f) {
         for (int k = 0; k < 3; ++k) {
             const auto& p = base.positions[static_cast<std::size_t>(base.triangles[f][k])];
-            std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\nvt %.17g %.17g\n", p[0], p[1], p[2], base.uvs[3 * f + k][0],
-                          base.uvs[3 * f + k][1]);
+            std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\nvt %.17g %.17g\n", p[0], p[1], p[2],
+                          base.uvs[3 * f + k][0], base.uvs[3 * f + k][1]);
             text += line;
         }
         text += f % 7 == 0 ? "# a comment\nf -3/-3 -2/-2 -1/-1\n" : "f -3/-3 -2/-2 -1/-1\n";
@@ -294,7 +300,9 @@ TEST(Obj, PiecesParsedInParallelReadLikeASerialRead) {
     }
     // The reported lines are the earlier insertions'.
     auto line_of = [](const std::string& t, const std::string& record) {
-        return static_cast<std::int64_t>(std::count(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.find(record)), '\n')) + 1;
+        return static_cast<std::int64_t>(
+                   std::count(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.find(record)), '\n')) +
+               1;
     };
     Input in;
     EXPECT_EQ(parse_obj(broken[0].data(), broken[0].size(), in, 2).line, line_of(broken[0], "-100000000/-1"));

@@ -72,7 +72,8 @@ QuadLayout torus_layout(int nu, int nv) {
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) {
             const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-            l.positions.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+            l.positions.push_back(
+                {(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
         }
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) {
@@ -92,12 +93,12 @@ QuadLayout cube_layout() {
 
 QuadLayout icosahedron_layout() {
     const double p = (1 + std::sqrt(5.0)) / 2;
-    const std::vector<Vec3> v = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                                 {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
-    const std::vector<std::vector<int>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-                                             {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                             {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-                                             {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    const std::vector<Vec3> v = {{-1, p, 0},  {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                                 {0, -1, -p}, {0, 1, -p}, {p, 0, -1},  {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+    const std::vector<std::vector<int>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     return split_polygons("icosahedron", v, f);
 }
 
@@ -171,21 +172,24 @@ Input make_map(const QuadLayout& layout, int n, int k, int diagonals, std::uint3
                 auto on_edge = [&](int from, int to, int pos) {
                     if (pos == 0) return std::tuple<int, int, int>{-2, from, 0};
                     if (pos == k) return std::tuple<int, int, int>{-2, to, 0};
-                    return from < to ? std::tuple<int, int, int>{from, to, pos} : std::tuple<int, int, int>{to, from, k - pos};
+                    return from < to ? std::tuple<int, int, int>{from, to, pos}
+                                     : std::tuple<int, int, int>{to, from, k - pos};
                 };
-                if (b == 0) key = on_edge(q[0], q[1], a);
-                else if (a == k) key = on_edge(q[1], q[2], b);
-                else if (b == k) key = on_edge(q[2], q[3], k - a);
-                else if (a == 0) key = on_edge(q[3], q[0], k - b);
+                if (b == 0)
+                    key = on_edge(q[0], q[1], a);
+                else if (a == k)
+                    key = on_edge(q[1], q[2], b);
+                else if (b == k)
+                    key = on_edge(q[2], q[3], k - a);
+                else if (a == 0)
+                    key = on_edge(q[3], q[0], k - b);
                 ids[b * (k + 1) + a] = vertex_id(key, p);
                 if (single_chart) {
                     single_chart->resize(in.positions.size(), 0);
                     (*single_chart)[ids[b * (k + 1) + a]] = std::get<0>(key) == -1;
                 }
             }
-        auto uv = [&](int a, int b) {
-            return std::array<double, 2>{double(a) * n / k, double(b) * n / k};
-        };
+        auto uv = [&](int a, int b) { return std::array<double, 2>{double(a) * n / k, double(b) * n / k}; };
         for (int b = 0; b < k; ++b)
             for (int a = 0; a < k; ++a) {
                 const int v00 = ids[b * (k + 1) + a], v10 = ids[b * (k + 1) + a + 1];
@@ -292,7 +296,8 @@ Input subdivide(const Input& in) {
         const auto* uv = &in.uvs[3 * f];
         const int m01 = midpoint(t[0], t[1]), m12 = midpoint(t[1], t[2]), m20 = midpoint(t[2], t[0]);
         const auto u01 = half(uv[0], uv[1]), u12 = half(uv[1], uv[2]), u20 = half(uv[2], uv[0]);
-        out.triangles.insert(out.triangles.end(), {{t[0], m01, m20}, {m01, t[1], m12}, {m20, m12, t[2]}, {m01, m12, m20}});
+        out.triangles.insert(out.triangles.end(),
+                             {{t[0], m01, m20}, {m01, t[1], m12}, {m20, m12, t[2]}, {m01, m12, m20}});
         out.uvs.insert(out.uvs.end(), {uv[0], u01, u20, u01, uv[1], u12, u20, u12, uv[2], u01, u12, u20});
     }
     return out;

@@ -25,12 +25,12 @@ struct QuadLayout {
 QuadLayout split_polygons(const std::string& name, const std::vector<std::array<double, 3>>& positions,
                           const std::vector<std::vector<int>>& polygons);
 
-QuadLayout torus_layout(int nu = 4, int nv = 3);          ///< genus 1, all valence 4
-QuadLayout cube_layout();                                  ///< 8 singularities of valence 3
-QuadLayout icosahedron_layout();                           ///< valence 5 (and 3)
-QuadLayout prism_layout(int sides);                        ///< valence `sides` at the cap centres
-QuadLayout disk_layout(int n = 3);                         ///< a grid with one boundary loop
-QuadLayout annulus_layout(int nu = 6, int nv = 2);         ///< two boundary loops
+QuadLayout torus_layout(int nu = 4, int nv = 3);   ///< genus 1, all valence 4
+QuadLayout cube_layout();                          ///< 8 singularities of valence 3
+QuadLayout icosahedron_layout();                   ///< valence 5 (and 3)
+QuadLayout prism_layout(int sides);                ///< valence `sides` at the cap centres
+QuadLayout disk_layout(int n = 3);                 ///< a grid with one boundary loop
+QuadLayout annulus_layout(int nu = 6, int nv = 2); ///< two boundary loops
 
 /// The exact integer-grid map of a layout. `n` grid quads per layout edge; `k` lattice steps per
 /// layout edge (k = n: vertices on grid points and edges along iso-lines; k coprime to n: general

@@ -41,8 +41,8 @@ TEST(OpenMesh, FacesOpenMeshRejectsAreReported) {
     // face apart from the others (accepted).
     QuadMesh q;
     for (int i = 0; i < 20; ++i) q.positions.push_back({double(i % 3), double(i / 3), double(i / 9)});
-    q.faces = {{0, 1, 4, 3},    {1, 2, 5, 4},     {3, 4, 7, 6},    {4, 5, 8, 7},
-               {4, 9, 10, 11},  {1, 0, 12, 13},   {0, 1, 14, 15},  {16, 17, 18, 19}};
+    q.faces = {{0, 1, 4, 3},   {1, 2, 5, 4},   {3, 4, 7, 6},   {4, 5, 8, 7},
+               {4, 9, 10, 11}, {1, 0, 12, 13}, {0, 1, 14, 15}, {16, 17, 18, 19}};
     for (std::size_t f = 0; f < q.faces.size(); ++f) {
         q.face_uvs.emplace_back();
         for (std::int64_t k = 0; k < 4; ++k) q.face_uvs.back().push_back({10 * std::int64_t(f) + k, -k});

@@ -101,7 +101,8 @@ TEST(Extraction, ParallelTopologyReportsTheSerialError) {
     ASSERT_TRUE(full.ok());
     ASSERT_GT(full.report.qvertices_on_edges, 1000);
     ASSERT_GT(full.report.qvertices_in_faces, 1000);
-    const std::int64_t total = full.report.qvertices_on_vertices + full.report.qvertices_on_edges + full.report.qvertices_in_faces;
+    const std::int64_t total =
+        full.report.qvertices_on_vertices + full.report.qvertices_on_edges + full.report.qvertices_in_faces;
     for (const std::int64_t budget : {full.report.qvertices_on_vertices + full.report.qvertices_on_edges / 2,
                                       total - full.report.qvertices_in_faces / 3}) {
         Options a = serial, b = parallel;

@@ -52,7 +52,8 @@ TEST(Transitions, PackedTableKeepsEveryTransitionExactly) {
     std::vector<GridAutomorphism> all;
     const std::int64_t big = std::int64_t{1} << 60;
     for (int r = 0; r < 4; ++r)
-        for (std::int64_t tx : {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, std::int64_t{-7}, big - 1, -big, std::int64_t{1} << 53})
+        for (std::int64_t tx : {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, std::int64_t{-7}, big - 1, -big,
+                                std::int64_t{1} << 53})
             for (std::int64_t ty : {std::int64_t{0}, std::int64_t{-3}, big, -big, std::int64_t{5}})
                 all.push_back({r, tx, ty});
     table.allocate(all.size());

@@ -33,11 +33,10 @@ void showValue(const MapCase& c, std::ostream& os) {
 }
 
 rc::Gen<MapCase> gen_case() {
-    return rc::gen::build<MapCase>(rc::gen::set(&MapCase::layout, rc::gen::inRange(0, 7)),
-                                   rc::gen::set(&MapCase::n, rc::gen::inRange(1, 4)),
-                                   rc::gen::set(&MapCase::k, rc::gen::inRange(1, 6)),
-                                   rc::gen::set(&MapCase::diagonals, rc::gen::inRange(0, 3)),
-                                   rc::gen::set(&MapCase::seed, rc::gen::arbitrary<std::uint32_t>()));
+    return rc::gen::build<MapCase>(
+        rc::gen::set(&MapCase::layout, rc::gen::inRange(0, 7)), rc::gen::set(&MapCase::n, rc::gen::inRange(1, 4)),
+        rc::gen::set(&MapCase::k, rc::gen::inRange(1, 6)), rc::gen::set(&MapCase::diagonals, rc::gen::inRange(0, 3)),
+        rc::gen::set(&MapCase::seed, rc::gen::arbitrary<std::uint32_t>()));
 }
 
 bool valid_quads(const Input& in, const Result& r) {
@@ -184,12 +183,15 @@ RC_GTEST_PROP(Properties, DegeneraciesAreCollapsedOrTolerated, ()) {
     Input in = make_map(layout, c.n, 2 * c.k, c.diagonals, c.seed); // even k: exact midpoints
     const int f = *rc::gen::inRange(0, static_cast<int>(in.triangles.size()));
     const int corner = *rc::gen::inRange(0, 3);
-    if (*rc::gen::arbitrary<bool>()) insert_collapsed_edge(in, f, corner);
-    else insert_zero_area_triangle(in, f, corner);
+    if (*rc::gen::arbitrary<bool>())
+        insert_collapsed_edge(in, f, corner);
+    else
+        insert_zero_area_triangle(in, f, corner);
     const Result r = extract(in);
     // Known failure (KnownFailures.ZeroAreaTriangleOnBoundaryIsoLine): a zero-area triangle
     // whose long edge lies on an iso-line duplicates the grid points on it; reported, not silent.
-    const bool exact = valid_quads(in, r) && static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n);
+    const bool exact =
+        valid_quads(in, r) && static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n);
     RC_CLASSIFY(exact, "valid with the expected quad count");
     RC_ASSERT(exact || !r.report.defects.empty());
     RC_ASSERT(result_inconsistency(in, r) == std::string());

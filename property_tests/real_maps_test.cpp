@@ -87,7 +87,10 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
         // The verdict is the checker's, the checker defects its violations kind for kind, and
         // every defect names a place (result_checks.h).
         EXPECT_EQ(result_inconsistency(in, r, &v), "") << path;
-        if (v.valid) { ++valid; continue; }
+        if (v.valid) {
+            ++valid;
+            continue;
+        }
         // Invalid: every violation names an element, and the report locates defects on the input.
         EXPECT_EQ(r.report.check_violations, static_cast<std::int64_t>(v.violations.size())) << path;
         // Local violations carry the input triangle near them; global ones (Euler characteristic)
@@ -99,13 +102,12 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
             // A checker violation keeps its kind; every other defect has none.
             EXPECT_EQ(d.kind == DefectKind::CheckerViolation, d.violation.has_value()) << path << ": " << d.message;
             checker_defects += d.violation.has_value();
-            if (d.output_face >= 0) {
-                EXPECT_GE(d.input_element, 0) << path << ": " << d.message;
-            }
+            if (d.output_face >= 0) { EXPECT_GE(d.input_element, 0) << path << ": " << d.message; }
             // A global defect names the candidate places: where faces were removed, and the input
             // vertex farthest from the output.
             if (d.violation == ViolationKind::EulerMismatch) {
-                EXPECT_NE(d.message.find("farthest from the output is at input vertex"), std::string::npos) << d.message;
+                EXPECT_NE(d.message.find("farthest from the output is at input vertex"), std::string::npos)
+                    << d.message;
             }
         }
         EXPECT_EQ(checker_defects, v.violations.size()) << path;

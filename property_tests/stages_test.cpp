@@ -58,7 +58,8 @@ TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
     int boundary = 0, missing = 0;
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];
-        const bool no_uv = detail::TriMesh::face(h) == interior_face || (o >= 0 && detail::TriMesh::face(o) == interior_face);
+        const bool no_uv =
+            detail::TriMesh::face(h) == interior_face || (o >= 0 && detail::TriMesh::face(o) == interior_face);
         if (o < 0 || no_uv) {
             EXPECT_TRUE(m.map.transition[h] == detail::GridAutomorphism{}) << h;
             boundary += o < 0;

@@ -47,7 +47,10 @@ inline bool same_mesh(const QuadMesh& a, const QuadMesh& b, double tol) {
         for (std::size_t j = 0; j < b.positions.size(); ++j) {
             double d = 0;
             for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(a.positions[i][k] - b.positions[j][k]));
-            if (d < best) { best = d; match[i] = static_cast<int>(j); }
+            if (d < best) {
+                best = d;
+                match[i] = static_cast<int>(j);
+            }
         }
         if (match[i] < 0) return false;
     }

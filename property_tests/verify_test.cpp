@@ -195,8 +195,8 @@ QuadMesh without_provenance(QuadMesh m) {
 }
 
 TEST(CheckerLocated, AcceptsCorrectMeshesOfOtherExtractors) {
-    for (const Input& in : {make_map(cube_layout(), 2, 3), make_map(torus_layout(), 3, 2), make_map(annulus_layout(), 2, 3),
-                            make_map(prism_layout(5), 2, 3)}) {
+    for (const Input& in : {make_map(cube_layout(), 2, 3), make_map(torus_layout(), 3, 2),
+                            make_map(annulus_layout(), 2, 3), make_map(prism_layout(5), 2, 3)}) {
         const QuadMesh m = without_provenance(extract(in).mesh);
         const VerifyResult v = verify(in, m);
         EXPECT_TRUE(v.located);
@@ -221,8 +221,8 @@ TEST(CheckerLocated, RejectsVerticesOffTheirGridPoints) {
     QuadMesh slid = good;
     const auto& f0 = slid.faces[0];
     for (int k = 0; k < 3; ++k)
-        slid.positions[static_cast<std::size_t>(f0[0])][k] =
-            0.5 * (good.positions[static_cast<std::size_t>(f0[0])][k] + good.positions[static_cast<std::size_t>(f0[1])][k]);
+        slid.positions[static_cast<std::size_t>(f0[0])][k] = 0.5 * (good.positions[static_cast<std::size_t>(f0[0])][k] +
+                                                                    good.positions[static_cast<std::size_t>(f0[1])][k]);
     const VerifyResult a = verify(in, slid);
     EXPECT_EQ(count(a, ViolationKind::NotOnGridPoint), 1u);
     EXPECT_GT(a.max_grid_distance, 0.4);

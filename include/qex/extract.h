@@ -18,26 +18,26 @@ namespace qex {
 /// Why an input was rejected. Every code is distinct and maps to a distinct CLI exit code family.
 enum class ErrorCode {
     None = 0,
-    EmptyMesh,              ///< no triangles
-    IndexOutOfRange,        ///< a triangle refers to a vertex that does not exist
-    UvCountMismatch,        ///< uvs.size() != 3 * triangles.size()
-    NonFiniteValue,         ///< NaN or Inf in a position or UV
-    CoordinateTooLarge,     ///< |coordinate| >= 2^52: integer transitions cannot be exact
-    DegenerateTriangle,     ///< a triangle uses the same vertex twice
-    NonManifoldEdge,        ///< an edge has more than two incident triangles
-    InconsistentOrientation,///< two triangles traverse an edge in the same direction
-    NonManifoldVertex,      ///< the triangles around a vertex do not form one fan
-    IsolatedVertex,         ///< a vertex used by no triangle
-    ValenceCountMismatch,   ///< valences.size() != positions.size()
-    BadFeatureEdge,         ///< a feature edge is not an edge of the mesh
-    InconsistentMap,        ///< transitions around a vertex do not compose to a grid automorphism with a fixed point
-    MapTooLarge,            ///< the map would need more q-vertices than Options::max_qvertices
-    CollapseFailed,         ///< collapsing UV-degenerate edges would make the mesh non-manifold
+    EmptyMesh,               ///< no triangles
+    IndexOutOfRange,         ///< a triangle refers to a vertex that does not exist
+    UvCountMismatch,         ///< uvs.size() != 3 * triangles.size()
+    NonFiniteValue,          ///< NaN or Inf in a position or UV
+    CoordinateTooLarge,      ///< |coordinate| >= 2^52: integer transitions cannot be exact
+    DegenerateTriangle,      ///< a triangle uses the same vertex twice
+    NonManifoldEdge,         ///< an edge has more than two incident triangles
+    InconsistentOrientation, ///< two triangles traverse an edge in the same direction
+    NonManifoldVertex,       ///< the triangles around a vertex do not form one fan
+    IsolatedVertex,          ///< a vertex used by no triangle
+    ValenceCountMismatch,    ///< valences.size() != positions.size()
+    BadFeatureEdge,          ///< a feature edge is not an edge of the mesh
+    InconsistentMap,         ///< transitions around a vertex do not compose to a grid automorphism with a fixed point
+    MapTooLarge,             ///< the map would need more q-vertices than Options::max_qvertices
+    CollapseFailed,          ///< collapsing UV-degenerate edges would make the mesh non-manifold
 };
 
 struct Error {
     ErrorCode code = ErrorCode::None;
-    std::string message;     ///< human readable, names the element
+    std::string message;       ///< human readable, names the element
     std::int64_t element = -1; ///< index of the offending element (vertex, triangle, ...), -1 if none
 };
 
@@ -68,16 +68,18 @@ struct Options {
 
 /// A defect of the output that the input made unavoidable, with where it is.
 enum class DefectKind {
-    NonQuadFace,        ///< a face with other than 4 vertices survived simplification
-    TraceFailed,        ///< an iso-line trace found no edge to leave a triangle by, or crossed Options::max_trace_steps triangles
-    UnmatchedPort,      ///< a trace arrived at a grid point without a matching q-port
-    PortConflict,       ///< two traces claimed the same q-port
-    OpenFaceWalk,       ///< a face walk ran into an unconnected port in the interior
-    PortlessQVertex,    ///< a q-vertex has no q-port (it lies only on degenerate triangles)
-    CheckerViolation,   ///< the checker rejected the returned mesh here (no rung produced a valid one)
+    NonQuadFace, ///< a face with other than 4 vertices survived simplification
+    /// An iso-line trace found no edge to leave a triangle by, or crossed
+    /// Options::max_trace_steps triangles.
+    TraceFailed,
+    UnmatchedPort,    ///< a trace arrived at a grid point without a matching q-port
+    PortConflict,     ///< two traces claimed the same q-port
+    OpenFaceWalk,     ///< a face walk ran into an unconnected port in the interior
+    PortlessQVertex,  ///< a q-vertex has no q-port (it lies only on degenerate triangles)
+    CheckerViolation, ///< the checker rejected the returned mesh here (no rung produced a valid one)
     // Explanations (Report::explanations): why the quad count differs from the UV area.
-    FaceCollapsed,      ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
-    GhostFacesCancelled,///< a face and its reverse (a fold-over's double cover) were removed together
+    FaceCollapsed,         ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
+    GhostFacesCancelled,   ///< a face and its reverse (a fold-over's double cover) were removed together
     BoundaryFaceDiscarded, ///< a face walk ran into a boundary that is not on an integer iso-line
 };
 const char* to_string(DefectKind kind);
@@ -103,8 +105,8 @@ struct Report {
     std::int64_t input_vertices = 0, input_triangles = 0;
     /// Triangles of the sanitized map with UV area < 0 (flipped) and == 0 (degenerate), exactly.
     std::int64_t flipped_triangles = 0, degenerate_triangles = 0;
-    std::int64_t collapsed_edges = 0;     ///< UV-degenerate edges collapsed (before and after sanitization)
-    std::int64_t singularities = 0;       ///< interior vertices with non-identity or valence != 4
+    std::int64_t collapsed_edges = 0;           ///< UV-degenerate edges collapsed (before and after sanitization)
+    std::int64_t singularities = 0;             ///< interior vertices with non-identity or valence != 4
     double max_sanitization_displacement = 0.0; ///< largest |sanitized uv - input uv| (inf-norm)
     double sum_sanitization_displacement = 0.0;
     // geometry extraction
@@ -142,7 +144,7 @@ struct Report {
 };
 
 struct Result {
-    Error error;   ///< code None on success
+    Error error; ///< code None on success
     QuadMesh mesh;
     Report report;
     /// The checker's verdict on `mesh` (extract() consults the checker to choose a fallback rung).

@@ -13,8 +13,17 @@
 namespace qex {
 
 struct IoError {
-    enum class Code { None, CannotOpen, CannotWrite, Syntax, MissingUv, NonTriangle, IndexOutOfRange,
-                      NonFinite, VvalSyntax };
+    enum class Code {
+        None,
+        CannotOpen,
+        CannotWrite,
+        Syntax,
+        MissingUv,
+        NonTriangle,
+        IndexOutOfRange,
+        NonFinite,
+        VvalSyntax
+    };
     Code code = Code::None;
     std::string message;
     std::int64_t line = 0; ///< 1-based line number, 0 if not applicable

@@ -39,13 +39,19 @@ Input from_openmesh(const Mesh& mesh, int* skipped_faces = nullptr) {
         std::array<std::array<double, 2>, 3> uv{};
         int k = 0;
         for (auto heh : mesh.fh_range(fh)) {
-            if (k == 3) { k = 4; break; }
+            if (k == 3) {
+                k = 4;
+                break;
+            }
             tri[k] = mesh.to_vertex_handle(heh).idx();
             const auto t = mesh.texcoord2D(heh);
             uv[k] = {static_cast<double>(t[0]), static_cast<double>(t[1])};
             ++k;
         }
-        if (k != 3) { ++skipped; continue; }
+        if (k != 3) {
+            ++skipped;
+            continue;
+        }
         in.triangles.push_back(tri);
         in.uvs.insert(in.uvs.end(), uv.begin(), uv.end());
     }
@@ -72,8 +78,8 @@ PolyMesh to_openmesh(const QuadMesh& q, std::vector<std::size_t>* rejected_faces
     std::vector<typename PolyMesh::VertexHandle> vh;
     vh.reserve(q.positions.size());
     for (const auto& p : q.positions)
-        vh.push_back(mesh.add_vertex(typename PolyMesh::Point(static_cast<float>(p[0]), static_cast<float>(p[1]),
-                                                              static_cast<float>(p[2]))));
+        vh.push_back(mesh.add_vertex(
+            typename PolyMesh::Point(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
     for (std::size_t f = 0; f < q.faces.size(); ++f) {
         std::vector<typename PolyMesh::VertexHandle> face;
         for (int v : q.faces[f])

@@ -12,17 +12,27 @@
 namespace qex {
 
 enum class ViolationKind {
-    NotQuad, BadIndex, RepeatedVertex, NonManifoldEdge, InconsistentOrientation, NonManifoldVertex,
-    UnreferencedVertex, NonFinitePosition, BoundaryMismatch, EulerMismatch, ComponentMismatch,
-    LocalUvNotUnitSquare, EmptyMesh,
-    MapNotIntegerGrid,   ///< map_uvs: across an edge the charts differ by more than a grid automorphism
-    NotOnGridPoint,      ///< provenance: the vertex's grid point is not on the element it names
-    SingularityOffGrid,  ///< map_uvs: a singular vertex is not on an integer grid point
+    NotQuad,
+    BadIndex,
+    RepeatedVertex,
+    NonManifoldEdge,
+    InconsistentOrientation,
+    NonManifoldVertex,
+    UnreferencedVertex,
+    NonFinitePosition,
+    BoundaryMismatch,
+    EulerMismatch,
+    ComponentMismatch,
+    LocalUvNotUnitSquare,
+    EmptyMesh,
+    MapNotIntegerGrid,  ///< map_uvs: across an edge the charts differ by more than a grid automorphism
+    NotOnGridPoint,     ///< provenance: the vertex's grid point is not on the element it names
+    SingularityOffGrid, ///< map_uvs: a singular vertex is not on an integer grid point
     // Located mode (meshes without provenance, e.g. from other extractors):
-    OffSurface,          ///< a vertex farther from the input surface than the distance tolerance
-    FaceNotGridCell,     ///< a face's corners, carried into one chart, are not a ccw unit grid cell
-    CoverageMismatch,    ///< the faces do not cover the map once (map without flipped triangles)
-    TooLarge,            ///< more face corners (mesh or input) than the checker's 32-bit tables hold
+    OffSurface,       ///< a vertex farther from the input surface than the distance tolerance
+    FaceNotGridCell,  ///< a face's corners, carried into one chart, are not a ccw unit grid cell
+    CoverageMismatch, ///< the faces do not cover the map once (map without flipped triangles)
+    TooLarge,         ///< more face corners (mesh or input) than the checker's 32-bit tables hold
 };
 const char* to_string(ViolationKind kind);
 

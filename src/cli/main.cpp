@@ -18,12 +18,12 @@ namespace {
 // Exit codes; each failure family has its own.
 enum Exit : int {
     kOk = 0,
-    kUsage = 1,        // bad command line
-    kIo = 2,           // a file cannot be read or written
-    kParse = 3,        // malformed OBJ or VVAL
-    kBadInput = 4,     // the mesh or map is not acceptable input
-    kInvalidOutput = 5,// extraction finished but the checker rejects its output
-    kRejected = 6,     // `qex check`: the judged mesh is not valid
+    kUsage = 1,         // bad command line
+    kIo = 2,            // a file cannot be read or written
+    kParse = 3,         // malformed OBJ or VVAL
+    kBadInput = 4,      // the mesh or map is not acceptable input
+    kInvalidOutput = 5, // extraction finished but the checker rejects its output
+    kRejected = 6,      // `qex check`: the judged mesh is not valid
 };
 
 int io_exit(const qex::IoError& e) {
@@ -213,11 +213,12 @@ int run_extract(const ExtractArgs& a) {
     }
     const auto& r = result.report;
     if (!a.quiet)
-        std::printf("qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
-                    "%lld recovered edges, map %s) -> %s\n",
-                    result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
-                    static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
-                    static_cast<long long>(r.recovered_edges), r.rung.c_str(), a.out_path.c_str());
+        std::printf(
+            "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
+            "%lld recovered edges, map %s) -> %s\n",
+            result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
+            static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
+            static_cast<long long>(r.recovered_edges), r.rung.c_str(), a.out_path.c_str());
     return kOk;
 }
 
@@ -230,18 +231,20 @@ struct CheckArgs {
 
 /// The verdict in words, on stdout.
 void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
-    std::printf("%s: %lld faces, %lld vertices, euler %lld (input %lld), boundary loops %lld (input %lld), "
-                "components %lld (input %lld), input signed UV area %s\n",
-                mesh_path.c_str(), static_cast<long long>(v.faces), static_cast<long long>(v.vertices),
-                static_cast<long long>(v.euler), static_cast<long long>(v.input_euler),
-                static_cast<long long>(v.boundary_loops), static_cast<long long>(v.input_boundary_loops),
-                static_cast<long long>(v.components), static_cast<long long>(v.input_components),
-                v.input_signed_uv_area.c_str());
+    std::printf(
+        "%s: %lld faces, %lld vertices, euler %lld (input %lld), boundary loops %lld (input %lld), "
+        "components %lld (input %lld), input signed UV area %s\n",
+        mesh_path.c_str(), static_cast<long long>(v.faces), static_cast<long long>(v.vertices),
+        static_cast<long long>(v.euler), static_cast<long long>(v.input_euler),
+        static_cast<long long>(v.boundary_loops), static_cast<long long>(v.input_boundary_loops),
+        static_cast<long long>(v.components), static_cast<long long>(v.input_components),
+        v.input_signed_uv_area.c_str());
     if (v.located) {
-        std::printf("located on the map: largest distance to a grid point %.3g (UV), to the surface %.3g (of the "
-                    "diagonal); %lld faces against the map's area %lld",
-                    v.max_grid_distance, v.max_surface_distance, static_cast<long long>(v.faces),
-                    static_cast<long long>(v.input_signed_uv_area_rounded));
+        std::printf(
+            "located on the map: largest distance to a grid point %.3g (UV), to the surface %.3g (of the "
+            "diagonal); %lld faces against the map's area %lld",
+            v.max_grid_distance, v.max_surface_distance, static_cast<long long>(v.faces),
+            static_cast<long long>(v.input_signed_uv_area_rounded));
         if (v.coverage_difference != 0 && v.map_flipped_triangles > 0)
             std::printf(" (the map has %lld flipped triangles, so full coverage may be impossible)",
                         static_cast<long long>(v.map_flipped_triangles));
@@ -289,7 +292,8 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract->add_option("--valences", a.vval_path, "VVAL file with per-vertex cross-field valences");
     extract->add_option("--report", a.report_path, "write a JSON report (counts, defects, timings, check)");
     extract->add_flag("--poly", a.poly, "write the mesh even if faces are not quads (exit code stays 5)");
-    extract->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
+    extract
+        ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;
@@ -300,14 +304,16 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check->add_option("--param", a.param_path, "the map: OBJ with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh OBJ to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");
-    check->add_option("--uv-tolerance", a.options.uv_tolerance,
-                      "largest UV distance of a vertex to its grid point (default 1e-3)")
+    check
+        ->add_option("--uv-tolerance", a.options.uv_tolerance,
+                     "largest UV distance of a vertex to its grid point (default 1e-3)")
         ->check(CLI::NonNegativeNumber);
-    check->add_option("--distance-tolerance", a.options.distance_tolerance,
-                      "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
+    check
+        ->add_option("--distance-tolerance", a.options.distance_tolerance,
+                     "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
         ->check(CLI::NonNegativeNumber);
-    check->add_flag("--topology-only", [&a](std::int64_t) { a.options.locate = false; },
-                    "skip locating the vertices on the map");
+    check->add_flag(
+        "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
     return check;
 }
 
@@ -322,9 +328,7 @@ int main(int argc, char** argv) {
     CLI::App* check = add_check(app, check_args);
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? kOk : kUsage;
-    }
+    } catch (const CLI::ParseError& e) { return app.exit(e) == 0 ? kOk : kUsage; }
     if (*extract) {
         qex::cli::prepare_heap(size_of(extract_args.in_path));
         return run_extract(extract_args);

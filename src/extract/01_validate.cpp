@@ -29,10 +29,10 @@ Error check_sizes(const Input& in) {
     if (nv >= (std::int64_t{1} << 30) || nf >= (std::int64_t{1} << 29))
         return make(ErrorCode::MapTooLarge, "the mesh has too many elements for 32-bit indices", -1);
     if (in.uvs.size() != 3 * in.triangles.size())
-        return make(ErrorCode::UvCountMismatch,
-                    "expected " + std::to_string(3 * nf) + " corner UVs (3 per triangle), got " +
-                        std::to_string(in.uvs.size()),
-                    -1);
+        return make(
+            ErrorCode::UvCountMismatch,
+            "expected " + std::to_string(3 * nf) + " corner UVs (3 per triangle), got " + std::to_string(in.uvs.size()),
+            -1);
     return {};
 }
 
@@ -59,10 +59,10 @@ Error check_uvs(const Input& in) {
         for (int k = 0; k < 2; ++k) {
             const double x = in.uvs[c][k];
             if (!std::isfinite(x))
-                return make(ErrorCode::NonFiniteValue,
-                            "triangle " + std::to_string(c / 3) + " corner " + std::to_string(c % 3) +
-                                " has a non-finite UV",
-                            c / 3);
+                return make(
+                    ErrorCode::NonFiniteValue,
+                    "triangle " + std::to_string(c / 3) + " corner " + std::to_string(c % 3) + " has a non-finite UV",
+                    c / 3);
             if (std::abs(x) >= kMaxCoordinate)
                 return make(ErrorCode::CoordinateTooLarge,
                             "triangle " + std::to_string(c / 3) + " corner " + std::to_string(c % 3) +
@@ -108,8 +108,7 @@ Error check_valences(const Input& in) {
     for (std::size_t i = 0; i < in.valences.size(); ++i)
         if (in.valences[i] < 0 || in.valences[i] > kMaxValence)
             return make(ErrorCode::ValenceCountMismatch,
-                        "vertex " + std::to_string(i) + " has an implausible valence " +
-                            std::to_string(in.valences[i]),
+                        "vertex " + std::to_string(i) + " has an implausible valence " + std::to_string(in.valences[i]),
                         static_cast<std::int64_t>(i));
     return {};
 }
@@ -120,8 +119,8 @@ Error check_feature_edges(const Input& in) {
     for (std::size_t i = 0; i < in.feature_edges.size(); ++i) {
         const auto& e = in.feature_edges[i];
         if (e[0] < 0 || e[0] >= nv || e[1] < 0 || e[1] >= nv || e[0] == e[1])
-            return make(ErrorCode::BadFeatureEdge,
-                        "feature edge " + std::to_string(i) + " has invalid vertices", static_cast<std::int64_t>(i));
+            return make(ErrorCode::BadFeatureEdge, "feature edge " + std::to_string(i) + " has invalid vertices",
+                        static_cast<std::int64_t>(i));
     }
     return {};
 }

@@ -76,8 +76,10 @@ bool Gluing::link_condition(int a, int b) {
         int has_b = 0, other = -1;
         for (int k = 0; k < 3; ++k) {
             const int w = corner_of(g, k);
-            if (w == b) has_b = 1;
-            else if (w != a) other = w;
+            if (w == b)
+                has_b = 1;
+            else if (w != a)
+                other = w;
         }
         if (has_b && other >= 0) opposite_.push_back(other);
     }
@@ -153,8 +155,7 @@ Error collapse(TriMesh& m, std::int64_t& collapsed) {
     collapsed = gluing.collapse_all();
     if (collapsed == 0) return {};
     TriMesh out = reindexed(m, gluing);
-    if (out.tri.empty())
-        return {ErrorCode::CollapseFailed, "every triangle is degenerate in the parameter domain", -1};
+    if (out.tri.empty()) return {ErrorCode::CollapseFailed, "every triangle is degenerate in the parameter domain", -1};
     m = std::move(out);
     Error e = build_topology(m, "after collapsing UV-degenerate edges");
     if (e.code != ErrorCode::None) e.code = ErrorCode::CollapseFailed;

@@ -74,7 +74,10 @@ int nearest_rotation(const Point2& e, const Point2& e2) {
     for (int r = 0; r < 4; ++r) {
         const Point2 re = GridAutomorphism::rotate(e, r);
         const double dot = re[0] * e2[0] + re[1] * e2[1];
-        if (dot > best_dot) { best_dot = dot; best = r; }
+        if (dot > best_dot) {
+            best_dot = dot;
+            best = r;
+        }
     }
     return best;
 }
@@ -211,7 +214,7 @@ void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
     for (const auto& [l, h] : short_edges) {
         int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
         if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite
-        const int delta = (4 - ta) & 3; // a's walk crosses h, b's walk crosses opp(h)
+        const int delta = (4 - ta) & 3;                           // a's walk crosses h, b's walk crosses opp(h)
         set_transition(m, h, (m.map.transition[h].r + delta) & 3);
         ta = 0;
         tb = 0;

@@ -17,8 +17,8 @@ namespace {
 
 /// A corner of a fan, as its valence needs it.
 struct Corner {
-    int sign;      ///< orientation of the corner's triangle (exact)
-    double y, x;   ///< |cross| and dot of the corner's two edges
+    int sign;    ///< orientation of the corner's triangle (exact)
+    double y, x; ///< |cross| and dot of the corner's two edges
 };
 
 /// A corner's orientation sign and its unsigned inner angle.
@@ -80,7 +80,8 @@ bool decide_by_approximate_angles(TriMesh& m, int v, double approx, std::size_t 
 /// when every corner is degenerate.
 bool join_degenerate_corners(std::vector<SignedAngle>& fan) {
     int last = 0;
-    for (const auto& c : fan) if (c.first != 0) last = c.first;
+    for (const auto& c : fan)
+        if (c.first != 0) last = c.first;
     if (last == 0) return false;
     for (auto& c : fan) {
         if (c.first == 0) c.first = last;

@@ -61,8 +61,8 @@ FeatureConstraints feature_constraints(const TriMesh& m, const std::vector<std::
         const int found = find_half_edge(m, a, b);
         if (found < 0) {
             error = {ErrorCode::BadFeatureEdge,
-                     "feature edge " + std::to_string(i) + " (" + std::to_string(fe[0]) + ", " +
-                         std::to_string(fe[1]) + ") is not an edge of the mesh",
+                     "feature edge " + std::to_string(i) + " (" + std::to_string(fe[0]) + ", " + std::to_string(fe[1]) +
+                         ") is not an edge of the mesh",
                      static_cast<std::int64_t>(i)};
             return {};
         }
@@ -99,10 +99,10 @@ Point2 fixed_point(const GridAutomorphism& g) {
 
 /// A vertex's fan and the transitions between its charts.
 struct Fan {
-    std::vector<int> corners;            ///< clockwise; a closed fan starts at its smallest UV
-    std::vector<GridAutomorphism> to_c;  ///< chart of corners[0] -> chart of corners[i]
-    GridAutomorphism loop;               ///< once round a closed fan; the identity for an open one
-    bool closed = false;                 ///< interior vertex
+    std::vector<int> corners;           ///< clockwise; a closed fan starts at its smallest UV
+    std::vector<GridAutomorphism> to_c; ///< chart of corners[0] -> chart of corners[i]
+    GridAutomorphism loop;              ///< once round a closed fan; the identity for an open one
+    bool closed = false;                ///< interior vertex
 };
 
 /// Walks the fan of vertex v (fan_start[v] >= 0) into `fan`.
@@ -113,8 +113,8 @@ void walk_fan(const TriMesh& m, int v, Fan& fan) {
     fan.closed = !m.on_boundary[v];
     // Start at the corner with the smallest UV, so the result does not depend on input order.
     if (fan.closed) {
-        const auto first = std::min_element(corners.begin(), corners.end(),
-                                            [&](int a, int b) { return m.uv[a] < m.uv[b]; });
+        const auto first =
+            std::min_element(corners.begin(), corners.end(), [&](int a, int b) { return m.uv[a] < m.uv[b]; });
         std::rotate(corners.begin(), first, corners.end());
     }
     const std::size_t n = corners.size();
@@ -199,8 +199,7 @@ struct Totals {
 /// snapped onto its feature iso-lines and truncated.
 Point2 sanitized_start(const TriMesh& m, int v, const Fan& fan, bool singular, const Rules& rules) {
     const Point2 u0 = m.uv[fan.corners[0]];
-    if (singular)
-        return fan.loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(fan.loop);
+    if (singular) return fan.loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(fan.loop);
     return truncated_for_fan(m, fan, rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
 }
 
@@ -216,35 +215,35 @@ Totals sanitize_fans(TriMesh& m, const Rules& rules) {
 #pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
 #endif
     {
-    Fan fan;
+        Fan fan;
 #if defined(_OPENMP)
 #pragma omp for schedule(static)
 #endif
-    for (std::int64_t index = 0; index < count; ++index) {
-        const int v = m.vertex_order[static_cast<std::size_t>(index)];
-        if (m.fan_start[v] < 0) continue;
-        walk_fan(m, v, fan);
-        const GridAutomorphism& loop = fan.loop;
-        // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
-        // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
-        const int val = !rules.given_valences.empty() ? rules.given_valences[m.input_vertex[v]]
-                                                      : std::abs(m.map.winding_valence[v]);
-        const bool branch = fan.closed && loop.r == 0 && val >= 8;
-        if (branch && !rules.branch_points) ++deferred_count;
-        const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
-        if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
+        for (std::int64_t index = 0; index < count; ++index) {
+            const int v = m.vertex_order[static_cast<std::size_t>(index)];
+            if (m.fan_start[v] < 0) continue;
+            walk_fan(m, v, fan);
+            const GridAutomorphism& loop = fan.loop;
+            // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
+            // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
+            const int val = !rules.given_valences.empty() ? rules.given_valences[m.input_vertex[v]]
+                                                          : std::abs(m.map.winding_valence[v]);
+            const bool branch = fan.closed && loop.r == 0 && val >= 8;
+            if (branch && !rules.branch_points) ++deferred_count;
+            const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
+            if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
 #if defined(_OPENMP)
 #pragma omp critical(qex_sanitize_error)
 #endif
-            if (bad < 0 || index < bad) bad = index, bad_loop = loop;
-            continue;
+                if (bad < 0 || index < bad) bad = index, bad_loop = loop;
+                continue;
+            }
+            if (singular) {
+                m.map.singular[v] = 1;
+                ++singularities;
+            }
+            propagate(m, fan, sanitized_start(m, v, fan, singular, rules), max_disp, sum_disp);
         }
-        if (singular) {
-            m.map.singular[v] = 1;
-            ++singularities;
-        }
-        propagate(m, fan, sanitized_start(m, v, fan, singular, rules), max_disp, sum_disp);
-    }
     } // parallel region
     return {max_disp, sum_disp, singularities, deferred_count, bad, bad_loop};
 }
@@ -272,9 +271,8 @@ void set_face_signs(TriMesh& m) {
 
 } // namespace
 
-Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
-               const std::vector<std::array<int, 2>>& feature_edges, Report& report, bool branch_points,
-               std::int64_t* deferred) {
+Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
+               Report& report, bool branch_points, std::int64_t* deferred) {
     if (deferred) *deferred = 0;
     Error error;
     const FeatureConstraints features = feature_constraints(m, feature_edges, error);

@@ -19,8 +19,8 @@ std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Po
     // A sliver (twice its area at most 2^-20 of the product of two edges' lengths in the max
     // norm) loses its barycentric coordinates to rounding, and the grid point's 3D position with
     // them: computed exactly there.
-    const double scale = std::max(std::abs(b[0] - a[0]), std::abs(b[1] - a[1])) *
-                         std::max(std::abs(c[0] - a[0]), std::abs(c[1] - a[1]));
+    const double scale =
+        std::max(std::abs(b[0] - a[0]), std::abs(b[1] - a[1])) * std::max(std::abs(c[0] - a[0]), std::abs(c[1] - a[1]));
     if (!(std::abs(det) > std::ldexp(scale, -20))) return barycentric_exact(x, a, b, c);
     const double wb = ((x[0] - a[0]) * (c[1] - a[1]) - (x[1] - a[1]) * (c[0] - a[0])) / det;
     const double wc = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
@@ -56,10 +56,10 @@ double segment_param(const Point2& x, const Point2& a, const Point2& b) {
 
 /// The error for a map with more grid points than Options::max_qvertices, near `element`.
 Error too_large(const Options& opt, std::int64_t element) {
-    return Error{ErrorCode::MapTooLarge,
-                 "the map has more than " + std::to_string(opt.max_qvertices) +
-                     " integer grid points (Options::max_qvertices)",
-                 element};
+    return Error{
+        ErrorCode::MapTooLarge,
+        "the map has more than " + std::to_string(opt.max_qvertices) + " integer grid points (Options::max_qvertices)",
+        element};
 }
 
 /// An upper bound on the grid points of the map: the areas of the triangles' grown bounding boxes.
@@ -83,9 +83,12 @@ void add_vertex_qvertices(const TriMesh& m, QState& q) {
         q.vertex_qvertex[v] = static_cast<int>(q.qvertices.size());
         std::array<double, 3> w{0, 0, 0};
         w[c % 3] = 1.0;
-        q.qvertices.push_back({QVertexKind::Vertex, v, TriMesh::face(c),
+        q.qvertices.push_back({QVertexKind::Vertex,
+                               v,
+                               TriMesh::face(c),
                                {static_cast<std::int64_t>(m.uv[c][0]), static_cast<std::int64_t>(m.uv[c][1])},
-                               m.pos(c), w});
+                               m.pos(c),
+                               w});
     }
 }
 
@@ -118,8 +121,12 @@ void edge_qvertices(const TriMesh& m, int h, std::vector<QVertex>& list) {
             std::array<double, 3> w{0, 0, 0};
             w[k] = swap ? s : 1.0 - s;
             w[(k + 1) % 3] = swap ? 1.0 - s : s;
-            list.push_back({QVertexKind::Edge, h, f, {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
-                            embed(m, f, w), w});
+            list.push_back({QVertexKind::Edge,
+                            h,
+                            f,
+                            {static_cast<std::int64_t>(p[0]), static_cast<std::int64_t>(p[1])},
+                            embed(m, f, w),
+                            w});
         }
     }
 }
@@ -136,8 +143,12 @@ void face_qvertices(const TriMesh& m, int f, std::vector<QVertex>& list) {
             const Point2 p{x, y};
             if (sign(orient2d(a, b, p)) != s || sign(orient2d(b, c, p)) != s || sign(orient2d(c, a, p)) != s) continue;
             const auto w = barycentric(m, f, p);
-            list.push_back({QVertexKind::Face, f, f, {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
-                            embed(m, f, w), w});
+            list.push_back({QVertexKind::Face,
+                            f,
+                            f,
+                            {static_cast<std::int64_t>(x), static_cast<std::int64_t>(y)},
+                            embed(m, f, w),
+                            w});
         }
 }
 
@@ -221,13 +232,11 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
     add_vertex_qvertices(m, q);
     // Edge- and face-q-vertices: ranges of half-edges (then of triangles) on all threads.
     RangeGenerator generate(q, m.parallel(3 * nf) ? std::max(1, m.threads) : 1, opt.max_qvertices);
-    const int bad_edge = generate.run(3 * nf, q.edge_first, [&](int h, std::vector<QVertex>& list) {
-        edge_qvertices(m, h, list);
-    });
+    const int bad_edge =
+        generate.run(3 * nf, q.edge_first, [&](int h, std::vector<QVertex>& list) { edge_qvertices(m, h, list); });
     if (bad_edge >= 0) return too_large(opt, m.input_triangle[TriMesh::face(bad_edge)]);
-    const int bad_face = generate.run(nf, q.face_first, [&](int f, std::vector<QVertex>& list) {
-        face_qvertices(m, f, list);
-    });
+    const int bad_face =
+        generate.run(nf, q.face_first, [&](int f, std::vector<QVertex>& list) { face_qvertices(m, f, list); });
     if (bad_face >= 0) return too_large(opt, m.input_triangle[bad_face]);
     return {};
 }

@@ -25,8 +25,8 @@ Where classify(const Point2& u, const Point2& v, const Point2& w, int s, int d) 
 
 /// Appends the ports of one corner at grid point `grid` (edges to v and w, orientation s), from the
 /// w-side to the v-side; the iso-line along the w-edge only if `take_w`.
-void corner_ports(std::vector<Port>& ports, int qv, int corner, const IPoint& grid, const Point2& v,
-                  const Point2& w, int s, bool take_w) {
+void corner_ports(std::vector<Port>& ports, int qv, int corner, const IPoint& grid, const Point2& v, const Point2& w,
+                  int s, bool take_w) {
     if (s == 0) return;
     const Point2 u = to_point(grid);
     Where where[4];
@@ -80,8 +80,7 @@ void edge_ports(const TriMesh& m, int i, const QVertex& qv, std::vector<Port>& p
     const int so = o >= 0 ? m.map.face_sign[TriMesh::face(o)] : 0;
     // In face(h) the edge runs a -> b: v-edge towards b, w-edge towards a.
     corner_ports(ports, i, h, qv.grid, m.uv[TriMesh::next(h)], m.uv[h], sh, o < 0 || so == 0);
-    if (o >= 0)
-        corner_ports(ports, i, o, m.map.transition[h](qv.grid), m.uv[TriMesh::next(o)], m.uv[o], so, sh == 0);
+    if (o >= 0) corner_ports(ports, i, o, m.map.transition[h](qv.grid), m.uv[TriMesh::next(o)], m.uv[o], so, sh == 0);
 }
 
 } // namespace

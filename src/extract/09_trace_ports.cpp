@@ -26,7 +26,10 @@ int pick_next_edge(const TriMesh& m, int f, int entry, const Point2& a, const Po
         const bool along = orient2d(a, b, m.uv[h]) == Orientation::Collinear &&
                            orient2d(a, b, m.uv[TriMesh::next(h)]) == Orientation::Collinear;
         const int rank = on + (along ? 10 : 0);
-        if (rank < best_rank) { best = h; best_rank = rank; }
+        if (rank < best_rank) {
+            best = h;
+            best_rank = rank;
+        }
     }
     return best;
 }
@@ -76,14 +79,20 @@ int vertex_matching_port(const TriMesh& m, const QState& q, int qv, int f, int d
             gcw = m.map.transition[cw].after(gcw);
             cw = m.cw(cw);
             if (cw >= 0)
-                if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) { to_port = gcw; return p; }
+                if (const int p = port_at(q, qv, cw, gcw.rotate_dir(dir)); p >= 0) {
+                    to_port = gcw;
+                    return p;
+                }
         }
         if (ccw >= 0) {
             const int prev = TriMesh::prev(ccw);
             if (m.opp[prev] >= 0) {
                 gccw = m.map.transition[prev].after(gccw);
                 ccw = m.opp[prev];
-                if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) { to_port = gccw; return p; }
+                if (const int p = port_at(q, qv, ccw, gccw.rotate_dir(dir)); p >= 0) {
+                    to_port = gccw;
+                    return p;
+                }
             } else {
                 ccw = -1;
             }
@@ -144,11 +153,17 @@ TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port,
     for (std::int64_t step = 0; step < opt.max_trace_steps; ++step) {
         const int f = end.f;
         const Point2 pa = to_point(a), pb = to_point(end.b);
-        if (in_closed_triangle(pb, m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) { end.arrived = true; break; }
+        if (in_closed_triangle(pb, m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) {
+            end.arrived = true;
+            break;
+        }
         const int h = pick_next_edge(m, f, entry, pa, pb);
         if (h < 0) break;
         const int o = m.opp[h];
-        if (o < 0) { end.boundary = true; break; }
+        if (o < 0) {
+            end.boundary = true;
+            break;
+        }
         const GridAutomorphism& t = m.map.transition[h];
         end.g = t.after(end.g);
         a = t(a);

@@ -18,7 +18,10 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
     const int limit = v.kind == QVertexKind::Vertex ? m.fan_size[v.element] : 2;
     for (int step = 0; step < limit; ++step) {
         const int next = v.kind == QVertexKind::Vertex ? m.cw(c) : m.opp[c];
-        if (next < 0) { ok = false; return g; }
+        if (next < 0) {
+            ok = false;
+            return g;
+        }
         g = m.map.transition[c].after(g);
         c = next;
         if (c == pb.corner) return g;
@@ -62,15 +65,24 @@ void walk_face(const TriMesh& m, const QState& q, int start, std::vector<char>& 
         const int next = v.first_port + (arrive - v.first_port + 1) % v.num_ports;
         bool ok = true;
         const GridAutomorphism fan = fan_transition_cw(m, q, arrive, next, ok);
-        if (!ok) { w.boundary = true; break; }
+        if (!ok) {
+            w.boundary = true;
+            break;
+        }
         gbar = fan.after(c.g.after(gbar));
         if (q.connections[next].to < 0) {
             (q.into_boundary[next] ? w.boundary : w.open) = true;
             break;
         }
         cur = next;
-        if (cur == start) { w.closed = true; break; }
-        if (visited[cur]) { (visited[cur] == 2 ? w.boundary : w.open) = true; break; }
+        if (cur == start) {
+            w.closed = true;
+            break;
+        }
+        if (visited[cur]) {
+            (visited[cur] == 2 ? w.boundary : w.open) = true;
+            break;
+        }
     }
 }
 
@@ -87,13 +99,19 @@ void report_unclosed(const TriMesh& m, const QState& q, const Walk& w, int chart
                                            std::to_string(v.grid[1]) + ") of input triangle " +
                                            std::to_string(m.input_triangle[v.chart]) +
                                            " ran into the boundary between grid points; the face is left out",
-                                       m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+                                       m.input_triangle[v.chart],
+                                       -1,
+                                       {v.grid[0], v.grid[1]},
+                                       std::nullopt});
     } else {
         ++report.open_face_walks;
         report.defects.push_back({DefectKind::OpenFaceWalk,
                                   "a face walk starting at grid point (" + std::to_string(w.uv[0][0]) + ", " +
                                       std::to_string(w.uv[0][1]) + ") did not close",
-                                  m.input_triangle[chart], -1, {w.uv[0][0], w.uv[0][1]}, std::nullopt});
+                                  m.input_triangle[chart],
+                                  -1,
+                                  {w.uv[0][0], w.uv[0][1]},
+                                  std::nullopt});
     }
 }
 

@@ -40,7 +40,11 @@ void remove_repeats_and_spikes(Loop& l) {
         changed = false;
         for (std::size_t i = 0; i < l.size() && l.size() > 1; ++i) {
             const std::size_t n = l.size(), j = (i + 1) % n;
-            if (l[i].v == l[j].v) { l.erase(l.begin() + static_cast<std::ptrdiff_t>(j)); changed = true; break; }
+            if (l[i].v == l[j].v) {
+                l.erase(l.begin() + static_cast<std::ptrdiff_t>(j));
+                changed = true;
+                break;
+            }
             if (n > 2 && l[i].v == l[(i + 2) % n].v) { // spike i -> j -> i: drop j and the return
                 const std::size_t k = (i + 2) % n;
                 std::size_t hi = std::max(j, k), lo = std::min(j, k);
@@ -176,7 +180,10 @@ void merge_clones(const std::vector<Loop>& loops, UnionFind& sets, Report& repor
             for (std::size_t j = i + 1; j < l.size(); ++j)
                 if (l[i].uv == l[j].uv && l[i].v != l[j].v) {
                     const int a = sets.find(l[i].v), b = sets.find(l[j].v);
-                    if (a != b) { sets.attach(std::max(a, b), std::min(a, b)); ++report.merged_qvertices; }
+                    if (a != b) {
+                        sets.attach(std::max(a, b), std::min(a, b));
+                        ++report.merged_qvertices;
+                    }
                 }
 }
 
@@ -187,7 +194,10 @@ void explain_collapsed(const TriMesh& m, const QState& q, const Loop& p, Report&
                                    "a face collapsed to a " + std::to_string(p.size()) + "-gon at grid point (" +
                                        std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
                                        ") of input triangle " + std::to_string(m.input_triangle[v.chart]),
-                                   m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+                                   m.input_triangle[v.chart],
+                                   -1,
+                                   {v.grid[0], v.grid[1]},
+                                   std::nullopt});
 }
 
 /// 3. Simplify faces, on the merged q-vertices; drops (and counts) those left with fewer than 3
@@ -273,7 +283,10 @@ void explain_ghosts(const TriMesh& m, const QState& q, const Loop& face, Report&
                                    "a face and its reverse cancelled near grid point (" + std::to_string(v.grid[0]) +
                                        ", " + std::to_string(v.grid[1]) + ") of input triangle " +
                                        std::to_string(m.input_triangle[v.chart]),
-                                   m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+                                   m.input_triangle[v.chart],
+                                   -1,
+                                   {v.grid[0], v.grid[1]},
+                                   std::nullopt});
 }
 
 /// 4. Cancel ghost faces (Figure 2 (c)): a face and its reverse cover the same quad once
@@ -357,7 +370,9 @@ void report_non_quad(const TriMesh& m, const QState& q, const Loop& l, std::size
                               std::to_string(corners) + "-gon near grid point (" + std::to_string(v.grid[0]) + ", " +
                                   std::to_string(v.grid[1]) + ") of input triangle " +
                                   std::to_string(m.input_triangle[v.chart]),
-                              m.input_triangle[v.chart], static_cast<std::int64_t>(face), {v.grid[0], v.grid[1]},
+                              m.input_triangle[v.chart],
+                              static_cast<std::int64_t>(face),
+                              {v.grid[0], v.grid[1]},
                               std::nullopt});
 }
 
@@ -393,8 +408,8 @@ void write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& si
 
 } // namespace
 
-void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt,
-                        QuadMesh& out, Report& report) {
+void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
+                    Report& report) {
     std::vector<Loop> loops = recover_lost_edges(m, q, faces, opt, report);
     UnionFind sets(q.qvertices.size());
     if (opt.merge_vertices) merge_clones(loops, sets, report);

@@ -53,7 +53,8 @@ std::vector<int> face_order(const QuadMesh& mesh) {
     }
     std::sort(fkeys.begin(), fkeys.end(), [&](const FaceKey& a, const FaceKey& b) {
         if (a.head != b.head) return a.head < b.head;
-        const auto &fa = mesh.faces[static_cast<std::size_t>(a.face)], &fb = mesh.faces[static_cast<std::size_t>(b.face)];
+        const auto &fa = mesh.faces[static_cast<std::size_t>(a.face)],
+                   &fb = mesh.faces[static_cast<std::size_t>(b.face)];
         if (fa.size() > 4 || fb.size() > 4)
             if (fa != fb) return fa < fb;
         return a.face < b.face;

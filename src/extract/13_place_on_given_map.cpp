@@ -33,8 +33,8 @@ private:
     void list_neighbours(int t);
 
     const TriMesh& g_;
-    std::vector<std::uint32_t> stamp_;  ///< per triangle: the search that listed it last
-    std::vector<GridAutomorphism> to_;  ///< per triangle: chart of the start -> its chart
+    std::vector<std::uint32_t> stamp_; ///< per triangle: the search that listed it last
+    std::vector<GridAutomorphism> to_; ///< per triangle: chart of the start -> its chart
     std::vector<int> queue_;
     std::uint32_t generation_ = 0;
 };
@@ -90,8 +90,10 @@ Provenance located(const Input& input, const TriMesh& g, int found, const IPoint
     np.grid = {q[0], q[1]};
     int corner = -1, edge = -1;
     for (int k = 0; k < 3; ++k) {
-        if (u[k] == x) corner = k;
-        else if (sign(orient2d(u[k], u[(k + 1) % 3], x)) == 0) edge = k;
+        if (u[k] == x)
+            corner = k;
+        else if (sign(orient2d(u[k], u[(k + 1) % 3], x)) == 0)
+            edge = k;
     }
     std::array<double, 3> w = barycentric_exact(x, u[0], u[1], u[2]); // a rare path: exact
     if (corner >= 0) {

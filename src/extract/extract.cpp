@@ -41,7 +41,8 @@ Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<st
         count_valences(m);
         timer.done(Stage::count_valences);
         std::int64_t deferred = 0;
-        if (Error e = sanitize(m, input.valences, features, report, branch_points, &deferred); e.code != ErrorCode::None)
+        if (Error e = sanitize(m, input.valences, features, report, branch_points, &deferred);
+            e.code != ErrorCode::None)
             return e;
         timer.done(Stage::sanitize);
         // The last round ends on a sanitized map: a collapse after it would leave the map
@@ -136,7 +137,10 @@ Error extract_geometry(const TriMesh& m, const Options& options, QState& q, Repo
                                       "the q-vertex at grid point (" + std::to_string(v.grid[0]) + ", " +
                                           std::to_string(v.grid[1]) +
                                           ") lies only on degenerate triangles and has no q-port",
-                                      m.input_triangle[v.chart], -1, {v.grid[0], v.grid[1]}, std::nullopt});
+                                      m.input_triangle[v.chart],
+                                      -1,
+                                      {v.grid[0], v.grid[1]},
+                                      std::nullopt});
     timer.done(Stage::enumerate_ports);
     return {};
 }

@@ -11,7 +11,7 @@ using IPoint = std::array<std::int64_t, 2>;
 using Point2 = std::array<double, 2>;
 
 struct GridAutomorphism {
-    int r = 0;                // rotation by r * 90 degrees, 0..3
+    int r = 0; // rotation by r * 90 degrees, 0..3
     std::int64_t tx = 0, ty = 0;
 
     template <class T>

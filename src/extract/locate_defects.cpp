@@ -36,7 +36,8 @@ public:
     using Key = std::array<std::int64_t, 3>;
     CellGrid(const std::vector<std::array<double, 3>>& points, double cell) : points_(points), cell_(cell) {
         entries_.reserve(points.size());
-        for (std::size_t i = 0; i < points.size(); ++i) entries_.push_back({key(points[i], 0, 0, 0), static_cast<int>(i)});
+        for (std::size_t i = 0; i < points.size(); ++i)
+            entries_.push_back({key(points[i], 0, 0, 0), static_cast<int>(i)});
         std::sort(entries_.begin(), entries_.end());
     }
     /// The cube of p, shifted by (dx, dy, dz) cubes.
@@ -98,8 +99,8 @@ void describe_global(const Input& input, const Result& result, Defect& d) {
     if (bare >= 0) {
         char figure[32];
         std::snprintf(figure, sizeof figure, "%.1f", distance);
-        d.message += "; the input surface farthest from the output is at input vertex " + std::to_string(bare) +
-                     ", " + figure + " median edge lengths from every output vertex";
+        d.message += "; the input surface farthest from the output is at input vertex " + std::to_string(bare) + ", " +
+                     figure + " median edge lengths from every output vertex";
     }
 }
 
@@ -116,7 +117,8 @@ std::vector<std::int64_t> first_triangles(const Input& input) {
     std::vector<std::int64_t> first(input.positions.size(), -1);
     for (std::size_t t = input.triangles.size(); t-- > 0;)
         for (int w : input.triangles[t])
-            if (w >= 0 && static_cast<std::size_t>(w) < first.size()) first[static_cast<std::size_t>(w)] = static_cast<std::int64_t>(t);
+            if (w >= 0 && static_cast<std::size_t>(w) < first.size())
+                first[static_cast<std::size_t>(w)] = static_cast<std::int64_t>(t);
     return first;
 }
 

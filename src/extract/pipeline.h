@@ -40,9 +40,10 @@ inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",       "collapse",        "untangle",    "compute_transitions", "count_valences",
-    "sanitize",       "generate_qvertices", "enumerate_ports", "trace_ports", "extract_faces",
-    "merge_vertices", "canonicalize",    "place_on_given_map", "check"};
+    "validate",           "collapse",      "untangle",           "compute_transitions",
+    "count_valences",     "sanitize",      "generate_qvertices", "enumerate_ports",
+    "trace_ports",        "extract_faces", "merge_vertices",     "canonicalize",
+    "place_on_given_map", "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -112,9 +113,8 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 /// it unset they are truncated like regular vertices and counted in `*deferred`. (Their
 /// valence comes from angles, which noise makes meaningless next to an edge that is about to
 /// become degenerate: the caller decides them once such edges are collapsed.)
-Error sanitize(TriMesh& m, const std::vector<int>& given_valences,
-               const std::vector<std::array<int, 2>>& feature_edges, Report& report, bool branch_points = true,
-               std::int64_t* deferred = nullptr);
+Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
+               Report& report, bool branch_points = true, std::int64_t* deferred = nullptr);
 
 /// The most sanitize rounds after the first; the last round is not followed by a collapse.
 inline constexpr int kMaxSanitizeRounds = 8;
@@ -129,9 +129,9 @@ Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<st
 
 struct QVertex {
     QVertexKind kind;
-    int element;       ///< vertex id (Vertex), canonical half-edge (Edge), triangle (Face)
-    int chart;         ///< triangle whose chart `grid` is expressed in
-    IPoint grid;       ///< integer parameter position in that chart
+    int element; ///< vertex id (Vertex), canonical half-edge (Edge), triangle (Face)
+    int chart;   ///< triangle whose chart `grid` is expressed in
+    IPoint grid; ///< integer parameter position in that chart
     std::array<double, 3> position;
     std::array<double, 3> barycentric; ///< in triangle `chart` (corner order)
     int first_port = 0, num_ports = 0;
@@ -151,21 +151,21 @@ struct Port {
 /// A traced iso-line from one port to another; `g` maps the chart of the source port's triangle
 /// to the chart of the target port's triangle.
 struct Connection {
-    int to = -1;          ///< target port, -1 if the trace ran into the boundary or failed
+    int to = -1; ///< target port, -1 if the trace ran into the boundary or failed
     GridAutomorphism g;
 };
 
 struct QState {
     std::vector<QVertex> qvertices;
-    std::vector<int> vertex_qvertex;   ///< per mesh vertex: its vertex-q-vertex or -1
+    std::vector<int> vertex_qvertex; ///< per mesh vertex: its vertex-q-vertex or -1
     /// Edge-q-vertices of half-edge h: [edge_first[h], edge_first[h + 1]) (empty unless h is its
     /// edge's smaller half-edge); size 3F + 1.
     std::vector<int> edge_first;
     /// Face-q-vertices of triangle f: [face_first[f], face_first[f + 1]); size F + 1.
     std::vector<int> face_first;
     std::vector<Port> ports;
-    std::vector<Connection> connections;     ///< per port
-    std::vector<char> into_boundary;         ///< per port: its trace left the surface through a boundary
+    std::vector<Connection> connections; ///< per port
+    std::vector<char> into_boundary;     ///< per port: its trace left the surface through a boundary
 };
 
 /// Generates vertex-, edge- and face-q-vertices (Algorithm 3).
@@ -202,8 +202,8 @@ std::vector<int> canonicalize(QuadMesh& mesh);
 /// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
 /// fills the output mesh. Of `q` it reads only the q-vertices (the driver releases the ports and
 /// traces before calling it).
-void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces,
-                        const Options& opt, QuadMesh& out, Report& report);
+void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
+                    Report& report);
 
 // ============================================================================ after the check
 

@@ -46,11 +46,11 @@ private:
 /// Per-element facts of the map, derived from a TriMesh's connectivity and UVs (transitions,
 /// valences, sanitization): valid only for the connectivity they were computed on.
 struct MapState {
-    TransitionTable transition; ///< per half-edge h: chart of face(h) -> chart of face(opp h)
-    std::vector<signed char> face_sign;       ///< per triangle: sign of its UV area (exact)
-    std::vector<int> valence;                 ///< per vertex: valence (Algorithm 8 or given)
-    std::vector<int> winding_valence;         ///< per vertex: signed angle sum / (pi/2), rounded
-    std::vector<char> singular;               ///< per vertex
+    TransitionTable transition;         ///< per half-edge h: chart of face(h) -> chart of face(opp h)
+    std::vector<signed char> face_sign; ///< per triangle: sign of its UV area (exact)
+    std::vector<int> valence;           ///< per vertex: valence (Algorithm 8 or given)
+    std::vector<int> winding_valence;   ///< per vertex: signed angle sum / (pi/2), rounded
+    std::vector<char> singular;         ///< per vertex
     /// Whether every array is sized for a mesh of `faces` triangles and `vertices` vertices.
     bool sized_for(int faces, int vertices) const {
         const auto f = static_cast<std::size_t>(faces), v = static_cast<std::size_t>(vertices);
@@ -64,19 +64,19 @@ struct MapState {
 struct TriMesh {
     int num_vertices = 0;
     std::vector<std::array<int, 3>> tri;
-    std::vector<Point2> uv;                        ///< per corner, in the chart of its triangle
+    std::vector<Point2> uv; ///< per corner, in the chart of its triangle
     /// Per corner: the input vertex whose 3D position the corner keeps (survives collapses).
     std::vector<int> corner_vertex;
     const std::vector<std::array<double, 3>>* positions = nullptr; ///< the input's, outlives the mesh
     const std::array<double, 3>& pos(int c) const { return (*positions)[static_cast<std::size_t>(corner_vertex[c])]; }
-    std::vector<int> input_triangle;               ///< per triangle: index in the input
-    std::vector<int> input_vertex;                 ///< per vertex: a representative input vertex
+    std::vector<int> input_triangle; ///< per triangle: index in the input
+    std::vector<int> input_vertex;   ///< per vertex: a representative input vertex
 
     // connectivity (build_topology)
-    std::vector<int> opp;           ///< per half-edge: opposite half-edge, -1 on the boundary
-    std::vector<int> fan_start;     ///< per vertex: first corner of its fan in clockwise order
-    std::vector<int> fan_size;      ///< per vertex: number of corners
-    std::vector<char> on_boundary;  ///< per vertex
+    std::vector<int> opp;          ///< per half-edge: opposite half-edge, -1 on the boundary
+    std::vector<int> fan_start;    ///< per vertex: first corner of its fan in clockwise order
+    std::vector<int> fan_size;     ///< per vertex: number of corners
+    std::vector<char> on_boundary; ///< per vertex
     /// Referenced vertices in the order their first corners appear. Walking fans in this order
     /// keeps consecutive fans in nearby memory (vertex numbering often has no locality at all).
     std::vector<int> vertex_order;

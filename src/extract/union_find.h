@@ -14,7 +14,8 @@ public:
     /// The representative of x's set.
     int find(int x) {
         while (parent_[static_cast<std::size_t>(x)] != x)
-            x = parent_[static_cast<std::size_t>(x)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(x)])];
+            x = parent_[static_cast<std::size_t>(x)] =
+                parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(x)])];
         return x;
     }
     /// Makes `into` the representative of `from`'s set (both must be representatives).

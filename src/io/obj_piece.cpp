@@ -117,8 +117,15 @@ void parse_piece(const char* begin, const char* end, Piece& piece) {
         c.skip_blanks();
         if (c.p >= c.end) break;
         const char ch = *c.p;
-        if (ch == '\n') { ++c.p; ++c.line; continue; }
-        if (ch == '#') { c.skip_line(); continue; }
+        if (ch == '\n') {
+            ++c.p;
+            ++c.line;
+            continue;
+        }
+        if (ch == '#') {
+            c.skip_line();
+            continue;
+        }
         const std::string_view key = c.read_key();
         const Record record = read_record(c, key, piece);
         if (record == Record::Failed) return;
@@ -127,8 +134,14 @@ void parse_piece(const char* begin, const char* end, Piece& piece) {
             fail(piece, c, IoError::Code::Syntax, "trailing characters");
             return;
         }
-        if (c.p < c.end && *c.p == '#') { c.skip_line(); continue; }
-        if (c.p < c.end) { ++c.p; ++c.line; }
+        if (c.p < c.end && *c.p == '#') {
+            c.skip_line();
+            continue;
+        }
+        if (c.p < c.end) {
+            ++c.p;
+            ++c.line;
+        }
     }
     piece.lines = c.line - 1;
 }

@@ -139,8 +139,7 @@ private:
 
     /// Copies the piece's records to their place, resolves its faces' indices into `out_` and
     /// `tex`, then releases the piece. Returns its first problem, with its line in the file.
-    IoError place_piece(Piece& p, const Place& place, std::vector<std::array<double, 2>>& vts,
-                        std::vector<int>& tex) {
+    IoError place_piece(Piece& p, const Place& place, std::vector<std::array<double, 2>>& vts, std::vector<int>& tex) {
         std::copy(p.positions.begin(), p.positions.end(),
                   out_.positions.begin() + static_cast<std::ptrdiff_t>(place.nv));
         std::copy(p.vts.begin(), p.vts.end(), vts.begin() + static_cast<std::ptrdiff_t>(place.nvt));
@@ -236,7 +235,7 @@ public:
                 return true;
             }
             const std::size_t upto = last_line_end(kept); // 0: none among the new bytes
-            if (upto == 0) { // no line end in the new bytes: the line goes on
+            if (upto == 0) {                              // no line end in the new bytes: the line goes on
                 kept = have;
                 n = read_into(buf_, have);
                 continue;
@@ -275,7 +274,9 @@ private:
     bool feed_reading_next(ObjParser& parser, std::size_t upto, std::size_t kept, std::size_t& next_n) {
         struct Joined { // the reading thread is joined however this ends
             std::thread thread;
-            ~Joined() { if (thread.joinable()) thread.join(); }
+            ~Joined() {
+                if (thread.joinable()) thread.join();
+            }
         } reader;
         if (overlap_) {
             try {
@@ -284,8 +285,10 @@ private:
             }
         }
         const bool go_on = parser.feed(buf_.data(), upto);
-        if (reader.thread.joinable()) reader.thread.join();
-        else if (go_on) next_n = read_into(next_, kept);
+        if (reader.thread.joinable())
+            reader.thread.join();
+        else if (go_on)
+            next_n = read_into(next_, kept);
         return go_on;
     }
 

@@ -84,9 +84,13 @@ private:
             p_ = buf_.data();
         }
     }
-    void put(const char* text) { while (*text) *p_++ = *text++; }
+    void put(const char* text) {
+        while (*text) *p_++ = *text++;
+    }
     template <class T>
-    void number(T x) { p_ = std::to_chars(p_, buf_.data() + buf_.size(), x).ptr; }
+    void number(T x) {
+        p_ = std::to_chars(p_, buf_.data() + buf_.size(), x).ptr;
+    }
 
     std::FILE* f_;
     std::vector<char> buf_;

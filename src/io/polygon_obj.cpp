@@ -42,8 +42,15 @@ IoError parse_polygon_obj(const std::string& data, QuadMesh& out) {
     while (c.p < c.end) {
         c.skip_blanks();
         if (c.p >= c.end) break;
-        if (*c.p == '\n') { ++c.p; ++c.line; continue; }
-        if (*c.p == '#') { c.skip_line(); continue; }
+        if (*c.p == '\n') {
+            ++c.p;
+            ++c.line;
+            continue;
+        }
+        if (*c.p == '#') {
+            c.skip_line();
+            continue;
+        }
         const std::string_view key = c.read_key();
         if (key == "v") {
             std::array<double, 3> p{};

@@ -22,9 +22,14 @@ struct Cursor {
     std::int64_t line = 1;
 
     /// Skips spaces, tabs and carriage returns (not line ends).
-    void skip_blanks() { while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p; }
+    void skip_blanks() {
+        while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+    }
     /// Skips blanks; whether the record ends here (buffer end, line end or comment).
-    bool at_eol() { skip_blanks(); return p >= end || *p == '\n' || *p == '#'; }
+    bool at_eol() {
+        skip_blanks();
+        return p >= end || *p == '\n' || *p == '#';
+    }
     /// Moves past the next line end (to the buffer end if there is none) and counts a line.
     void skip_line() {
         const void* nl = p < end ? std::memchr(p, '\n', static_cast<std::size_t>(end - p)) : nullptr;
@@ -45,7 +50,10 @@ struct Cursor {
         const char* start = p;
         if (p < end && *p == '+') ++p; // fast_float does not take a leading '+'
         auto r = fast_float::from_chars(p, end, x);
-        if (r.ec != std::errc() || r.ptr == p) { p = start; return false; }
+        if (r.ec != std::errc() || r.ptr == p) {
+            p = start;
+            return false;
+        }
         p = r.ptr;
         return p >= end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '#';
     }
@@ -58,10 +66,16 @@ struct Cursor {
         std::int64_t v = 0;
         const char* digits = p;
         while (p < end && *p >= '0' && *p <= '9') {
-            if (v > (std::int64_t{1} << 40)) { p = start; return false; }
+            if (v > (std::int64_t{1} << 40)) {
+                p = start;
+                return false;
+            }
             v = v * 10 + (*p++ - '0');
         }
-        if (p == digits) { p = start; return false; }
+        if (p == digits) {
+            p = start;
+            return false;
+        }
         x = neg ? -v : v;
         return true;
     }
@@ -75,8 +89,14 @@ inline IoError err(IoError::Code c, std::int64_t line, const std::string& msg) {
 /// Resolves a 1-based (or negative, relative) OBJ index against `count` elements.
 inline bool resolve(std::int64_t idx, std::size_t count, int& out) {
     const auto n = static_cast<std::int64_t>(count);
-    if (idx > 0 && idx <= n) { out = static_cast<int>(idx - 1); return true; }
-    if (idx < 0 && -idx <= n) { out = static_cast<int>(n + idx); return true; }
+    if (idx > 0 && idx <= n) {
+        out = static_cast<int>(idx - 1);
+        return true;
+    }
+    if (idx < 0 && -idx <= n) {
+        out = static_cast<int>(n + idx);
+        return true;
+    }
     return false;
 }
 

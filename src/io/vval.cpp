@@ -28,7 +28,11 @@ IoError parse_vval_records(const char* data, std::size_t size, std::vector<int>&
     std::int64_t count = -1;
     while (c.p < c.end) {
         c.skip_blanks();
-        if (c.p < c.end && *c.p == '\n') { ++c.p; ++c.line; continue; }
+        if (c.p < c.end && *c.p == '\n') {
+            ++c.p;
+            ++c.line;
+            continue;
+        }
         if (c.p >= c.end) break;
         std::int64_t x;
         if (!c.read_int(x)) return err(IoError::Code::VvalSyntax, c.line, "expected an integer");

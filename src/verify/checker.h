@@ -106,7 +106,7 @@ std::vector<char> singular_vertices(const Input& in, const InputEdges& edges);
 
 /// Where a point lies on the input surface (Surface::locate).
 struct SurfacePoint {
-    std::uint32_t triangle = 0;    ///< the input triangle of the closest surface point
+    std::uint32_t triangle = 0;     ///< the input triangle of the closest surface point
     std::array<double, 2> uv{0, 0}; ///< the closest point's UV in that triangle's chart
     double distance = 0;            ///< from the point to the closest surface point
     int corner = -1; ///< the triangle's first corner within the distance tolerance of the closest point, or -1

@@ -79,9 +79,9 @@ private:
     const Input& in_;
     const QuadMesh& mesh_;
     const std::vector<Located>& loc_;
-    std::vector<double> step_;         ///< per half-edge: the distance between the centroids across it
-    std::vector<char> fold_vertex_;  ///< per input vertex: a corner of a fold-over
-    std::size_t budget_;               ///< triangles a search settles at most
+    std::vector<double> step_;      ///< per half-edge: the distance between the centroids across it
+    std::vector<char> fold_vertex_; ///< per input vertex: a corner of a fold-over
+    std::size_t budget_;            ///< triangles a search settles at most
     // The search's scratch: triangles stamped with the current generation were reached.
     std::vector<std::uint32_t> stamp_;
     std::vector<double> best_;
@@ -95,9 +95,15 @@ private:
 };
 
 FaceJudge::FaceJudge(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc)
-    : map_(map), in_(map.in), mesh_(mesh), loc_(loc), step_(centroid_steps(map.in, map.edges)),
-      fold_vertex_(map.in.positions.size(), 0), stamp_(map.in.triangles.size(), 0),
-      best_(map.in.triangles.size(), 0.0), via_(map.in.triangles.size(), -1) {
+    : map_(map),
+      in_(map.in),
+      mesh_(mesh),
+      loc_(loc),
+      step_(centroid_steps(map.in, map.edges)),
+      fold_vertex_(map.in.positions.size(), 0),
+      stamp_(map.in.triangles.size(), 0),
+      best_(map.in.triangles.size(), 0.0),
+      via_(map.in.triangles.size(), -1) {
     const std::size_t nt = in_.triangles.size();
     budget_ = std::max<std::size_t>(1u << 14, 64 * nt / std::max<std::size_t>(mesh.faces.size(), 1));
     // Vertices next to a fold-over: a flipped or degenerate triangle shares a vertex with the
@@ -176,8 +182,7 @@ GridPoint FaceJudge::carry(const Located& L, std::uint32_t t0, std::uint32_t tc)
     for (std::uint32_t t = t0; t != tc;) {
         through_fold_ = through_fold_ || map_.fold_over[t];
         const auto o = static_cast<std::size_t>(via_[t]);
-        through_singular_ = through_singular_ ||
-                            map_.singular[static_cast<std::size_t>(in_.triangles[o / 3][o % 3])] ||
+        through_singular_ = through_singular_ || map_.singular[static_cast<std::size_t>(in_.triangles[o / 3][o % 3])] ||
                             map_.singular[static_cast<std::size_t>(in_.triangles[o / 3][(o % 3 + 1) % 3])];
         const Transition& T = map_.edges.across[o]; // from t's chart to the chart it was reached from
         const auto q = rotate_quarter(p, T.r);
@@ -254,8 +259,7 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
     for (int v : face) corner_near_fold_ = corner_near_fold_ || near_fold(loc_[static_cast<std::size_t>(v)].triangle);
     if (!a.reached_all) {
         report(f,
-               "face " + std::to_string(f) +
-                   ": its corners lie too far apart on the input surface to be one grid cell",
+               "face " + std::to_string(f) + ": its corners lie too far apart on the input surface to be one grid cell",
                r, out);
         return;
     }

@@ -56,7 +56,8 @@ std::vector<std::int32_t> edge_heads(const Corners& fc, int threads) {
     std::vector<std::int32_t> head(nc);
     const auto nc64 = static_cast<std::int64_t>(nc);
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, static_cast<std::int64_t>(nc)))
+#pragma omp parallel for schedule(static) \
+    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(nc)))
 #else
     (void)threads;
 #endif
@@ -188,8 +189,11 @@ struct VertexCorners {
 
     VertexCorners(const Corners& fc, const std::vector<std::int32_t>& head, const std::vector<std::int32_t>& twin,
                   std::size_t num_vertices)
-        : boundary_next(num_vertices, -1), boundary_count(num_vertices, 0), corners(num_vertices, 0),
-          referenced(num_vertices, 0), components(num_vertices) {
+        : boundary_next(num_vertices, -1),
+          boundary_count(num_vertices, 0),
+          corners(num_vertices, 0),
+          referenced(num_vertices, 0),
+          components(num_vertices) {
         for (std::size_t c = 0; c < fc.size(); ++c) {
             const int a = fc.vertex(c), b = head[c];
             referenced[a] = 1;
@@ -229,7 +233,8 @@ std::vector<char> single_fans(const Corners& fc, const std::vector<std::int32_t>
     std::vector<char> single(nv, 0);
     const auto listed = static_cast<std::int64_t>(order.size());
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, static_cast<std::int64_t>(fc.size())))
+#pragma omp parallel for schedule(static) \
+    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(fc.size())))
 #else
     (void)threads;
 #endif
@@ -289,7 +294,12 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
     const Corners fc(offset, corner_vertex);
     const std::vector<std::int32_t> head = edge_heads(fc, threads);
     EdgeBuckets buckets = bucket_edges(fc, head, num_vertices);
-    EdgeMatch m{fc, buckets, out, pairs_out != nullptr, std::vector<std::int32_t>(fc.size(), -1), {},
+    EdgeMatch m{fc,
+                buckets,
+                out,
+                pairs_out != nullptr,
+                std::vector<std::int32_t>(fc.size(), -1),
+                {},
                 std::vector<char>(num_vertices, 0)};
     if (pairs_out) m.pair.assign(fc.size(), -1);
     Topology t;

@@ -149,15 +149,14 @@ InputTopology analyse_input(const Input& input, int threads, VerifyResult& r) {
 /// The mesh's Euler characteristic, boundary loops and components against the input's.
 void compare_topology(const VerifyResult& r, std::vector<Violation>& out) {
     if (r.euler != r.input_euler)
-        out.push_back({ViolationKind::EulerMismatch,
-                       "Euler characteristic " + std::to_string(r.euler) + ", input has " +
-                           std::to_string(r.input_euler),
-                       -1});
+        out.push_back(
+            {ViolationKind::EulerMismatch,
+             "Euler characteristic " + std::to_string(r.euler) + ", input has " + std::to_string(r.input_euler), -1});
     if (r.boundary_loops != r.input_boundary_loops)
-        out.push_back({ViolationKind::BoundaryMismatch,
-                       std::to_string(r.boundary_loops) + " boundary loops, input has " +
-                           std::to_string(r.input_boundary_loops),
-                       -1});
+        out.push_back(
+            {ViolationKind::BoundaryMismatch,
+             std::to_string(r.boundary_loops) + " boundary loops, input has " + std::to_string(r.input_boundary_loops),
+             -1});
     if (r.components != r.input_components)
         out.push_back({ViolationKind::ComponentMismatch,
                        std::to_string(r.components) + " components, input has " + std::to_string(r.input_components),
