@@ -150,10 +150,9 @@ Error pair_opposites(TriMesh& m, EdgeBuckets& b, const char* what) {
     const int nv = m.num_vertices;
     m.opp.assign(3 * m.num_faces(), -1);
     int first_bad = nv;
+    [[maybe_unused]] const bool parallel = m.parallel(3 * m.num_faces());
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces())) \
-    reduction(min                                                                                   \
-              : first_bad)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (parallel) reduction(min : first_bad)
 #endif
     for (int v = 0; v < nv; ++v) {
         sort_bucket(b.entry, b.bucket[v], b.bucket[v + 1]);
@@ -209,10 +208,9 @@ void list_vertex_order(TriMesh& m) {
 Error check_single_fans(const TriMesh& m, const char* what) {
     const auto listed = static_cast<std::int64_t>(m.vertex_order.size());
     std::int64_t first_split = listed;
+    [[maybe_unused]] const bool parallel = m.parallel(3 * m.num_faces());
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces())) \
-    reduction(min                                                                                   \
-              : first_split)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (parallel) reduction(min : first_split)
 #endif
     for (std::int64_t i = 0; i < listed; ++i) {
         const int v = m.vertex_order[static_cast<std::size_t>(i)];

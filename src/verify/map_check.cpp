@@ -38,10 +38,9 @@ void map_displacement(const Input& input, const UVs& U, int threads, VerifyResul
     const auto blocks = static_cast<std::int64_t>((U.size() + kBlock - 1) / kBlock);
     std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
     double largest = 0.0;
+    [[maybe_unused]] const bool parallel = run_parallel(threads, static_cast<std::int64_t>(U.size()));
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static)                                                               \
-    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(U.size()))) reduction(max \
-                                                                                                    : largest)
+#pragma omp parallel for schedule(static) num_threads(threads) if (parallel) reduction(max : largest)
 #else
     (void)threads;
 #endif
@@ -93,8 +92,7 @@ ChartMatch match_charts(const UVs& U, const EdgePairs& pairs, int threads) {
     const auto nc = static_cast<std::int64_t>(U.size());
     ChartMatch m{std::vector<std::int32_t>(U.size(), -1), std::vector<std::int8_t>(U.size(), 0)};
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) \
-    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(nc)))
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, nc))
 #else
     (void)threads;
 #endif

@@ -56,8 +56,7 @@ std::vector<std::int32_t> edge_heads(const Corners& fc, int threads) {
     std::vector<std::int32_t> head(nc);
     const auto nc64 = static_cast<std::int64_t>(nc);
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) \
-    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(nc)))
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, nc64))
 #else
     (void)threads;
 #endif
@@ -232,9 +231,9 @@ std::vector<char> single_fans(const Corners& fc, const std::vector<std::int32_t>
     }
     std::vector<char> single(nv, 0);
     const auto listed = static_cast<std::int64_t>(order.size());
+    [[maybe_unused]] const auto num_corners = static_cast<std::int64_t>(fc.size());
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) \
-    num_threads(threads) if (run_parallel(threads, static_cast <std::int64_t>(fc.size())))
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, num_corners))
 #else
     (void)threads;
 #endif
