@@ -91,22 +91,11 @@ inline bool names_an_output_vertex(const Result& r, const Defect& d) {
     return false;
 }
 
-/// The check's violation a checker defect came from: the checker defects are the violations
-/// one to one and in order (verdict_inconsistency), so the k-th checker defect is violation k.
-inline const Violation* violation_of(const Result& r, const Defect& d) {
-    std::size_t k = 0;
-    for (const Defect& e : r.report.defects) {
-        if (&e == &d) return k < r.check.violations.size() ? &r.check.violations[k] : nullptr;
-        k += e.violation.has_value();
-    }
-    return nullptr;
-}
-
 /// "" when the defect names a place that exists: an input triangle or an output face in range;
 /// every defect of the extractor names an input triangle; a checker defect of one element names
 /// an input triangle, and for an output face or vertex that face and an output vertex's
-/// triangle and grid point.
-inline std::string misplaced(const Input& in, const Result& r, const Defect& d) {
+/// triangle and grid point (`v`: the violation a checker defect came from).
+inline std::string misplaced(const Input& in, const Result& r, const Defect& d, const Violation* v = nullptr) {
     const auto triangles = static_cast<std::int64_t>(in.triangles.size());
     const auto faces = static_cast<std::int64_t>(r.mesh.faces.size());
     const std::string what = std::string(to_string(d.kind)) + " '" + d.message + "'";
@@ -121,7 +110,6 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d) 
     if (is_whole_mesh_violation(*d.violation) != (element == ViolationElement::None))
         return what + ": element_kind disagrees with the kind's scope";
     if (element == ViolationElement::None) return {};
-    const Violation* v = violation_of(r, d);
     if (!v) return what + ": matches no violation of the check";
     if (v->element < 0) return {}; // the checker named no single element
     if (d.input_element < 0) return what + ": names no place";
@@ -137,9 +125,14 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d) 
 /// "" when every defect names a place (misplaced()) and is no explanation, and every
 /// explanation is one and names an input triangle.
 inline std::string place_inconsistency(const Input& in, const Result& r) {
+    // The checker defects are the violations one to one and in order (verdict_inconsistency):
+    // the k-th checker defect came from violation k.
+    std::size_t k = 0;
     for (const Defect& d : r.report.defects) {
         if (is_explanation_kind(d.kind)) return std::string("an explanation among the defects: ") + d.message;
-        if (std::string why = misplaced(in, r, d); !why.empty()) return why;
+        const Violation* v = nullptr;
+        if (d.violation) v = k < r.check.violations.size() ? &r.check.violations[k++] : nullptr;
+        if (std::string why = misplaced(in, r, d, v); !why.empty()) return why;
     }
     for (const Defect& d : r.report.explanations) {
         if (!is_explanation_kind(d.kind) || d.violation)
