@@ -58,8 +58,12 @@ struct Options {
     /// Treat every boundary edge as a feature edge: snap it to its closest integer iso-line.
     /// For maps whose boundaries are meant to be aligned but carry solver noise.
     bool snap_boundary = false;
-    /// When the checker rejects the output of the paper's method, retry on a map whose fold-over
-    /// regions are relaxed (keeping transitions and singularities); see Report::rung.
+    /// Re-embed the regions of flipped and degenerate triangles before extraction (stage repair),
+    /// keeping transitions, singularities, boundaries and everything outside them; the mesh
+    /// carries the repaired map and which triangles changed (QuadMesh::map_repaired).
+    bool repair_fold_overs = true;
+    /// When the checker rejects the mesh of the repaired map, retry on the map as given with the
+    /// paper's local handling of fold-overs alone; see Report::rung.
     bool fallback_ladder = true;
     /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
     /// serially. The output is identical for every value.
@@ -81,6 +85,7 @@ enum class DefectKind {
     FaceCollapsed,         ///< a face walk collapsed to a 2-gon or 1-gon after merging fold-over clones
     GhostFacesCancelled,   ///< a face and its reverse (a fold-over's double cover) were removed together
     BoundaryFaceDiscarded, ///< a face walk ran into a boundary that is not on an integer iso-line
+    FoldOverNotRepaired,   ///< stage repair left a fold-over as the map gives it (the paper's handling applies)
 };
 const char* to_string(DefectKind kind);
 
@@ -120,23 +125,23 @@ struct Report {
     std::int64_t recovered_edges = 0, merged_qvertices = 0, collapsed_faces = 0;
     std::int64_t ghost_faces_cancelled = 0; ///< faces removed in pairs with their reverse (Figure 2 (c))
     std::int64_t non_quad_faces = 0;
-    /// Signed UV area of the map the mesh was extracted from (sanitized; relaxed on rungs past
-    /// the first), a double sum: the expected quad count for fold-over-free closed maps.
+    /// Signed UV area of the map the mesh was extracted from (sanitized and repaired), a double
+    /// sum: the expected quad count for fold-over-free closed maps. A repair keeps it.
     double signed_uv_area = 0.0;
     std::vector<Defect> defects;
     /// Where fold-overs removed quads (collapsed faces, cancelled ghost pairs), with locations:
     /// together they explain a quad count below the signed UV area.
     std::vector<Defect> explanations;
-    /// Which rung of the fallback ladder produced the mesh ("as-given", "untangled-1", ...),
-    /// how many were tried, and how many violations the checker found in the returned mesh.
+    /// Which rung of the fallback ladder produced the mesh ("repaired", then "as-given"), how
+    /// many were tried, and how many violations the checker found in the returned mesh.
     std::string rung;
     std::int64_t rungs_tried = 0;
     std::int64_t check_violations = 0;
-    /// Triangles still flipped or degenerate (UV area <= 0) after untangling (rungs past the first).
-    std::int64_t flipped_after_untangling = 0;
-    /// Rungs past the first: output vertices that found no preimage of their grid point in the
-    /// given map (they stay where the relaxed map put them, and the checker rejects them).
-    std::int64_t unplaced_vertices = 0;
+    /// Stage repair: fold-over regions re-embedded, the triangles whose UVs it changed, the
+    /// regions it left as given (each named in `explanations`), and the triangles still flipped
+    /// or degenerate (UV area <= 0) after it.
+    std::int64_t repaired_regions = 0, repaired_triangles = 0, unrepaired_regions = 0;
+    std::int64_t flipped_after_repair = 0;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
     /// name; see the README's pipeline table), summed over every run of the stage in this
     /// extraction (sanitize rounds, and every rung tried), in first-run order.

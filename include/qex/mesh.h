@@ -53,11 +53,15 @@ struct QuadMesh {
     std::vector<std::vector<std::array<std::int64_t, 2>>> face_uvs;
     /// Per vertex (qex's own output; empty for meshes from elsewhere).
     std::vector<Provenance> provenance;
-    /// The sanitized map the mesh was extracted from: 3 UVs per input triangle, NaN for
-    /// triangles removed by collapsing UV-degenerate edges. Empty for meshes from elsewhere.
-    /// The checker verifies it is an exact integer-grid map and that every vertex's provenance
-    /// names a grid point on the element it claims.
+    /// The sanitized (and repaired) map the mesh was extracted from: 3 UVs per input triangle,
+    /// NaN for triangles removed by collapsing UV-degenerate edges. Empty for meshes from
+    /// elsewhere. The checker verifies it is an exact integer-grid map and that every vertex's
+    /// provenance names a grid point on the element it claims.
     std::vector<std::array<double, 2>> map_uvs;
+    /// The repair's certificate: the input triangles (sorted) whose UVs the repair of fold-overs
+    /// changed. The checker verifies that each is positively oriented in `map_uvs`, exactly;
+    /// every other triangle keeps its sanitized UVs.
+    std::vector<std::int32_t> map_repaired;
 };
 
 } // namespace qex

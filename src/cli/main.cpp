@@ -103,10 +103,11 @@ nlohmann::json counts_json(const qex::Report& r) {
 
 nlohmann::json to_json(const qex::Report& r) {
     nlohmann::json j = counts_json(r);
-    j["fallback"] = {{"rung", r.rung},
-                     {"rungs_tried", r.rungs_tried},
-                     {"flipped_after_untangling", r.flipped_after_untangling},
-                     {"unplaced_vertices", r.unplaced_vertices}};
+    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}};
+    j["repair"] = {{"repaired_regions", r.repaired_regions},
+                   {"repaired_triangles", r.repaired_triangles},
+                   {"unrepaired_regions", r.unrepaired_regions},
+                   {"flipped_after_repair", r.flipped_after_repair}};
     j["defects"] = nlohmann::json::array();
     for (const auto& d : r.defects) j["defects"].push_back(to_json(d));
     j["explanations"] = nlohmann::json::array();

@@ -2,6 +2,7 @@
 // order of the stage table (pipeline.h), each timed under its own name.
 #include "pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <iterator>
@@ -66,16 +67,13 @@ namespace {
 /// The fallback ladder. Each rung re-runs the pipeline from the validated, collapsed mesh.
 struct Rung {
     const char* name;
-    int untangle_rings; ///< 0: the map as given
-    int untangle_iterations;
+    bool repair; ///< stage repair runs
 };
 constexpr Rung kLadder[] = {
-    // 1. The paper's method on the map as given.
-    {"as-given", 0, 0},
-    // 2. Fold-overs defeated the local handling: relax the folded regions (one ring around them).
-    {"untangled-1", 1, 30},
-    // 3. Still invalid: relax wider regions for longer.
-    {"untangled-3", 3, 100},
+    // 1. The sanitized map with its fold-over regions re-embedded (certified), then the paper's method.
+    {"repaired", true},
+    // 2. Last resort: the paper's method, and its local handling of fold-overs, on the map as given.
+    {"as-given", false},
 };
 
 /// The feature edges to snap: the input's, and every boundary edge with Options::snap_boundary.
@@ -99,24 +97,29 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
-/// Stages untangle (relaxed rungs) to count_valences: the map, ready for extraction.
+/// Stages compute_transitions to repair: the map, ready for extraction. `repaired_faces`: the
+/// triangles whose UVs the repair changed.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer) {
-    if (rung.untangle_rings > 0) {
-        compute_transitions(m);
-        count_valences(m);
-        report.flipped_after_untangling = untangle(m, rung.untangle_rings, rung.untangle_iterations);
-        timer.done(Stage::untangle);
-    }
-    if (Error e = sanitize_until_stable(m, input, feature_edges(m, input, options), report, timer);
-        e.code != ErrorCode::None)
-        return e;
+                  StageTimer& timer, std::vector<int>& repaired_faces) {
+    const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
+    if (Error e = sanitize_until_stable(m, input, features, report, timer); e.code != ErrorCode::None) return e;
     count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())
         for (int v = 0; v < m.num_vertices; ++v) m.map.valence[v] = input.valences[m.input_vertex[v]];
     timer.done(Stage::count_valences);
     report_map(m, report);
     timer.done(Stage::sanitize);
+    if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
+        RepairOutcome outcome = repair(m, features, report);
+        report.repaired_regions = outcome.regions_repaired;
+        report.unrepaired_regions = outcome.regions_failed;
+        report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
+        for (int f = 0; f < m.num_faces(); ++f) report.flipped_after_repair += m.map.face_sign[f] <= 0;
+        repaired_faces = std::move(outcome.repaired_faces);
+        timer.done(Stage::repair);
+    } else {
+        report.flipped_after_repair = report.flipped_triangles + report.degenerate_triangles;
+    }
     return {};
 }
 
@@ -186,7 +189,11 @@ std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result) {
     Report& report = result.report;
     StageTimer timer(report);
-    if ((result.error = prepare_map(m, input, options, rung, report, timer)).code != ErrorCode::None) return false;
+    std::vector<int> repaired_faces;
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces)).code != ErrorCode::None)
+        return false;
+    for (const int f : repaired_faces) result.mesh.map_repaired.push_back(m.input_triangle[f]);
+    std::sort(result.mesh.map_repaired.begin(), result.mesh.map_repaired.end());
     QState q;
     if ((result.error = extract_geometry(m, options, q, report, timer)).code != ErrorCode::None) return false;
     extract_connectivity(m, options, q, result.mesh, report, timer);
@@ -201,39 +208,20 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     return true;
 }
 
-/// Stages place_on_given_map (relaxed rungs) and check: the checker's verdict on the rung's mesh.
-void judge(const Input& input, const Options& options, const Rung& rung,
-           const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
+/// Stage check: the checker's verdict on the rung's mesh, against the map it carries (with the
+/// repair's certificate, which the checker verifies on its own).
+void judge(const Options& options, const Input& input, Result& attempt) {
     StageTimer timer(attempt.report);
-    const bool relaxed = rung.untangle_rings > 0;
-    if (relaxed && !given_map.empty()) {
-        // A relaxed map is not the given one: every vertex moves onto its grid point in the
-        // given (sanitized) map, so the mesh is judged against that map.
-        attempt.report.unplaced_vertices = place_on_given_map(input, given_map, attempt.mesh);
-        timer.done(Stage::place_on_given_map);
-    }
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
     attempt.check = verify(input, attempt.mesh, verify_options);
-    if (relaxed && attempt.check.valid) {
-        // And it must pass the oracle that judges it against the given map alone (as
-        // `qex check` would), or the rung is rejected.
-        QuadMesh bare;
-        bare.positions = attempt.mesh.positions;
-        bare.faces = attempt.mesh.faces;
-        const VerifyResult located = verify(input, bare, verify_options);
-        for (const Violation& v : located.violations)
-            attempt.check.violations.push_back(
-                {v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
-        attempt.check.valid = attempt.check.violations.empty();
-    }
     attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
     timer.done(Stage::check);
 }
 
 /// A fresh result for rung `r`, with what stages validate and collapse reported, and the stage
 /// times so far (the rungs before it included).
-Result start_attempt(const Report& prepared, int r) {
+Result start_attempt(const Report& prepared, int r, int tried) {
     Result attempt;
     Report& report = attempt.report;
     report.input_vertices = prepared.input_vertices;
@@ -241,7 +229,7 @@ Result start_attempt(const Report& prepared, int r) {
     report.stage_seconds = prepared.stage_seconds;
     report.collapsed_edges = prepared.collapsed_edges;
     report.rung = kLadder[r].name;
-    report.rungs_tried = r + 1;
+    report.rungs_tried = tried;
     return attempt;
 }
 
@@ -269,35 +257,34 @@ Result extract(const Input& input, const Options& options) {
     if ((prepared.error = prepare_mesh(input, options, m, prepared.report)).code != ErrorCode::None) return prepared;
     // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
     // with the fewest violations is returned, its defects and violations in the report.
-    const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : 1;
+    const int first = options.repair_fold_overs ? 0 : 1;
+    const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : first + 1;
     Result best;
     std::size_t best_violations = SIZE_MAX;
-    std::vector<std::array<double, 2>> given_map; // the first rung's sanitized map
-    for (int r = 0; r < rungs; ++r) {
+    for (int r = first; r < rungs; ++r) {
         // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
         // rather than every run paying for a copy. Preparing succeeded once, so it does again.
         // Its time, like every rung's, is added to the stages' totals.
-        if (r > 0) {
+        if (r > first) {
             Report again;
             again.stage_seconds = std::move(prepared.report.stage_seconds);
             (void)prepare_mesh(input, options, m, again);
             prepared.report.stage_seconds = std::move(again.stage_seconds);
         }
-        Result attempt = start_attempt(prepared.report, r);
+        Result attempt = start_attempt(prepared.report, r, r - first + 1);
         if (!run_rung(std::move(m), input, options, kLadder[r], attempt)) return attempt;
-        judge(input, options, kLadder[r], given_map, attempt);
+        judge(options, input, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
-        if (r == 0) given_map = attempt.mesh.map_uvs; // only a failed first rung needs it
-        // Untangling moves only vertices near flipped or degenerate triangles: without any,
-        // the further rungs would repeat this one.
-        const bool untangling_can_help = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
+        // The repair changes only flipped or degenerate regions: without any, the map as given
+        // is the map this rung had.
+        const bool another_map = attempt.report.repaired_triangles > 0;
         if (attempt.check.violations.size() < best_violations) {
             best_violations = attempt.check.violations.size();
             best = std::move(attempt);
         }
-        best.report.rungs_tried = r + 1;
-        if (!untangling_can_help) break;
+        best.report.rungs_tried = r - first + 1;
+        if (!another_map) break;
     }
     best.report.stage_seconds = std::move(prepared.report.stage_seconds);
     // No rung gave a valid mesh: locate every violation on the input through the provenance.

@@ -36,6 +36,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::CheckerViolation: return "CheckerViolation";
         case DefectKind::FaceCollapsed: return "FaceCollapsed";
         case DefectKind::BoundaryFaceDiscarded: return "BoundaryFaceDiscarded";
+        case DefectKind::FoldOverNotRepaired: return "FoldOverNotRepaired";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";
     }
     return "Unknown";

@@ -23,27 +23,25 @@ namespace qex::detail {
 enum class Stage : int {
     validate,            ///< 01: values, indices and topology of the input; the working mesh
     collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round but a capped last)
-    untangle,            ///< 03: relaxed rungs of the fallback ladder only
-    compute_transitions, ///< 04: Section 3.1
-    count_valences,      ///< 05: Algorithm 8
-    sanitize,            ///< 06: Algorithms 1 and 2, Section 3.2
+    compute_transitions, ///< 03: Section 3.1
+    count_valences,      ///< 04: Algorithm 8
+    sanitize,            ///< 05: Algorithms 1 and 2, Section 3.2
+    repair,              ///< 06: certified re-embedding of fold-over regions (not in the paper)
     generate_qvertices,  ///< 07: Algorithm 3
     enumerate_ports,     ///< 08: Algorithm 4
     trace_ports,         ///< 09: Algorithm 5
     extract_faces,       ///< 10: Algorithm 6
     merge_vertices,      ///< 11: Section 5.5, Algorithm 7
     canonicalize,        ///< 12: order-independent output
-    place_on_given_map,  ///< 13: relaxed rungs of the fallback ladder only
-    check,               ///< 14: the independent checker (qex::verify) judges the rung's mesh
+    check,               ///< 13: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",           "collapse",      "untangle",           "compute_transitions",
-    "count_valences",     "sanitize",      "generate_qvertices", "enumerate_ports",
-    "trace_ports",        "extract_faces", "merge_vertices",     "canonicalize",
-    "place_on_given_map", "check"};
+    "validate",        "collapse",      "compute_transitions", "count_valences", "sanitize",
+    "repair",          "generate_qvertices", "enumerate_ports", "trace_ports", "extract_faces",
+    "merge_vertices", "canonicalize",  "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -96,17 +94,6 @@ inline constexpr double kApproximateAngleError = 1e-4;
 /// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
 void count_valences(TriMesh& m, bool singular_only = false);
 
-/// Fallback: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV area
-/// <= 0) towards the average of their neighbours, through exact transitions. Returns the number
-/// of triangles still flipped or degenerate.
-std::int64_t untangle(TriMesh& m, int rings, int iterations);
-
-/// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
-/// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
-/// by a breadth-first search from its provenance triangle, and sets its provenance and the
-/// mesh's map to that map. Returns the number of vertices it could not place.
-std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
-
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
 /// Branch points (r = 0, valence 8 or more) are snapped only when `branch_points` is set; with
@@ -116,8 +103,31 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
                Report& report, bool branch_points = true, std::int64_t* deferred = nullptr);
 
+/// u0 (in the chart of corners[0]) truncated to a power of two at least as large as every
+/// coordinate of the fan's corners, before and after propagation through `to_c` (chart of
+/// corners[0] -> chart of corners[i]): truncated to it, u0 propagates exactly. u0 itself if the
+/// fan is all zero or no such power is found.
+Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
+                         Point2 u0);
+
 /// The most sanitize rounds after the first; the last round is not followed by a collapse.
 inline constexpr int kMaxSanitizeRounds = 8;
+
+/// What stage repair did: the triangles whose UVs it changed (working indices, sorted), and the
+/// fold-over regions it could not repair within its budget (in the report's explanations).
+struct RepairOutcome {
+    std::vector<int> repaired_faces;
+    std::int64_t regions_repaired = 0, regions_failed = 0;
+};
+
+/// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
+/// sanitized map. Each region's free vertices (interior, regular, not on a feature) move so
+/// that every triangle around them is positively oriented, decided exactly; singular,
+/// boundary and feature vertices and everything outside the regions keep their sanitized UVs
+/// bit for bit, and the transitions stay as they are. A region that does not untangle grows
+/// and is tried again, up to a budget; past it, its UVs are restored and the paper's local
+/// handling takes over there (named in report.explanations). Updates MapState::face_sign.
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, Report& report);
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.

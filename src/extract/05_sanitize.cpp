@@ -135,34 +135,6 @@ Point2 snapped_to_features(Point2 u0, const std::vector<FeatureConstraint>& cons
     return u0;
 }
 
-/// u0 truncated to delta: a power of two at least as large as every coordinate of the fan,
-/// before and after propagation (translations may dominate tiny coordinates). Truncated to it,
-/// u0 propagates exactly; the loop only guards against rounding at the boundary. u0 itself if
-/// the fan is all zero or no delta is found.
-Point2 truncated_for_fan(const TriMesh& m, const Fan& fan, Point2 u0) {
-    const std::size_t n = fan.corners.size();
-    double scale = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const Point2 p = fan.to_c[i](u0);
-        const Point2& c = m.uv[fan.corners[i]];
-        scale = std::max({scale, std::abs(c[0]), std::abs(c[1]), std::abs(p[0]), std::abs(p[1])});
-    }
-    if (!(scale > 0.0)) return u0;
-    int e = 0;
-    std::frexp(scale, &e);
-    for (int attempt = 0; attempt < 64; ++attempt, ++e) {
-        const double delta = std::ldexp(1.0, e);
-        const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
-        double reach = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const Point2 p = fan.to_c[i](t);
-            reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
-        }
-        if (reach <= delta) return t;
-    }
-    return u0;
-}
-
 /// Writes u0 to every corner of the fan through the transitions, accumulating each corner's
 /// displacement (maximum norm) into `max_disp` and `sum_disp`.
 void propagate(TriMesh& m, const Fan& fan, const Point2& u0, double& max_disp, double& sum_disp) {
@@ -200,7 +172,7 @@ struct Totals {
 Point2 sanitized_start(const TriMesh& m, int v, const Fan& fan, bool singular, const Rules& rules) {
     const Point2 u0 = m.uv[fan.corners[0]];
     if (singular) return fan.loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(fan.loop);
-    return truncated_for_fan(m, fan, rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
+    return truncated_for_fan(m, fan.corners, fan.to_c, rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
 }
 
 /// Sanitizes every fan, in corner order (TriMesh::vertex_order). Each vertex reads and writes
@@ -270,6 +242,31 @@ void set_face_signs(TriMesh& m) {
 }
 
 } // namespace
+
+Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
+                         Point2 u0) {
+    const std::size_t n = corners.size();
+    double scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2 p = to_c[i](u0);
+        const Point2& c = m.uv[corners[i]];
+        scale = std::max({scale, std::abs(c[0]), std::abs(c[1]), std::abs(p[0]), std::abs(p[1])});
+    }
+    if (!(scale > 0.0)) return u0;
+    int e = 0;
+    std::frexp(scale, &e);
+    for (int attempt = 0; attempt < 64; ++attempt, ++e) {
+        const double delta = std::ldexp(1.0, e);
+        const Point2 t{truncate(u0[0], delta), truncate(u0[1], delta)};
+        double reach = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Point2 p = to_c[i](t);
+            reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
+        }
+        if (reach <= delta) return t;
+    }
+    return u0;
+}
 
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
                Report& report, bool branch_points, std::int64_t* deferred) {

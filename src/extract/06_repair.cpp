@@ -1,0 +1,508 @@
+// Stage repair: certified re-embedding of fold-over regions (not in the paper, whose handling of
+// fold-overs is local and assumes a fold covers a small part of a cell).
+//
+// A region is a connected set of free vertices (interior, regular, off the features) near
+// flipped or degenerate triangles; its triangles are those around its free vertices, and its
+// other vertices (singular, boundary, feature, or outside) stay fixed. The free vertices move to
+// minimise an energy that penalises inverted triangles through a regularised determinant, the
+// regularisation shrinking as the triangles untangle (the foldover-free energy of Garanzha et
+// al. 2021, minimised here vertex by vertex with damped Newton steps). Each vertex lives in the chart of one of its corners and is
+// written to the others through the exact transitions after truncation (as sanitize does),
+// so transitions and singularities are untouched. A region counts as repaired only when every
+// one of its triangles is positively oriented by the exact predicate; otherwise its UVs are
+// restored bit for bit, it grows, and it is tried again, up to a budget.
+#include "pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+namespace qex::detail {
+namespace {
+
+// ============================================================================ budget
+
+/// Ring radii around the fold-overs, one attempt each.
+constexpr int kRingRadii[] = {1, 2, 4, 8, 16};
+/// Energy updates (regularisation steps) per attempt, and Gauss-Seidel sweeps per update.
+constexpr int kOuterIterations = 300;
+constexpr int kSweeps = 2;
+/// Larger regions are not attempted (their repair would cost more than the extraction).
+constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
+
+// ============================================================================ the energy
+
+/// A triangle's rest shape: the inverse of its reference edge matrix (columns r1 - r0, r2 - r0)
+/// and its reference area; corners in the order base, next, prev.
+struct RestShape {
+    double g00, g01, g10, g11;
+    double area;
+    int base; ///< corner the triangle's Jacobian starts at (canonical: smallest 3D position)
+};
+
+using Vec2 = std::array<double, 2>;
+
+/// chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, without cancellation for D < 0.
+double chi(double d, double eps) {
+    const double r = std::sqrt(eps * eps + d * d);
+    return d >= 0 ? 0.5 * (d + r) : 0.5 * eps * eps / (r - d);
+}
+
+/// The energy of one triangle with corner UVs u0, u1, u2 (corners base, next, prev, in the
+/// triangle's chart); with `grad`, adds its gradient with respect to the three corners.
+double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const RestShape& s, double eps,
+                       std::array<Vec2, 3>* grad) {
+    const double a0 = u1[0] - u0[0], a1 = u1[1] - u0[1], b0 = u2[0] - u0[0], b1 = u2[1] - u0[1];
+    const double j00 = a0 * s.g00 + b0 * s.g10, j01 = a0 * s.g01 + b0 * s.g11;
+    const double j10 = a1 * s.g00 + b1 * s.g10, j11 = a1 * s.g01 + b1 * s.g11;
+    const double det = j00 * j11 - j01 * j10;
+    const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
+    const double c = chi(det, eps);
+    const double num = frob + det * det + 1.0;
+    const double energy = s.area * num / c;
+    if (grad) {
+        const double r = std::sqrt(eps * eps + det * det);
+        const double dchi = 0.5 * (1.0 + det / r);
+        // dE/dJ = (2 J + 2 det cof J) / chi - num chi' / chi^2 cof J, cof J = [[j11, -j10], [-j01, j00]].
+        const double k = num * dchi / (c * c);
+        const double d00 = (2 * j00 + 2 * det * j11) / c - k * j11, d01 = (2 * j01 - 2 * det * j10) / c + k * j10;
+        const double d10 = (2 * j10 - 2 * det * j01) / c + k * j01, d11 = (2 * j11 + 2 * det * j00) / c - k * j00;
+        // dE/d[a b] = area * dE/dJ * G^T.
+        const Vec2 da{s.area * (d00 * s.g00 + d01 * s.g01), s.area * (d10 * s.g00 + d11 * s.g01)};
+        const Vec2 db{s.area * (d00 * s.g10 + d01 * s.g11), s.area * (d10 * s.g10 + d11 * s.g11)};
+        (*grad)[0][0] -= da[0] + db[0];
+        (*grad)[0][1] -= da[1] + db[1];
+        (*grad)[1][0] += da[0];
+        (*grad)[1][1] += da[1];
+        (*grad)[2][0] += db[0];
+        (*grad)[2][1] += db[1];
+    }
+    return energy;
+}
+
+/// The Jacobian determinant of triangle f in its rest shape's units.
+double jacobian_det(const TriMesh& m, int f, const RestShape& s) {
+    const int b = s.base;
+    const Vec2 &u0 = m.uv[b], &u1 = m.uv[TriMesh::next(b)], &u2 = m.uv[TriMesh::prev(b)];
+    const double a0 = u1[0] - u0[0], a1 = u1[1] - u0[1], b0 = u2[0] - u0[0], b1 = u2[1] - u0[1];
+    (void)f;
+    return (a0 * b1 - a1 * b0) * (s.g00 * s.g11 - s.g01 * s.g10);
+}
+
+bool positive(const TriMesh& m, int f) { return sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) > 0; }
+
+/// Lexicographic order of 3D points.
+bool less3(const std::array<double, 3>& a, const std::array<double, 3>& b) { return a < b; }
+
+// ============================================================================ a free vertex
+
+/// A free vertex's fan, starting at a canonical corner (so the sums below do not depend on the
+/// input's order), with the transitions from the first corner's chart to each corner's.
+struct FreeFan {
+    int vertex = -1;
+    std::vector<int> corners;
+    std::vector<GridAutomorphism> to_c;
+    double length = 1.0; ///< mean UV edge length around the vertex, the scale of its steps
+};
+
+FreeFan free_fan(const TriMesh& m, int v) {
+    FreeFan fan;
+    fan.vertex = v;
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.corners.push_back(h);
+    // The start: smallest UV, then smallest 3D position of the next and previous corners.
+    auto key_less = [&](int a, int b) {
+        if (m.uv[a] != m.uv[b]) return m.uv[a] < m.uv[b];
+        if (m.pos(TriMesh::next(a)) != m.pos(TriMesh::next(b)))
+            return less3(m.pos(TriMesh::next(a)), m.pos(TriMesh::next(b)));
+        return less3(m.pos(TriMesh::prev(a)), m.pos(TriMesh::prev(b)));
+    };
+    std::vector<int> walk = fan.corners;
+    const auto first = std::min_element(walk.begin(), walk.end(), key_less);
+    // Walk again from the start (the fan is closed: the vertex is interior).
+    std::rotate(walk.begin(), first, walk.end());
+    fan.corners = walk;
+    const std::size_t n = walk.size();
+    fan.to_c.assign(n, GridAutomorphism{});
+    for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[walk[i - 1]].after(fan.to_c[i - 1]);
+    double sum = 0.0;
+    for (const int c : walk) {
+        const Vec2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
+        sum += std::hypot(q[0] - p[0], q[1] - p[1]);
+    }
+    fan.length = sum / static_cast<double>(n);
+    return fan;
+}
+
+/// The energy of the triangles around a free vertex placed at x (in its first corner's chart),
+/// and with `grad` its gradient there.
+double vertex_energy(const TriMesh& m, const FreeFan& fan, const std::vector<RestShape>& rest, const Vec2& x,
+                     double eps, Vec2* grad) {
+    double energy = 0.0;
+    if (grad) *grad = {0.0, 0.0};
+    for (std::size_t i = 0; i < fan.corners.size(); ++i) {
+        const int c = fan.corners[i], f = TriMesh::face(c);
+        const RestShape& s = rest[static_cast<std::size_t>(f)];
+        const Vec2 xi = fan.to_c[i](x);
+        std::array<int, 3> corner{s.base, TriMesh::next(s.base), TriMesh::prev(s.base)};
+        std::array<Vec2, 3> u{m.uv[corner[0]], m.uv[corner[1]], m.uv[corner[2]]};
+        int k = 0;
+        while (corner[static_cast<std::size_t>(k)] != c) ++k;
+        u[static_cast<std::size_t>(k)] = xi;
+        if (grad) {
+            std::array<Vec2, 3> g{};
+            energy += triangle_energy(u[0], u[1], u[2], s, eps, &g);
+            // Back into the first corner's chart: the inverse rotation of to_c[i].
+            const Vec2 back = GridAutomorphism::rotate(g[static_cast<std::size_t>(k)], (4 - fan.to_c[i].r) & 3);
+            (*grad)[0] += back[0];
+            (*grad)[1] += back[1];
+        } else {
+            energy += triangle_energy(u[0], u[1], u[2], s, eps, nullptr);
+        }
+    }
+    return energy;
+}
+
+/// Writes x (in the fan's first chart), truncated so that it propagates exactly, to every corner.
+void place(TriMesh& m, const FreeFan& fan, const Vec2& x) {
+    const Vec2 t = truncated_for_fan(m, fan.corners, fan.to_c, x);
+    for (std::size_t i = 0; i < fan.corners.size(); ++i) m.uv[fan.corners[i]] = fan.to_c[i](t);
+}
+
+/// One damped Newton step on a free vertex (Hessian by central differences of the gradient),
+/// accepted only if it lowers the vertex's energy.
+void newton_step(TriMesh& m, const FreeFan& fan, const std::vector<RestShape>& rest, double eps) {
+    const Vec2 x = m.uv[fan.corners[0]];
+    Vec2 g;
+    const double e0 = vertex_energy(m, fan, rest, x, eps, &g);
+    if (!std::isfinite(e0) || (g[0] == 0.0 && g[1] == 0.0)) return;
+    const double h = 1e-5 * fan.length;
+    double hess[2][2];
+    for (int j = 0; j < 2; ++j) {
+        Vec2 xp = x, xm = x, gp, gm;
+        xp[static_cast<std::size_t>(j)] += h;
+        xm[static_cast<std::size_t>(j)] -= h;
+        vertex_energy(m, fan, rest, xp, eps, &gp);
+        vertex_energy(m, fan, rest, xm, eps, &gm);
+        hess[0][j] = (gp[0] - gm[0]) / (2 * h);
+        hess[1][j] = (gp[1] - gm[1]) / (2 * h);
+    }
+    double a = hess[0][0], b = 0.5 * (hess[0][1] + hess[1][0]), d = hess[1][1];
+    // Positive definite: shift by the most negative eigenvalue and a little more.
+    const double half_trace = 0.5 * (a + d), disc = std::sqrt(std::max(0.0, 0.25 * (a - d) * (a - d) + b * b));
+    const double lowest = half_trace - disc, highest = half_trace + disc;
+    const double floor = 1e-9 * std::max(std::abs(highest), 1e-300);
+    if (!(lowest > floor)) {
+        const double shift = floor - lowest + 1e-3 * std::abs(highest);
+        a += shift;
+        d += shift;
+    }
+    const double det = a * d - b * b;
+    if (!(det > 0) || !std::isfinite(det)) return;
+    Vec2 step{-(d * g[0] - b * g[1]) / det, -(-b * g[0] + a * g[1]) / det};
+    const double norm = std::hypot(step[0], step[1]);
+    if (!(norm > 0) || !std::isfinite(norm)) return;
+    if (norm > fan.length) step = {step[0] * fan.length / norm, step[1] * fan.length / norm};
+    for (double t = 1.0; t > 1e-6; t *= 0.5) {
+        const Vec2 y{x[0] + t * step[0], x[1] + t * step[1]};
+        if (vertex_energy(m, fan, rest, y, eps, nullptr) < e0) {
+            place(m, fan, y);
+            return;
+        }
+    }
+}
+
+// ============================================================================ a region
+
+struct Region {
+    std::vector<FreeFan> fans; ///< canonical order
+    std::vector<int> faces;    ///< sorted
+};
+
+/// Rest shapes of the region's triangles, scaled so that their total area is the region's
+/// signed UV area (which the repair keeps). False when that area is not positive: no
+/// orientation-preserving embedding with this boundary exists.
+bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest) {
+    double uv_area = 0.0, area3 = 0.0;
+    std::vector<std::array<double, 4>> shape(r.faces.size()); // r1x, r2x, r2y, 3D area
+    for (std::size_t i = 0; i < r.faces.size(); ++i) {
+        const int f = r.faces[i];
+        int base = 3 * f;
+        for (int k = 1; k < 3; ++k)
+            if (less3(m.pos(3 * f + k), m.pos(base))) base = 3 * f + k;
+        rest[static_cast<std::size_t>(f)].base = base;
+        const auto &p0 = m.pos(base), &p1 = m.pos(TriMesh::next(base)), &p2 = m.pos(TriMesh::prev(base));
+        const std::array<double, 3> e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const std::array<double, 3> e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        const std::array<double, 3> cr{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                       e1[0] * e2[1] - e1[1] * e2[0]};
+        const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        const double twice = std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        const double l2sq = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+        if (l1 > 0 && twice > 1e-6 * (l1 * l1 + l2sq))
+            shape[i] = {l1, (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1, twice / l1, 0.5 * twice};
+        else
+            shape[i] = {0, 0, 0, 0}; // degenerate in 3D: an equilateral rest shape below
+        area3 += shape[i][3];
+        const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        uv_area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    if (!(uv_area > 0)) return false;
+    const double mean_uv = uv_area / static_cast<double>(r.faces.size());
+    const double scale = area3 > 0 ? std::sqrt(uv_area / area3) : 1.0;
+    for (std::size_t i = 0; i < r.faces.size(); ++i) {
+        auto s = shape[i];
+        if (s[3] > 0) {
+            s = {s[0] * scale, s[1] * scale, s[2] * scale, s[3] * scale * scale};
+        } else {
+            const double side = std::sqrt(4.0 * mean_uv / std::sqrt(3.0));
+            s = {side, 0.5 * side, 0.5 * std::sqrt(3.0) * side, mean_uv};
+        }
+        // Reference edge matrix [[r1x, r2x], [0, r2y]] and its inverse.
+        RestShape& rs = rest[static_cast<std::size_t>(r.faces[i])];
+        rs.g00 = 1.0 / s[0];
+        rs.g01 = -s[1] / (s[0] * s[2]);
+        rs.g10 = 0.0;
+        rs.g11 = 1.0 / s[2];
+        rs.area = s[3];
+    }
+    return true;
+}
+
+bool all_positive(const TriMesh& m, const Region& r) {
+    for (const int f : r.faces)
+        if (!positive(m, f)) return false;
+    return true;
+}
+
+/// Untangles the region in place; true when every triangle of it is positively oriented.
+bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest) {
+    if (!rest_shapes(m, r, rest)) return false;
+    double eps = 1.0, previous = std::numeric_limits<double>::infinity();
+    for (int it = 0; it < kOuterIterations; ++it) {
+        if (all_positive(m, r)) return true;
+        double lowest = std::numeric_limits<double>::infinity();
+        for (const int f : r.faces) lowest = std::min(lowest, jacobian_det(m, f, rest[static_cast<std::size_t>(f)]));
+        double energy = 0.0;
+        for (const FreeFan& fan : r.fans) energy += vertex_energy(m, fan, rest, m.uv[fan.corners[0]], eps, nullptr);
+        const double sigma = std::isfinite(previous) ? std::max(1.0 - energy / previous, 0.1) : 0.1;
+        const double mu = (1.0 - sigma) * chi(lowest, eps);
+        eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-12) : 1e-12;
+        previous = 0.0;
+        for (const FreeFan& fan : r.fans) previous += vertex_energy(m, fan, rest, m.uv[fan.corners[0]], eps, nullptr);
+        for (int sweep = 0; sweep < kSweeps; ++sweep)
+            for (const FreeFan& fan : r.fans) newton_step(m, fan, rest, eps);
+    }
+    return all_positive(m, r);
+}
+
+// ============================================================================ regions
+
+/// Vertices that never move: boundary, singular, on a feature edge, or without a fan.
+std::vector<char> pinned_vertices(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges) {
+    std::vector<char> pinned(static_cast<std::size_t>(m.num_vertices), 0);
+    for (int v = 0; v < m.num_vertices; ++v)
+        pinned[v] = m.fan_start[v] < 0 || m.on_boundary[v] || m.map.singular[v];
+    if (!feature_edges.empty()) {
+        std::vector<char> on_feature;
+        for (const auto& fe : feature_edges)
+            for (const int x : fe)
+                if (x >= 0) {
+                    if (static_cast<std::size_t>(x) >= on_feature.size()) on_feature.resize(x + 1, 0);
+                    on_feature[static_cast<std::size_t>(x)] = 1;
+                }
+        for (int v = 0; v < m.num_vertices; ++v) {
+            const auto iv = static_cast<std::size_t>(m.input_vertex[v]);
+            if (iv < on_feature.size() && on_feature[iv]) pinned[v] = 1;
+        }
+    }
+    return pinned;
+}
+
+/// The vertices within `radius` edges of the seeds (breadth first over the fans).
+std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& seeds, int radius,
+                                    std::vector<int>& distance) {
+    std::vector<int> reached;
+    for (const int v : seeds)
+        if (distance[v] < 0) distance[v] = 0, reached.push_back(v);
+    for (std::size_t i = 0; i < reached.size(); ++i) {
+        const int v = reached[i];
+        if (distance[v] >= radius) continue;
+        for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; ++n) {
+            for (const int w : {m.target(h), m.origin(TriMesh::prev(h))})
+                if (distance[w] < 0) distance[w] = distance[v] + 1, reached.push_back(w);
+            h = m.cw(h);
+        }
+    }
+    for (const int v : reached) distance[v] = -1;
+    return reached;
+}
+
+/// The canonical key of a vertex: its smallest corner position in 3D, then its input index.
+struct VertexKey {
+    std::array<double, 3> pos;
+    int input;
+    bool operator<(const VertexKey& o) const { return pos != o.pos ? pos < o.pos : input < o.input; }
+};
+
+VertexKey vertex_key(const TriMesh& m, int v) {
+    VertexKey k{m.pos(m.fan_start[v]), m.input_vertex[v]};
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+        if (m.pos(h) < k.pos) k.pos = m.pos(h);
+    return k;
+}
+
+/// Splits the free vertices into regions: connected through shared triangles.
+std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
+    std::vector<Region> regions;
+    for (const int v : free) label[v] = -2; // free, unassigned
+    for (const int start : free) {
+        if (label[start] != -2) continue;
+        const int id = static_cast<int>(regions.size());
+        regions.emplace_back();
+        std::vector<int> stack{start}, members;
+        label[start] = id;
+        while (!stack.empty()) {
+            const int v = stack.back();
+            stack.pop_back();
+            members.push_back(v);
+            for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+                for (const int w : {m.target(h), m.origin(TriMesh::prev(h))})
+                    if (label[w] == -2) label[w] = id, stack.push_back(w);
+        }
+        std::vector<std::pair<VertexKey, int>> keyed;
+        for (const int v : members) keyed.push_back({vertex_key(m, v), v});
+        std::sort(keyed.begin(), keyed.end());
+        Region& r = regions.back();
+        for (const auto& kv : keyed) {
+            r.fans.push_back(free_fan(m, kv.second));
+            for (const int c : r.fans.back().corners) r.faces.push_back(TriMesh::face(c));
+        }
+        std::sort(r.faces.begin(), r.faces.end());
+        r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+    }
+    for (const int v : free) label[v] = -1;
+    return regions;
+}
+
+/// The flipped or degenerate triangles, split into those with a free vertex (seeds of the
+/// repair) and those whose corners are all pinned (no repair can change them).
+void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
+                   std::vector<int>& stuck) {
+    repairable.clear();
+    stuck.clear();
+    for (int f = 0; f < m.num_faces(); ++f)
+        if (!positive(m, f)) {
+            const auto& t = m.tri[f];
+            (pinned[t[0]] && pinned[t[1]] && pinned[t[2]] ? stuck : repairable).push_back(f);
+        }
+}
+
+/// Connected groups (through shared vertices) of the given triangles, for the report.
+std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vector<int>& faces) {
+    std::vector<int> parent(faces.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::vector<int> owner(static_cast<std::size_t>(m.num_vertices), -1);
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        for (const int v : m.tri[faces[i]]) {
+            if (owner[v] >= 0) parent[find(static_cast<int>(i))] = find(owner[v]);
+            owner[v] = static_cast<int>(i);
+        }
+    std::vector<std::vector<int>> groups;
+    std::vector<int> group_of(faces.size(), -1);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+        const int root = find(static_cast<int>(i));
+        if (group_of[root] < 0) group_of[root] = static_cast<int>(groups.size()), groups.emplace_back();
+        groups[group_of[root]].push_back(faces[i]);
+    }
+    return groups;
+}
+
+/// Names a fold-over that stays in the map, with why.
+void explain_unrepaired(const TriMesh& m, const std::vector<int>& group, const char* why, Report& report) {
+    int first = m.input_triangle[group[0]];
+    double area = 0.0;
+    for (const int f : group) {
+        first = std::min(first, m.input_triangle[f]);
+        const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    report.explanations.push_back({DefectKind::FoldOverNotRepaired,
+                                   "a fold-over of " + std::to_string(group.size()) +
+                                       " flipped or degenerate triangles (UV area " + std::to_string(area) +
+                                       ", from input triangle " + std::to_string(first) +
+                                       ") stays as the map gives it: " + why,
+                                   first,
+                                   -1,
+                                   {0, 0},
+                                   std::nullopt});
+}
+
+} // namespace
+
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, Report& report) {
+    RepairOutcome out;
+    const std::vector<char> pinned = pinned_vertices(m, feature_edges);
+    std::vector<int> seeds_faces, stuck;
+    bad_triangles(m, pinned, seeds_faces, stuck);
+    if (seeds_faces.empty() && stuck.empty()) return out;
+    const std::vector<Point2> sanitized = m.uv;
+    std::vector<RestShape> rest(static_cast<std::size_t>(m.num_faces()));
+    std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
+    std::vector<char> repaired_face(static_cast<std::size_t>(m.num_faces()), 0);
+    for (const int radius : kRingRadii) {
+        if (seeds_faces.empty()) break;
+        std::vector<int> seeds;
+        for (const int f : seeds_faces)
+            for (const int v : m.tri[f]) seeds.push_back(v);
+        std::vector<int> free;
+        for (const int v : ring_neighbourhood(m, seeds, radius, distance))
+            if (!pinned[v]) free.push_back(v);
+        std::sort(free.begin(), free.end());
+        for (const Region& r : split_regions(m, free, label)) {
+            if (r.fans.size() > kMaxRegionVertices) continue;
+            std::vector<Point2> before;
+            for (const FreeFan& fan : r.fans)
+                for (const int c : fan.corners) before.push_back(m.uv[c]);
+            if (untangle_region(m, r, rest)) {
+                for (const int f : r.faces) repaired_face[f] = 1;
+                continue;
+            }
+            std::size_t i = 0;
+            for (const FreeFan& fan : r.fans)
+                for (const int c : fan.corners) m.uv[c] = before[i++];
+        }
+        bad_triangles(m, pinned, seeds_faces, stuck);
+    }
+    // The certificate's region: every triangle whose UVs differ from the sanitized map.
+    for (int f = 0; f < m.num_faces(); ++f) {
+        bool changed = false;
+        for (int k = 0; k < 3; ++k) changed = changed || m.uv[3 * f + k] != sanitized[3 * f + k];
+        if (changed) out.repaired_faces.push_back(f);
+        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+    }
+    std::vector<int> repaired_list;
+    for (int f = 0; f < m.num_faces(); ++f)
+        if (repaired_face[f]) repaired_list.push_back(f);
+    out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, repaired_list).size());
+    for (const auto& group : triangle_groups(m, stuck)) {
+        explain_unrepaired(m, group, "all its corners are singular, boundary or feature vertices, which stay fixed",
+                           report);
+        ++out.regions_failed;
+    }
+    for (const auto& group : triangle_groups(m, seeds_faces)) {
+        explain_unrepaired(m, group,
+                           "no orientation-preserving re-embedding was found within 16 rings around it "
+                           "(or the region's UV area is not positive)",
+                           report);
+        ++out.regions_failed;
+    }
+    return out;
+}
+
+} // namespace qex::detail
