@@ -63,7 +63,8 @@ struct Options {
     /// carries the repaired map and which triangles changed (QuadMesh::map_repaired).
     bool repair_fold_overs = true;
     /// When the checker rejects the mesh of the repaired map, retry on the map as given with the
-    /// paper's local handling of fold-overs alone; see Report::rung.
+    /// paper's local handling of fold-overs alone, then (last resorts, uncertified) on maps whose
+    /// folded regions are relaxed, with the mesh moved back onto the given map; see Report::rung.
     bool fallback_ladder = true;
     /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
     /// serially. The output is identical for every value.
@@ -132,8 +133,9 @@ struct Report {
     /// Where fold-overs removed quads (collapsed faces, cancelled ghost pairs), with locations:
     /// together they explain a quad count below the signed UV area.
     std::vector<Defect> explanations;
-    /// Which rung of the fallback ladder produced the mesh ("repaired", then "as-given"), how
-    /// many were tried, and how many violations the checker found in the returned mesh.
+    /// Which rung of the fallback ladder produced the mesh ("repaired", "as-given", "untangled-1",
+    /// "untangled-3"), how many were tried, and how many violations the checker found in the
+    /// returned mesh.
     std::string rung;
     std::int64_t rungs_tried = 0;
     std::int64_t check_violations = 0;
@@ -142,6 +144,9 @@ struct Report {
     /// or degenerate (UV area <= 0) after it.
     std::int64_t repaired_regions = 0, repaired_triangles = 0, unrepaired_regions = 0;
     std::int64_t flipped_after_repair = 0;
+    /// Last-resort rungs: output vertices that found no preimage of their grid point in the
+    /// given map (they stay where the relaxed map put them, and the checker rejects them).
+    std::int64_t unplaced_vertices = 0;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
     /// name; see the README's pipeline table), summed over every run of the stage in this
     /// extraction (sanitize rounds, and every rung tried), in first-run order.

@@ -28,6 +28,9 @@ enum class ViolationKind {
     MapNotIntegerGrid,  ///< map_uvs: across an edge the charts differ by more than a grid automorphism
     NotOnGridPoint,     ///< provenance: the vertex's grid point is not on the element it names
     SingularityOffGrid, ///< map_uvs: a singular vertex is not on an integer grid point
+    /// map_repaired: a listed triangle is not positively oriented in map_uvs (exactly), or the
+    /// list is not sorted, unique and within the map's live triangles
+    RepairNotCertified,
     // Located mode (meshes without provenance, e.g. from other extractors):
     OffSurface,       ///< a vertex farther from the input surface than the distance tolerance
     FaceNotGridCell,  ///< a face's corners, carried into one chart, are not a ccw unit grid cell
@@ -42,7 +45,7 @@ enum class ViolationElement {
     OutputFace,    ///< a face of the judged mesh
     OutputVertex,  ///< a vertex of the judged mesh
     InputVertex,   ///< a vertex of the input (SingularityOffGrid)
-    InputTriangle, ///< a triangle of the input (MapNotIntegerGrid)
+    InputTriangle, ///< a triangle of the input (MapNotIntegerGrid, RepairNotCertified)
 };
 /// What a violation of kind `kind` names in Violation::element.
 ViolationElement element_kind(ViolationKind kind);
@@ -61,8 +64,15 @@ struct VerifyResult {
     std::int64_t faces = 0, vertices = 0, edges = 0, boundary_loops = 0, components = 0;
     std::int64_t euler = 0;
     std::int64_t input_euler = 0, input_boundary_loops = 0, input_components = 0;
-    /// Largest and summed |map_uvs - input uvs| (inf-norm per corner; 0 without a map).
+    /// Largest and summed |map_uvs - input uvs| (inf-norm per corner; 0 without a map) over the
+    /// triangles the repair left alone (sanitization's displacement), and the largest over those
+    /// it repaired (QuadMesh::map_repaired).
     double max_map_displacement = 0.0, sum_map_displacement = 0.0;
+    double max_repair_displacement = 0.0;
+    /// The repair's certificate: triangles listed in QuadMesh::map_repaired, and their signed UV
+    /// area in map_uvs (a double sum).
+    std::int64_t repaired_triangles = 0;
+    double repaired_uv_area = 0.0;
     /// Interior vertices of the map whose fan composes to a non-trivial rotation.
     std::int64_t map_singularities = 0;
     /// Located mode (the mesh has no provenance): vertices were located on the input surface.

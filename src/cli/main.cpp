@@ -103,7 +103,7 @@ nlohmann::json counts_json(const qex::Report& r) {
 
 nlohmann::json to_json(const qex::Report& r) {
     nlohmann::json j = counts_json(r);
-    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}};
+    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}, {"unplaced_vertices", r.unplaced_vertices}};
     j["repair"] = {{"repaired_regions", r.repaired_regions},
                    {"repaired_triangles", r.repaired_triangles},
                    {"unrepaired_regions", r.unrepaired_regions},

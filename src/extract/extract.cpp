@@ -67,13 +67,19 @@ namespace {
 /// The fallback ladder. Each rung re-runs the pipeline from the validated, collapsed mesh.
 struct Rung {
     const char* name;
-    bool repair; ///< stage repair runs
+    bool repair;        ///< stage repair runs (certified: the mesh carries the repaired map)
+    int untangle_rings; ///< > 0: stage untangle relaxes the map first (uncertified)
+    int untangle_iterations;
 };
 constexpr Rung kLadder[] = {
     // 1. The sanitized map with its fold-over regions re-embedded (certified), then the paper's method.
-    {"repaired", true},
-    // 2. Last resort: the paper's method, and its local handling of fold-overs, on the map as given.
-    {"as-given", false},
+    {"repaired", true, 0, 0},
+    // 2. The paper's method, and its local handling of fold-overs, on the map as given.
+    {"as-given", false, 0, 0},
+    // 3, 4. Last resorts without a certificate: relax the folded regions (one ring, then three),
+    // extract, and move the mesh back onto the given map, where the checker must accept it.
+    {"untangled-1", false, 1, 30},
+    {"untangled-3", false, 3, 100},
 };
 
 /// The feature edges to snap: the input's, and every boundary edge with Options::snap_boundary.
@@ -97,10 +103,16 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
-/// Stages compute_transitions to repair: the map, ready for extraction. `repaired_faces`: the
+/// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
 /// triangles whose UVs the repair changed.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
                   StageTimer& timer, std::vector<int>& repaired_faces) {
+    if (rung.untangle_rings > 0) {
+        compute_transitions(m);
+        count_valences(m);
+        (void)untangle(m, rung.untangle_rings, rung.untangle_iterations);
+        timer.done(Stage::untangle);
+    }
     const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
     if (Error e = sanitize_until_stable(m, input, features, report, timer); e.code != ErrorCode::None) return e;
     count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
@@ -208,13 +220,34 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     return true;
 }
 
-/// Stage check: the checker's verdict on the rung's mesh, against the map it carries (with the
-/// repair's certificate, which the checker verifies on its own).
-void judge(const Options& options, const Input& input, Result& attempt) {
+/// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,
+/// against the map it carries (with the repair's certificate, which the checker verifies on its
+/// own). A relaxed rung's mesh is moved onto the given map and must pass there.
+void judge(const Input& input, const Options& options, const Rung& rung,
+           const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
     StageTimer timer(attempt.report);
+    const bool relaxed = rung.untangle_rings > 0;
+    if (relaxed && !given_map.empty()) {
+        // Every vertex moves onto its grid point in the given (sanitized) map, so the mesh is
+        // judged against that map.
+        attempt.report.unplaced_vertices = place_on_given_map(input, given_map, attempt.mesh);
+        timer.done(Stage::place_on_given_map);
+    }
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
     attempt.check = verify(input, attempt.mesh, verify_options);
+    if (relaxed && attempt.check.valid) {
+        // And it must pass the oracle that judges it against the given map alone (as
+        // `qex check` would), or the rung is rejected.
+        QuadMesh bare;
+        bare.positions = attempt.mesh.positions;
+        bare.faces = attempt.mesh.faces;
+        const VerifyResult located = verify(input, bare, verify_options);
+        for (const Violation& v : located.violations)
+            attempt.check.violations.push_back(
+                {v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
+        attempt.check.valid = attempt.check.violations.empty();
+    }
     attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
     timer.done(Stage::check);
 }
@@ -261,6 +294,7 @@ Result extract(const Input& input, const Options& options) {
     const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : first + 1;
     Result best;
     std::size_t best_violations = SIZE_MAX;
+    std::vector<std::array<double, 2>> given_map; // the as-given rung's sanitized map
     for (int r = first; r < rungs; ++r) {
         // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
         // rather than every run paying for a copy. Preparing succeeded once, so it does again.
@@ -273,12 +307,13 @@ Result extract(const Input& input, const Options& options) {
         }
         Result attempt = start_attempt(prepared.report, r, r - first + 1);
         if (!run_rung(std::move(m), input, options, kLadder[r], attempt)) return attempt;
-        judge(options, input, attempt);
+        judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
-        // The repair changes only flipped or degenerate regions: without any, the map as given
-        // is the map this rung had.
-        const bool another_map = attempt.report.repaired_triangles > 0;
+        if (!kLadder[r].repair && kLadder[r].untangle_rings == 0) given_map = attempt.mesh.map_uvs;
+        // The further rungs change only flipped or degenerate regions: without any, they would
+        // repeat this one.
+        const bool another_map = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
         if (attempt.check.violations.size() < best_violations) {
             best_violations = attempt.check.violations.size();
             best = std::move(attempt);

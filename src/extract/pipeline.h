@@ -23,25 +23,27 @@ namespace qex::detail {
 enum class Stage : int {
     validate,            ///< 01: values, indices and topology of the input; the working mesh
     collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round but a capped last)
-    compute_transitions, ///< 03: Section 3.1
-    count_valences,      ///< 04: Algorithm 8
-    sanitize,            ///< 05: Algorithms 1 and 2, Section 3.2
-    repair,              ///< 06: certified re-embedding of fold-over regions (not in the paper)
-    generate_qvertices,  ///< 07: Algorithm 3
-    enumerate_ports,     ///< 08: Algorithm 4
-    trace_ports,         ///< 09: Algorithm 5
-    extract_faces,       ///< 10: Algorithm 6
-    merge_vertices,      ///< 11: Section 5.5, Algorithm 7
-    canonicalize,        ///< 12: order-independent output
-    check,               ///< 13: the independent checker (qex::verify) judges the rung's mesh
+    untangle,            ///< 03: last-resort rungs of the fallback ladder only
+    compute_transitions, ///< 04: Section 3.1
+    count_valences,      ///< 05: Algorithm 8
+    sanitize,            ///< 06: Algorithms 1 and 2, Section 3.2
+    repair,              ///< 07: certified re-embedding of fold-over regions (not in the paper)
+    generate_qvertices,  ///< 08: Algorithm 3
+    enumerate_ports,     ///< 09: Algorithm 4
+    trace_ports,         ///< 10: Algorithm 5
+    extract_faces,       ///< 11: Algorithm 6
+    merge_vertices,      ///< 12: Section 5.5, Algorithm 7
+    canonicalize,        ///< 13: order-independent output
+    place_on_given_map,  ///< 14: last-resort rungs of the fallback ladder only
+    check,               ///< 15: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",        "collapse",      "compute_transitions", "count_valences", "sanitize",
-    "repair",          "generate_qvertices", "enumerate_ports", "trace_ports", "extract_faces",
-    "merge_vertices", "canonicalize",  "check"};
+    "validate",        "collapse",      "untangle",       "compute_transitions", "count_valences",
+    "sanitize",        "repair",        "generate_qvertices", "enumerate_ports", "trace_ports",
+    "extract_faces",   "merge_vertices", "canonicalize",  "place_on_given_map", "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -93,6 +95,18 @@ inline constexpr double kApproximateAngleError = 1e-4;
 /// Valence counting robust to fold-overs (Algorithm 8) and winding valences; interior vertices
 /// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
 void count_valences(TriMesh& m, bool singular_only = false);
+
+/// Last resort: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV
+/// area <= 0) towards the average of their neighbours, through exact transitions. Returns the
+/// number of triangles still flipped or degenerate. Uncertified: its mesh is moved back onto the
+/// given map (place_on_given_map) and must pass the checker there.
+std::int64_t untangle(TriMesh& m, int rings, int iterations);
+
+/// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
+/// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
+/// by a breadth-first search from its provenance triangle, and sets its provenance and the
+/// mesh's map to that map. Returns the number of vertices it could not place.
+std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
 
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.

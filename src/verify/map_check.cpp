@@ -31,9 +31,10 @@ bool sums_exactly(double x, double y, double z) {
 }
 
 /// Largest and summed |map_uvs - input uvs| (inf-norm per corner) over the triangles still in
-/// the map, summed in fixed blocks of corners and then block by block in order: the sum is the
+/// the map and not repaired, summed in fixed blocks of corners and then block by block in order: the sum is the
 /// same whatever the thread count.
-void map_displacement(const Input& input, const UVs& U, int threads, VerifyResult& r) {
+void map_displacement(const Input& input, const UVs& U, const std::vector<char>& repaired, int threads,
+                      VerifyResult& r) {
     constexpr std::size_t kBlock = std::size_t{1} << 14;
     const auto blocks = static_cast<std::int64_t>((U.size() + kBlock - 1) / kBlock);
     std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
@@ -48,7 +49,7 @@ void map_displacement(const Input& input, const UVs& U, int threads, VerifyResul
         const std::size_t from = static_cast<std::size_t>(b) * kBlock, to = std::min(U.size(), from + kBlock);
         double sum = 0.0;
         for (std::size_t c = from; c < to; ++c)
-            if (alive(U, c / 3)) {
+            if (alive(U, c / 3) && !repaired[c / 3]) {
                 const double d = std::max(std::abs(U[c][0] - input.uvs[c][0]), std::abs(U[c][1] - input.uvs[c][1]));
                 largest = std::max(largest, d);
                 sum += d;
@@ -210,12 +211,49 @@ void check_provenance(const QuadMesh& mesh, std::size_t nf, std::vector<Violatio
     }
 }
 
+/// The repair's certificate (QuadMesh::map_repaired): a sorted list of distinct live triangles,
+/// each positively oriented in the map (CGAL's exact orientation). Returns, per triangle,
+/// whether it is listed.
+std::vector<char> check_repair(const QuadMesh& mesh, std::size_t nf, const Input& input, VerifyResult& r,
+                               std::vector<Violation>& out) {
+    using P = CGAL::Epick::Point_2;
+    const UVs& U = mesh.map_uvs;
+    std::vector<char> listed(nf, 0);
+    std::int64_t previous = -1;
+    for (const std::int32_t t : mesh.map_repaired) {
+        const bool in_range = t > previous && static_cast<std::size_t>(t) < nf && alive(U, static_cast<std::size_t>(t));
+        if (!in_range) {
+            add_capped(out, ViolationKind::RepairNotCertified,
+                       "the repaired triangles are not a sorted list of distinct triangles of the map (at " +
+                           std::to_string(t) + ")",
+                       t >= 0 && static_cast<std::size_t>(t) < nf ? t : -1);
+            continue;
+        }
+        previous = t;
+        const auto T = static_cast<std::size_t>(t);
+        listed[T] = 1;
+        ++r.repaired_triangles;
+        const P a(U[3 * T][0], U[3 * T][1]), b(U[3 * T + 1][0], U[3 * T + 1][1]), c(U[3 * T + 2][0], U[3 * T + 2][1]);
+        r.repaired_uv_area += 0.5 * ((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+        if (CGAL::orientation(a, b, c) != CGAL::LEFT_TURN)
+            add_capped(out, ViolationKind::RepairNotCertified,
+                       "repaired triangle " + std::to_string(t) + " is not positively oriented in the map",
+                       static_cast<std::int64_t>(t));
+        for (std::size_t k = 0; k < 3; ++k)
+            r.max_repair_displacement =
+                std::max({r.max_repair_displacement, std::abs(U[3 * T + k][0] - input.uvs[3 * T + k][0]),
+                          std::abs(U[3 * T + k][1] - input.uvs[3 * T + k][1])});
+    }
+    return listed;
+}
+
 } // namespace
 
 void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs, const std::vector<char>& single_fan,
                int threads, VerifyResult& r, std::vector<Violation>& out) {
     const UVs& U = mesh.map_uvs;
-    map_displacement(input, U, threads, r);
+    const std::vector<char> repaired = check_repair(mesh, input.triangles.size(), input, r, out);
+    map_displacement(input, U, repaired, threads, r);
     const ChartMatch m = match_charts(U, pairs, threads);
     for (std::size_t c = 0; c < U.size(); ++c)
         if (m.rotation[c] < 0)

@@ -197,6 +197,8 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
         else
             check_map(input, mesh, it.pairs, it.single_fan, threads, r, out);
     }
+    if (mesh.map_uvs.empty() && !mesh.map_repaired.empty())
+        out.push_back({ViolationKind::RepairNotCertified, "the mesh lists repaired triangles but carries no map", -1});
     if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
         check_located(input, mesh, options, r, out);
     r.valid = out.empty();

@@ -23,6 +23,7 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::MapNotIntegerGrid: return "MapNotIntegerGrid";
         case ViolationKind::NotOnGridPoint: return "NotOnGridPoint";
         case ViolationKind::SingularityOffGrid: return "SingularityOffGrid";
+        case ViolationKind::RepairNotCertified: return "RepairNotCertified";
         case ViolationKind::OffSurface: return "OffSurface";
         case ViolationKind::FaceNotGridCell: return "FaceNotGridCell";
         case ViolationKind::CoverageMismatch: return "CoverageMismatch";
@@ -45,7 +46,8 @@ ViolationElement element_kind(ViolationKind k) {
         case ViolationKind::NotOnGridPoint:
         case ViolationKind::OffSurface: return ViolationElement::OutputVertex;
         case ViolationKind::SingularityOffGrid: return ViolationElement::InputVertex;
-        case ViolationKind::MapNotIntegerGrid: return ViolationElement::InputTriangle;
+        case ViolationKind::MapNotIntegerGrid:
+        case ViolationKind::RepairNotCertified: return ViolationElement::InputTriangle;
         case ViolationKind::BoundaryMismatch:
         case ViolationKind::EulerMismatch:
         case ViolationKind::ComponentMismatch:

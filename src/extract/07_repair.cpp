@@ -18,6 +18,8 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <cstdio>
+#include <cstdlib>
 
 namespace qex::detail {
 namespace {
@@ -25,10 +27,13 @@ namespace {
 // ============================================================================ budget
 
 /// Ring radii around the fold-overs, one attempt each.
-constexpr int kRingRadii[] = {1, 2, 4, 8, 16};
-/// Energy updates (regularisation steps) per attempt, and Gauss-Seidel sweeps per update.
-constexpr int kOuterIterations = 300;
-constexpr int kSweeps = 2;
+constexpr int kRingRadii[] = {1, 2, 4, 8};
+/// Regularisation steps per attempt, and L-BFGS iterations per step.
+constexpr int kOuterIterations = 40;
+constexpr int kInnerIterations = 100;
+/// An attempt stops once this many regularisation steps in a row leave more triangles inverted
+/// than its best step did.
+constexpr int kStagnation = 6;
 /// Larger regions are not attempted (their repair would cost more than the extraction).
 constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
 
@@ -60,15 +65,17 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
     const double det = j00 * j11 - j01 * j10;
     const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
     const double c = chi(det, eps);
-    const double num = frob + det * det + 1.0;
+    static const double theta = std::getenv("QEX_TH") ? std::atof(std::getenv("QEX_TH")) : 0.5;
+    const double num = (1 - theta) * frob + theta * (det * det + 1.0);
     const double energy = s.area * num / c;
     if (grad) {
         const double r = std::sqrt(eps * eps + det * det);
         const double dchi = 0.5 * (1.0 + det / r);
         // dE/dJ = (2 J + 2 det cof J) / chi - num chi' / chi^2 cof J, cof J = [[j11, -j10], [-j01, j00]].
         const double k = num * dchi / (c * c);
-        const double d00 = (2 * j00 + 2 * det * j11) / c - k * j11, d01 = (2 * j01 - 2 * det * j10) / c + k * j10;
-        const double d10 = (2 * j10 - 2 * det * j01) / c + k * j01, d11 = (2 * j11 + 2 * det * j00) / c - k * j00;
+        const double w = 1 - theta, q = theta;
+        const double d00 = (2 * w * j00 + 2 * q * det * j11) / c - k * j11, d01 = (2 * w * j01 - 2 * q * det * j10) / c + k * j10;
+        const double d10 = (2 * w * j10 - 2 * q * det * j01) / c + k * j01, d11 = (2 * w * j11 + 2 * q * det * j00) / c - k * j00;
         // dE/d[a b] = area * dE/dJ * G^T.
         const Vec2 da{s.area * (d00 * s.g00 + d01 * s.g01), s.area * (d10 * s.g00 + d11 * s.g01)};
         const Vec2 db{s.area * (d00 * s.g10 + d01 * s.g11), s.area * (d10 * s.g10 + d11 * s.g11)};
@@ -80,15 +87,6 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
         (*grad)[2][1] += db[1];
     }
     return energy;
-}
-
-/// The Jacobian determinant of triangle f in its rest shape's units.
-double jacobian_det(const TriMesh& m, int f, const RestShape& s) {
-    const int b = s.base;
-    const Vec2 &u0 = m.uv[b], &u1 = m.uv[TriMesh::next(b)], &u2 = m.uv[TriMesh::prev(b)];
-    const double a0 = u1[0] - u0[0], a1 = u1[1] - u0[1], b0 = u2[0] - u0[0], b1 = u2[1] - u0[1];
-    (void)f;
-    return (a0 * b1 - a1 * b0) * (s.g00 * s.g11 - s.g01 * s.g10);
 }
 
 bool positive(const TriMesh& m, int f) { return sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) > 0; }
@@ -135,90 +133,41 @@ FreeFan free_fan(const TriMesh& m, int v) {
     return fan;
 }
 
-/// The energy of the triangles around a free vertex placed at x (in its first corner's chart),
-/// and with `grad` its gradient there.
-double vertex_energy(const TriMesh& m, const FreeFan& fan, const std::vector<RestShape>& rest, const Vec2& x,
-                     double eps, Vec2* grad) {
-    double energy = 0.0;
-    if (grad) *grad = {0.0, 0.0};
-    for (std::size_t i = 0; i < fan.corners.size(); ++i) {
-        const int c = fan.corners[i], f = TriMesh::face(c);
-        const RestShape& s = rest[static_cast<std::size_t>(f)];
-        const Vec2 xi = fan.to_c[i](x);
-        std::array<int, 3> corner{s.base, TriMesh::next(s.base), TriMesh::prev(s.base)};
-        std::array<Vec2, 3> u{m.uv[corner[0]], m.uv[corner[1]], m.uv[corner[2]]};
-        int k = 0;
-        while (corner[static_cast<std::size_t>(k)] != c) ++k;
-        u[static_cast<std::size_t>(k)] = xi;
-        if (grad) {
-            std::array<Vec2, 3> g{};
-            energy += triangle_energy(u[0], u[1], u[2], s, eps, &g);
-            // Back into the first corner's chart: the inverse rotation of to_c[i].
-            const Vec2 back = GridAutomorphism::rotate(g[static_cast<std::size_t>(k)], (4 - fan.to_c[i].r) & 3);
-            (*grad)[0] += back[0];
-            (*grad)[1] += back[1];
-        } else {
-            energy += triangle_energy(u[0], u[1], u[2], s, eps, nullptr);
-        }
-    }
-    return energy;
-}
-
 /// Writes x (in the fan's first chart), truncated so that it propagates exactly, to every corner.
 void place(TriMesh& m, const FreeFan& fan, const Vec2& x) {
     const Vec2 t = truncated_for_fan(m, fan.corners, fan.to_c, x);
     for (std::size_t i = 0; i < fan.corners.size(); ++i) m.uv[fan.corners[i]] = fan.to_c[i](t);
 }
 
-/// One damped Newton step on a free vertex (Hessian by central differences of the gradient),
-/// accepted only if it lowers the vertex's energy.
-void newton_step(TriMesh& m, const FreeFan& fan, const std::vector<RestShape>& rest, double eps) {
-    const Vec2 x = m.uv[fan.corners[0]];
-    Vec2 g;
-    const double e0 = vertex_energy(m, fan, rest, x, eps, &g);
-    if (!std::isfinite(e0) || (g[0] == 0.0 && g[1] == 0.0)) return;
-    const double h = 1e-5 * fan.length;
-    double hess[2][2];
-    for (int j = 0; j < 2; ++j) {
-        Vec2 xp = x, xm = x, gp, gm;
-        xp[static_cast<std::size_t>(j)] += h;
-        xm[static_cast<std::size_t>(j)] -= h;
-        vertex_energy(m, fan, rest, xp, eps, &gp);
-        vertex_energy(m, fan, rest, xm, eps, &gm);
-        hess[0][j] = (gp[0] - gm[0]) / (2 * h);
-        hess[1][j] = (gp[1] - gm[1]) / (2 * h);
-    }
-    double a = hess[0][0], b = 0.5 * (hess[0][1] + hess[1][0]), d = hess[1][1];
-    // Positive definite: shift by the most negative eigenvalue and a little more.
-    const double half_trace = 0.5 * (a + d), disc = std::sqrt(std::max(0.0, 0.25 * (a - d) * (a - d) + b * b));
-    const double lowest = half_trace - disc, highest = half_trace + disc;
-    const double floor = 1e-9 * std::max(std::abs(highest), 1e-300);
-    if (!(lowest > floor)) {
-        const double shift = floor - lowest + 1e-3 * std::abs(highest);
-        a += shift;
-        d += shift;
-    }
-    const double det = a * d - b * b;
-    if (!(det > 0) || !std::isfinite(det)) return;
-    Vec2 step{-(d * g[0] - b * g[1]) / det, -(-b * g[0] + a * g[1]) / det};
-    const double norm = std::hypot(step[0], step[1]);
-    if (!(norm > 0) || !std::isfinite(norm)) return;
-    if (norm > fan.length) step = {step[0] * fan.length / norm, step[1] * fan.length / norm};
-    for (double t = 1.0; t > 1e-6; t *= 0.5) {
-        const Vec2 y{x[0] + t * step[0], x[1] + t * step[1]};
-        if (vertex_energy(m, fan, rest, y, eps, nullptr) < e0) {
-            place(m, fan, y);
-            return;
-        }
-    }
-}
-
 // ============================================================================ a region
 
 struct Region {
     std::vector<FreeFan> fans; ///< canonical order
-    std::vector<int> faces;    ///< sorted
+    std::vector<int> faces;    ///< canonical order (sort_canonically)
 };
+
+/// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
+/// the input's corner order does not matter.
+int canonical_base(const TriMesh& m, int f) {
+    int base = 3 * f;
+    for (int c = 3 * f + 1; c < 3 * f + 3; ++c)
+        if (m.pos(c) != m.pos(base) ? less3(m.pos(c), m.pos(base)) : m.uv[c] < m.uv[base]) base = c;
+    return base;
+}
+
+/// Triangles in an order that does not depend on the input's: by their corners' 3D positions
+/// from the canonical base on.
+void sort_canonically(const TriMesh& m, std::vector<int>& faces) {
+    using Key = std::array<std::array<double, 3>, 3>;
+    std::vector<std::pair<Key, int>> keyed;
+    keyed.reserve(faces.size());
+    for (const int f : faces) {
+        const int b = canonical_base(m, f);
+        keyed.push_back({Key{m.pos(b), m.pos(TriMesh::next(b)), m.pos(TriMesh::prev(b))}, f});
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = keyed[i].second;
+}
 
 /// Rest shapes of the region's triangles, scaled so that their total area is the region's
 /// signed UV area (which the repair keeps). False when that area is not positive: no
@@ -228,9 +177,7 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
     std::vector<std::array<double, 4>> shape(r.faces.size()); // r1x, r2x, r2y, 3D area
     for (std::size_t i = 0; i < r.faces.size(); ++i) {
         const int f = r.faces[i];
-        int base = 3 * f;
-        for (int k = 1; k < 3; ++k)
-            if (less3(m.pos(3 * f + k), m.pos(base))) base = 3 * f + k;
+        const int base = canonical_base(m, f);
         rest[static_cast<std::size_t>(f)].base = base;
         const auto &p0 = m.pos(base), &p1 = m.pos(TriMesh::next(base)), &p2 = m.pos(TriMesh::prev(base));
         const std::array<double, 3> e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
@@ -270,31 +217,188 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
     return true;
 }
 
-bool all_positive(const TriMesh& m, const Region& r) {
-    for (const int f : r.faces)
-        if (!positive(m, f)) return false;
-    return true;
+/// The region as an optimisation problem over its free vertices' UVs, each in the chart of its
+/// fan's first corner: per triangle and rest-shape corner, the free vertex (-1: fixed, with
+/// its UV) and the transition into the triangle's chart.
+struct Problem {
+    struct Corner {
+        int slot = -1;
+        GridAutomorphism to;
+        Vec2 fixed{0.0, 0.0};
+    };
+    std::vector<std::array<Corner, 3>> corners; ///< per triangle of the region, in its order
+    std::size_t unknowns = 0;                   ///< 2 per free vertex
+};
+
+Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestShape>& rest,
+                     std::vector<int>& corner_slot, std::vector<GridAutomorphism>& corner_to) {
+    Problem p;
+    for (std::size_t i = 0; i < r.fans.size(); ++i)
+        for (std::size_t k = 0; k < r.fans[i].corners.size(); ++k) {
+            corner_slot[r.fans[i].corners[k]] = static_cast<int>(i);
+            corner_to[r.fans[i].corners[k]] = r.fans[i].to_c[k];
+        }
+    p.corners.resize(r.faces.size());
+    for (std::size_t t = 0; t < r.faces.size(); ++t) {
+        const int b = rest[static_cast<std::size_t>(r.faces[t])].base;
+        const int order[3] = {b, TriMesh::next(b), TriMesh::prev(b)};
+        for (int k = 0; k < 3; ++k) {
+            Problem::Corner& c = p.corners[t][k];
+            c.slot = corner_slot[order[k]];
+            if (c.slot >= 0) c.to = corner_to[order[k]];
+            c.fixed = m.uv[order[k]];
+        }
+    }
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) corner_slot[c] = -1;
+    p.unknowns = 2 * r.fans.size();
+    return p;
+}
+
+/// The region's energy at x, and with `grad` its gradient; `lowest`: the smallest Jacobian
+/// determinant.
+double region_energy(const Problem& p, const Region& r, const std::vector<RestShape>& rest,
+                     const std::vector<double>& x, double eps, std::vector<double>* grad, double* lowest = nullptr) {
+    if (grad) grad->assign(p.unknowns, 0.0);
+    double energy = 0.0;
+    if (lowest) *lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < p.corners.size(); ++t) {
+        const RestShape& s = rest[static_cast<std::size_t>(r.faces[t])];
+        std::array<Vec2, 3> u;
+        for (int k = 0; k < 3; ++k) {
+            const Problem::Corner& c = p.corners[t][k];
+            u[k] = c.slot < 0 ? c.fixed : c.to(Vec2{x[2 * c.slot], x[2 * c.slot + 1]});
+        }
+        if (lowest) {
+            const double d = ((u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0])) *
+                             (s.g00 * s.g11 - s.g01 * s.g10);
+            *lowest = std::min(*lowest, d);
+        }
+        if (!grad) {
+            energy += triangle_energy(u[0], u[1], u[2], s, eps, nullptr);
+            continue;
+        }
+        std::array<Vec2, 3> g{};
+        energy += triangle_energy(u[0], u[1], u[2], s, eps, &g);
+        for (int k = 0; k < 3; ++k) {
+            const Problem::Corner& c = p.corners[t][k];
+            if (c.slot < 0) continue;
+            const Vec2 back = GridAutomorphism::rotate(g[k], (4 - c.to.r) & 3);
+            (*grad)[2 * c.slot] += back[0];
+            (*grad)[2 * c.slot + 1] += back[1];
+        }
+    }
+    return energy;
+}
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+}
+
+/// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
+void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x,
+              double eps, double length, int iterations) {
+    constexpr std::size_t kHistory = 8;
+    std::vector<std::vector<double>> ss, ys;
+    std::vector<double> rho;
+    std::vector<double> g, g_new, d(x.size()), x_new(x.size());
+    double f = region_energy(p, r, rest, x, eps, &g);
+    for (int it = 0; it < iterations && std::isfinite(f); ++it) {
+        // Two-loop recursion: d = -H g.
+        for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
+        std::vector<double> alpha(ss.size());
+        for (std::size_t j = ss.size(); j-- > 0;) {
+            alpha[j] = rho[j] * dot(ss[j], d);
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] -= alpha[j] * ys[j][i];
+        }
+        if (!ss.empty()) {
+            const double gamma = dot(ss.back(), ys.back()) / dot(ys.back(), ys.back());
+            for (double& v : d) v *= gamma;
+        } else {
+            const double norm = std::sqrt(dot(d, d));
+            if (!(norm > 0)) return;
+            for (double& v : d) v *= 0.1 * length / norm;
+        }
+        for (std::size_t j = 0; j < ss.size(); ++j) {
+            const double beta = rho[j] * dot(ys[j], d);
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] += (alpha[j] - beta) * ss[j][i];
+        }
+        double slope = dot(g, d);
+        if (!(slope < 0)) { // not a descent direction: restart from the gradient
+            ss.clear(), ys.clear(), rho.clear();
+            const double norm = std::sqrt(dot(g, g));
+            if (!(norm > 0)) return;
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] = -g[i] * 0.1 * length / norm;
+            slope = dot(g, d);
+        }
+        double step = 1.0, f_new = f;
+        bool accepted = false;
+        for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+            for (std::size_t i = 0; i < x.size(); ++i) x_new[i] = x[i] + step * d[i];
+            f_new = region_energy(p, r, rest, x_new, eps, &g_new);
+            if (std::isfinite(f_new) && f_new <= f + 1e-4 * step * slope) {
+                accepted = true;
+                break;
+            }
+        }
+        if (!accepted) return;
+        std::vector<double> s_k(x.size()), y_k(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) s_k[i] = x_new[i] - x[i], y_k[i] = g_new[i] - g[i];
+        const double sy = dot(s_k, y_k);
+        if (sy > 1e-300) {
+            if (ss.size() == kHistory) ss.erase(ss.begin()), ys.erase(ys.begin()), rho.erase(rho.begin());
+            ss.push_back(std::move(s_k)), ys.push_back(std::move(y_k)), rho.push_back(1.0 / sy);
+        }
+        const bool stalled = f - f_new <= 1e-12 * std::abs(f);
+        x.swap(x_new), g.swap(g_new), f = f_new;
+        if (stalled) return;
+    }
 }
 
 /// Untangles the region in place; true when every triangle of it is positively oriented.
-bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest) {
+bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
+                     std::vector<GridAutomorphism>& corner_to) {
     if (!rest_shapes(m, r, rest)) return false;
-    double eps = 1.0, previous = std::numeric_limits<double>::infinity();
-    for (int it = 0; it < kOuterIterations; ++it) {
-        if (all_positive(m, r)) return true;
-        double lowest = std::numeric_limits<double>::infinity();
-        for (const int f : r.faces) lowest = std::min(lowest, jacobian_det(m, f, rest[static_cast<std::size_t>(f)]));
-        double energy = 0.0;
-        for (const FreeFan& fan : r.fans) energy += vertex_energy(m, fan, rest, m.uv[fan.corners[0]], eps, nullptr);
-        const double sigma = std::isfinite(previous) ? std::max(1.0 - energy / previous, 0.1) : 0.1;
-        const double mu = (1.0 - sigma) * chi(lowest, eps);
-        eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-12) : 1e-12;
-        previous = 0.0;
-        for (const FreeFan& fan : r.fans) previous += vertex_energy(m, fan, rest, m.uv[fan.corners[0]], eps, nullptr);
-        for (int sweep = 0; sweep < kSweeps; ++sweep)
-            for (const FreeFan& fan : r.fans) newton_step(m, fan, rest, eps);
+    const Problem p = make_problem(m, r, rest, corner_slot, corner_to);
+    std::vector<double> x(p.unknowns);
+    double length = 0.0;
+    for (std::size_t i = 0; i < r.fans.size(); ++i) {
+        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        length += r.fans[i].length;
     }
-    return all_positive(m, r);
+    length /= static_cast<double>(r.fans.size());
+    double lowest = 0.0;
+    region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
+    const double e0f = std::getenv("QEX_E0") ? std::atof(std::getenv("QEX_E0")) : 2.0;
+    double eps = std::max(1e-3, e0f * std::abs(lowest));
+    std::size_t best = SIZE_MAX;
+    for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
+        const double before = region_energy(p, r, rest, x, eps, nullptr);
+        minimise(p, r, rest, x, eps, length, kInnerIterations);
+        // Place (truncated, propagated exactly) and judge exactly.
+        for (std::size_t i = 0; i < r.fans.size(); ++i) {
+            place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
+            x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+            x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        }
+        std::size_t inverted = 0;
+        for (const int f : r.faces) inverted += !positive(m, f);
+        if (inverted == 0) return true;
+        if (inverted < best) best = inverted, since_best = 0;
+        else ++since_best;
+        const double after = region_energy(p, r, rest, x, eps, nullptr, &lowest);
+        if (std::getenv("QEX_RD2") && r.fans.size() > 100) {
+            int neg = 0; for (int f : r.faces) neg += !positive(m, f);
+            std::fprintf(stderr, "  outer %d lowest %g eps %g energy %g neg %d\n", outer, lowest, eps, after, neg);
+        }
+        const double sigma = std::max(1.0 - after / before, 0.1);
+        const double mu = (1.0 - sigma) * chi(lowest, eps);
+        eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
+    }
+    return false;
 }
 
 // ============================================================================ regions
@@ -381,6 +485,7 @@ std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free
         }
         std::sort(r.faces.begin(), r.faces.end());
         r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+        sort_canonically(m, r.faces);
     }
     for (const int v : free) label[v] = -1;
     return regions;
@@ -455,6 +560,8 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<RestShape> rest(static_cast<std::size_t>(m.num_faces()));
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
     std::vector<char> repaired_face(static_cast<std::size_t>(m.num_faces()), 0);
+    std::vector<int> corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1);
+    std::vector<GridAutomorphism> corner_to(corner_slot.size());
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
         std::vector<int> seeds;
@@ -469,7 +576,18 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             std::vector<Point2> before;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
-            if (untangle_region(m, r, rest)) {
+            const bool okr = untangle_region(m, r, rest, corner_slot, corner_to);
+            if (std::getenv("QEX_RD")) {
+                int neg = 0; for (int f : r.faces) neg += !positive(m, f);
+                int pinned_in = 0; for (int f : r.faces) for (int v : m.tri[f]) pinned_in += pinned[v] && m.map.singular[v];
+                int byfree[4] = {0,0,0,0}, zero_pinned_edge = 0;
+                for (int f : r.faces) if (!positive(m, f)) { int nf = 0; for (int k=0;k<3;++k) nf += !pinned[m.tri[f][k]];
+                    byfree[nf]++;
+                    for (int k=0;k<3;++k) if (pinned[m.tri[f][k]] && pinned[m.tri[f][(k+1)%3]] && m.uv[3*f+k]==m.uv[3*f+(k+1)%3]) zero_pinned_edge++; }
+                std::fprintf(stderr, "  neg by free count: 1:%d 2:%d 3:%d zero-pinned-edges %d\n", byfree[1], byfree[2], byfree[3], zero_pinned_edge);
+                std::fprintf(stderr, "radius %d region fans %zu faces %zu ok %d neg %d singular-corners %d\n", radius, r.fans.size(), r.faces.size(), okr, neg, pinned_in);
+            }
+            if (okr) {
                 for (const int f : r.faces) repaired_face[f] = 1;
                 continue;
             }
@@ -497,7 +615,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     }
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         explain_unrepaired(m, group,
-                           "no orientation-preserving re-embedding was found within 16 rings around it "
+                           "no orientation-preserving re-embedding was found within 8 rings around it "
                            "(or the region's UV area is not positive)",
                            report);
         ++out.regions_failed;
