@@ -29,11 +29,11 @@ namespace {
 /// Ring radii around the fold-overs, one attempt each.
 constexpr int kRingRadii[] = {1, 2, 4, 8};
 /// Regularisation steps per attempt, and L-BFGS iterations per step.
-constexpr int kOuterIterations = 40;
-constexpr int kInnerIterations = 100;
+constexpr int kOuterIterations = 60;
+constexpr int kInnerIterations = 80;
 /// An attempt stops once this many regularisation steps in a row leave more triangles inverted
 /// than its best step did.
-constexpr int kStagnation = 6;
+constexpr int kStagnation = 8;
 /// Larger regions are not attempted (their repair would cost more than the extraction).
 constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
 
@@ -372,7 +372,7 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
     length /= static_cast<double>(r.fans.size());
     double lowest = 0.0;
     region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
-    const double e0f = std::getenv("QEX_E0") ? std::atof(std::getenv("QEX_E0")) : 2.0;
+    const double e0f = std::getenv("QEX_E0") ? std::atof(std::getenv("QEX_E0")) : 0.1;
     double eps = std::max(1e-3, e0f * std::abs(lowest));
     std::size_t best = SIZE_MAX;
     for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
