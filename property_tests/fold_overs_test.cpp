@@ -7,6 +7,28 @@
 namespace qex::testing {
 namespace {
 
+/// The paper's local handling of fold-overs alone (stage repair off): these tests exercise it.
+Options paper_handling() {
+    Options o;
+    o.repair_fold_overs = false;
+    return o;
+}
+
+/// The same map with stage repair on (the default): every fold is re-embedded, the certificate
+/// passes the checker, and the mesh has exactly the map's area.
+void expect_repaired(const Input& in, std::int64_t quads) {
+    const Result r = extract_valid(in);
+    EXPECT_EQ(r.report.rung, "repaired");
+    EXPECT_GT(r.report.repaired_triangles, 0);
+    EXPECT_EQ(r.report.flipped_after_repair, 0);
+    EXPECT_EQ(r.report.unrepaired_regions, 0);
+    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.map_repaired.size()), r.report.repaired_triangles);
+    EXPECT_EQ(r.check.repaired_triangles, r.report.repaired_triangles);
+    EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), quads);
+    // The mechanisms of the paper's local handling are not needed on a repaired map.
+    EXPECT_EQ(r.report.merged_qvertices + r.report.recovered_edges + r.report.orientation_flips_crossed, 0);
+}
+
 /// First vertex whose corners all share one chart and whose displacement by (dx, dy) flips triangles.
 int fold(Input& in, const std::vector<char>& single_chart, double dx, double dy) {
     for (int v = 0; v < static_cast<int>(in.positions.size()); ++v) {
@@ -27,9 +49,10 @@ Result folded_torus(int k, double dx, double dy) {
     std::vector<char> single;
     Input in = make_map(layout, 2, k, 1, 1, &single);
     EXPECT_GE(fold(in, single, dx, dy), 0);
-    const Result r = extract_valid(in);
+    const Result r = extract_valid(in, paper_handling());
     EXPECT_GT(r.report.flipped_triangles, 0);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
+    expect_repaired(in, expected_quads(layout, 2));
     return r;
 }
 
@@ -127,7 +150,7 @@ TEST(Extraction, FoldOverTakingAFullTurnFromASingularity) {
         if (in.positions[i][0] == 0 && in.positions[i][1] == 0 && in.positions[i][2] == 1.5)
             centre = static_cast<int>(i);
     ASSERT_GE(centre, 0);
-    const Result before = extract_valid(in);
+    const Result before = extract_valid(in, paper_handling());
     squeeze_fan(in, centre, 5.0);
     // The fan's angle sum in the parameter domain is now a quarter turn.
     double sum = 0;
@@ -140,14 +163,16 @@ TEST(Extraction, FoldOverTakingAFullTurnFromASingularity) {
             }
     EXPECT_NEAR(sum, M_PI / 2, 1e-9);
     EXPECT_GT(count_flipped(in), 0); // the triangles beyond the squeezed ring fold over
-    const Result r = extract_valid(in);
+    const Result r = extract_valid(in, paper_handling());
     EXPECT_EQ(r.report.singularities, before.report.singularities);
     EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, 2));
     EXPECT_GT(r.report.recovered_edges, 0);
+    expect_repaired(in, expected_quads(layout, 2)); // a singularity inside the fold stays pinned
     // Without the recovery the face round the singularity covers more than one cell.
     Options no_recovery;
     no_recovery.recover_lost_edges = false;
     no_recovery.fallback_ladder = false;
+    no_recovery.repair_fold_overs = false;
     const Result broken = extract(in, no_recovery);
     EXPECT_FALSE(broken.ok() && verify(in, broken.mesh).valid &&
                  static_cast<std::int64_t>(broken.mesh.faces.size()) == expected_quads(layout, 2));
@@ -177,9 +202,10 @@ TEST(Extraction, SqueezedFansOfNeighbouringSingularities) {
             squeeze_fan(in, id, j < 12 ? 5.0 : c.valence3_factor);
         }
         EXPECT_GT(count_flipped(in), 0);
-        const Result r = extract_valid(in);
+        const Result r = extract_valid(in, paper_handling());
         EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), expected_quads(layout, n));
         EXPECT_GT(r.report.recovered_edges + r.report.merged_qvertices, 0);
+        expect_repaired(in, expected_quads(layout, n));
     }
 }
 } // namespace

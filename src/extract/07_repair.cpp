@@ -18,8 +18,6 @@
 #include <limits>
 #include <numeric>
 #include <string>
-#include <cstdio>
-#include <cstdlib>
 
 namespace qex::detail {
 namespace {
@@ -31,6 +29,10 @@ constexpr int kRingRadii[] = {1, 2, 4, 8};
 /// Regularisation steps per attempt, and L-BFGS iterations per step.
 constexpr int kOuterIterations = 60;
 constexpr int kInnerIterations = 80;
+/// The first regularisation, relative to the most negative Jacobian determinant.
+constexpr double kInitialRegularisation = 0.1;
+/// The energy's weight on area (det^2 + 1) against shape (|J|^2), both over the regularised det.
+constexpr double kAreaWeight = 0.5;
 /// An attempt stops once this many regularisation steps in a row leave more triangles inverted
 /// than its best step did.
 constexpr int kStagnation = 8;
@@ -65,7 +67,7 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
     const double det = j00 * j11 - j01 * j10;
     const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
     const double c = chi(det, eps);
-    static const double theta = std::getenv("QEX_TH") ? std::atof(std::getenv("QEX_TH")) : 0.5;
+    constexpr double theta = kAreaWeight;
     const double num = (1 - theta) * frob + theta * (det * det + 1.0);
     const double energy = s.area * num / c;
     if (grad) {
@@ -372,8 +374,7 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
     length /= static_cast<double>(r.fans.size());
     double lowest = 0.0;
     region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
-    const double e0f = std::getenv("QEX_E0") ? std::atof(std::getenv("QEX_E0")) : 0.1;
-    double eps = std::max(1e-3, e0f * std::abs(lowest));
+    double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
     std::size_t best = SIZE_MAX;
     for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
         const double before = region_energy(p, r, rest, x, eps, nullptr);
@@ -390,10 +391,6 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
         if (inverted < best) best = inverted, since_best = 0;
         else ++since_best;
         const double after = region_energy(p, r, rest, x, eps, nullptr, &lowest);
-        if (std::getenv("QEX_RD2") && r.fans.size() > 100) {
-            int neg = 0; for (int f : r.faces) neg += !positive(m, f);
-            std::fprintf(stderr, "  outer %d lowest %g eps %g energy %g neg %d\n", outer, lowest, eps, after, neg);
-        }
         const double sigma = std::max(1.0 - after / before, 0.1);
         const double mu = (1.0 - sigma) * chi(lowest, eps);
         eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
@@ -576,18 +573,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             std::vector<Point2> before;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
-            const bool okr = untangle_region(m, r, rest, corner_slot, corner_to);
-            if (std::getenv("QEX_RD")) {
-                int neg = 0; for (int f : r.faces) neg += !positive(m, f);
-                int pinned_in = 0; for (int f : r.faces) for (int v : m.tri[f]) pinned_in += pinned[v] && m.map.singular[v];
-                int byfree[4] = {0,0,0,0}, zero_pinned_edge = 0;
-                for (int f : r.faces) if (!positive(m, f)) { int nf = 0; for (int k=0;k<3;++k) nf += !pinned[m.tri[f][k]];
-                    byfree[nf]++;
-                    for (int k=0;k<3;++k) if (pinned[m.tri[f][k]] && pinned[m.tri[f][(k+1)%3]] && m.uv[3*f+k]==m.uv[3*f+(k+1)%3]) zero_pinned_edge++; }
-                std::fprintf(stderr, "  neg by free count: 1:%d 2:%d 3:%d zero-pinned-edges %d\n", byfree[1], byfree[2], byfree[3], zero_pinned_edge);
-                std::fprintf(stderr, "radius %d region fans %zu faces %zu ok %d neg %d singular-corners %d\n", radius, r.fans.size(), r.faces.size(), okr, neg, pinned_in);
-            }
-            if (okr) {
+            if (untangle_region(m, r, rest, corner_slot, corner_to)) {
                 for (const int f : r.faces) repaired_face[f] = 1;
                 continue;
             }

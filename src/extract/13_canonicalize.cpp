@@ -87,6 +87,7 @@ std::vector<int> canonicalize(QuadMesh& mesh) {
         out.face_uvs.push_back(std::move(mesh.face_uvs[f]));
     }
     out.map_uvs = std::move(mesh.map_uvs);
+    out.map_repaired = std::move(mesh.map_repaired);
     mesh = std::move(out);
     return new_index;
 }

@@ -204,13 +204,16 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     std::vector<int> repaired_faces;
     if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces)).code != ErrorCode::None)
         return false;
-    for (const int f : repaired_faces) result.mesh.map_repaired.push_back(m.input_triangle[f]);
-    std::sort(result.mesh.map_repaired.begin(), result.mesh.map_repaired.end());
+    std::vector<std::int32_t> certificate; // the repaired triangles, by input index
+    for (const int f : repaired_faces) certificate.push_back(m.input_triangle[f]);
+    std::sort(certificate.begin(), certificate.end());
+    if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     QState q;
     if ((result.error = extract_geometry(m, options, q, report, timer)).code != ErrorCode::None) return false;
     extract_connectivity(m, options, q, result.mesh, report, timer);
     q = QState{};
     result.mesh.map_uvs = take_map(m, input);
+    result.mesh.map_repaired = std::move(certificate);
     if (options.canonical_order) {
         const std::vector<int> new_index = canonicalize(result.mesh);
         for (Defect& d : report.defects)
@@ -310,7 +313,9 @@ Result extract(const Input& input, const Options& options) {
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
-        if (!kLadder[r].repair && kLadder[r].untangle_rings == 0) given_map = attempt.mesh.map_uvs;
+        // A repair that changed nothing had the map as given: the next rung would repeat it.
+        const bool as_given = kLadder[r].untangle_rings == 0 && attempt.report.repaired_triangles == 0;
+        if (as_given) given_map = attempt.mesh.map_uvs;
         // The further rungs change only flipped or degenerate regions: without any, they would
         // repeat this one.
         const bool another_map = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
@@ -320,6 +325,7 @@ Result extract(const Input& input, const Options& options) {
         }
         best.report.rungs_tried = r - first + 1;
         if (!another_map) break;
+        if (kLadder[r].repair && as_given) ++r; // skip the as-given rung
     }
     best.report.stage_seconds = std::move(prepared.report.stage_seconds);
     // No rung gave a valid mesh: locate every violation on the input through the provenance.
