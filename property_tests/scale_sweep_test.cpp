@@ -1,0 +1,70 @@
+// The scale sweep (issue 12): the paper's six real maps with their UVs multiplied by K, one test
+// per map and K. Scaling keeps the fold-overs and the singularities but gives every fold-over K^2
+// times more grid cells to cover, so it stresses the repair of fold-overs: the mesh must be
+// valid, its topology the input's, and from K = 8 on (fold-overs of many cells) the quad count the
+// signed UV area unless the report names unrepaired regions. K in {2, 4, 8} run by default; the
+// instantiation LongScaleSweep (K in {16, 32}) is registered with -DQEX_LONG_TESTS=ON, label long.
+#include "map_transforms.h"
+#include "transform_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace qex::testing {
+namespace {
+
+struct ScaleCase {
+    std::string map; ///< in meshes/paper, without "_param.obj"
+    std::int64_t k;
+};
+
+void PrintTo(const ScaleCase& c, std::ostream* os) { *os << c.map << " x " << c.k; }
+
+std::string case_name(const ::testing::TestParamInfo<ScaleCase>& info) {
+    return info.param.map + "_x" + std::to_string(info.param.k);
+}
+
+std::vector<ScaleCase> cases(const std::vector<std::int64_t>& ks) {
+    std::vector<ScaleCase> out;
+    for (const char* map : {"duck_miq_4", "duck_miq_8", "duck_miq_16", "duck_miq_28", "duck_qc_8", "fandisk"})
+        for (std::int64_t k : ks) out.push_back({map, k});
+    return out;
+}
+
+class ScaleSweep : public ::testing::TestWithParam<ScaleCase> {};
+
+TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
+    const ScaleCase& c = GetParam();
+    Input in;
+    if (const std::string why = read_real_map("paper", c.map, in); !why.empty()) GTEST_SKIP() << why;
+    // Powers of two scale every double exactly: the scaled map is the map, K times larger.
+    ASSERT_EQ(transforms::scale_uvs(in, c.k), 0) << "UVs x " << c.k << " is not exact";
+
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << to_string(r.error.code) << ": " << r.error.message;
+    const VerifyResult v = verify(in, r.mesh);
+    const std::string about = c.map + " x " + std::to_string(c.k) + ": " + summary(r, v);
+    std::cout << about << "\n";
+
+    EXPECT_TRUE(r.check.valid) << about << "\nextract's check: " << violations_text(r.check.violations);
+    EXPECT_TRUE(v.valid) << about << "\nverify: " << violations_text(v.violations);
+    EXPECT_EQ(v.euler, v.input_euler) << about;
+    EXPECT_EQ(v.boundary_loops, v.input_boundary_loops) << about;
+    EXPECT_EQ(v.components, v.input_components) << about;
+    if (c.k < 8) return;
+    // Fold-overs of this size are the repair's to re-embed: what it leaves must be explained.
+    if (r.report.unrepaired_regions == 0) {
+        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), v.input_signed_uv_area_rounded) << about;
+    } else {
+        EXPECT_FALSE(r.report.explanations.empty()) << about;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperMaps, ScaleSweep, ::testing::ValuesIn(cases({2, 4, 8})), case_name);
+INSTANTIATE_TEST_SUITE_P(LongScaleSweep, ScaleSweep, ::testing::ValuesIn(cases({16, 32})), case_name);
+
+} // namespace
+} // namespace qex::testing

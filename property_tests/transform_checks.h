@@ -1,0 +1,157 @@
+// Helpers of the metamorphic tests (map_transforms.h): the real maps of ../shared by name, a
+// tolerant comparison of two quad meshes, and one-line summaries for failure messages.
+#pragma once
+
+#include "qex/qex.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace qex::testing {
+
+/// Reads QEX_SHARED_DIR/meshes/<folder>/<name>_param.obj. "" on success, else why not (the
+/// caller skips: the real maps are not part of the repository).
+inline std::string read_real_map(const std::string& folder, const std::string& name, Input& in) {
+    const std::filesystem::path path =
+        std::filesystem::path(QEX_SHARED_DIR) / "meshes" / folder / (name + "_param.obj");
+    if (!std::filesystem::exists(path)) return "no " + path.string();
+    if (const IoError e = read_obj(path.string(), in); !e.ok()) return path.string() + ": " + e.message;
+    return {};
+}
+
+/// The first `n` violations, one per line, and how many there are in all.
+inline std::string violations_text(const std::vector<Violation>& violations, std::size_t n = 3) {
+    std::ostringstream out;
+    out << violations.size() << " violations";
+    for (std::size_t i = 0; i < std::min(n, violations.size()); ++i)
+        out << "\n  " << to_string(violations[i].kind) << ": " << violations[i].message;
+    return out.str();
+}
+
+/// One line about an extraction: quads, area, and what the fold-overs and the repair did.
+inline std::string summary(const Result& r, const VerifyResult& v) {
+    std::ostringstream out;
+    out << r.mesh.faces.size() << " quads, signed UV area " << v.input_signed_uv_area_rounded << ", "
+        << r.report.flipped_triangles << " flipped, " << r.report.repaired_regions << " regions repaired, "
+        << r.report.unrepaired_regions << " unrepaired, " << r.report.explanations.size() << " explanations, rung "
+        << r.report.rung;
+    return out.str();
+}
+
+/// The diagonal of the bounding box of `positions`.
+inline double bbox_diagonal(const std::vector<std::array<double, 3>>& positions) {
+    if (positions.empty()) return 0.0;
+    std::array<double, 3> lo = positions[0], hi = positions[0];
+    for (const auto& p : positions)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+    return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+/// "" when the positions are the same doubles in the same order, else the first that differs and
+/// the largest difference.
+inline std::string position_difference(const std::vector<std::array<double, 3>>& a,
+                                       const std::vector<std::array<double, 3>>& b) {
+    std::ostringstream out;
+    if (a.size() != b.size()) {
+        out << a.size() << " positions against " << b.size();
+        return out.str();
+    }
+    std::int64_t first = -1, differing = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i] == b[i]) continue;
+        if (first < 0) first = static_cast<std::int64_t>(i);
+        ++differing;
+        for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[i][k] - b[i][k]));
+    }
+    if (first < 0) return {};
+    const auto &p = a[static_cast<std::size_t>(first)], &q = b[static_cast<std::size_t>(first)];
+    out.precision(17);
+    out << differing << " positions differ, by up to " << largest << "; the first, vertex " << first << ": (" << p[0]
+        << ", " << p[1] << ", " << p[2] << ") against (" << q[0] << ", " << q[1] << ", " << q[2] << ")";
+    return out.str();
+}
+
+/// "" when `a` and `b` have as many vertices and faces, every vertex of `a` has its own vertex
+/// of `b` within `tol` (inf-norm; the sorted multisets of positions agree), and the faces are the
+/// same under that matching (up to the rotation of each face); else the first difference.
+inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double tol) {
+    std::ostringstream out;
+    if (a.positions.size() != b.positions.size()) {
+        out << a.positions.size() << " vertices against " << b.positions.size();
+        return out.str();
+    }
+    if (a.faces.size() != b.faces.size()) {
+        out << a.faces.size() << " faces against " << b.faces.size();
+        return out.str();
+    }
+    // b's vertices by x; each vertex of a takes the nearest unmatched one within the window.
+    std::vector<int> by_x(b.positions.size());
+    std::iota(by_x.begin(), by_x.end(), 0);
+    std::sort(by_x.begin(), by_x.end(), [&](int i, int j) { return b.positions[i] < b.positions[j]; });
+    std::vector<int> match(a.positions.size(), -1);
+    std::vector<char> taken(b.positions.size(), 0);
+    for (std::size_t i = 0; i < a.positions.size(); ++i) {
+        const auto& p = a.positions[i];
+        auto it = std::lower_bound(by_x.begin(), by_x.end(), p[0] - tol,
+                                   [&](int j, double x) { return b.positions[j][0] < x; });
+        double best = tol;
+        for (; it != by_x.end() && b.positions[*it][0] <= p[0] + tol; ++it) {
+            if (taken[*it]) continue;
+            double d = 0.0;
+            for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(p[k] - b.positions[*it][k]));
+            if (d <= best) {
+                best = d;
+                match[i] = *it;
+            }
+        }
+        if (match[i] < 0) {
+            double nearest = INFINITY;
+            for (const auto& q : b.positions) {
+                double d = 0.0;
+                for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(p[k] - q[k]));
+                nearest = std::min(nearest, d);
+            }
+            out.precision(17);
+            out << "vertex " << i << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") has no counterpart within "
+                << tol << " (the nearest is " << nearest << " away)";
+            return out.str();
+        }
+        taken[match[i]] = 1;
+    }
+    auto canonical = [](std::vector<int> f) {
+        std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+        return f;
+    };
+    std::vector<std::vector<int>> fa, fb;
+    for (const auto& f : a.faces) {
+        std::vector<int> g;
+        for (int v : f) g.push_back(v >= 0 && v < static_cast<int>(match.size()) ? match[v] : -1);
+        fa.push_back(canonical(g));
+    }
+    for (const auto& f : b.faces) fb.push_back(canonical(f));
+    std::sort(fa.begin(), fa.end());
+    std::sort(fb.begin(), fb.end());
+    const auto diff = std::mismatch(fa.begin(), fa.end(), fb.begin());
+    if (diff.first != fa.end()) {
+        out << "the faces differ under the vertex matching: face (";
+        for (int v : *diff.first) out << " " << v;
+        out << " ) of the first against (";
+        for (int v : *diff.second) out << " " << v;
+        out << " ) of the second";
+        return out.str();
+    }
+    return {};
+}
+
+} // namespace qex::testing
