@@ -47,8 +47,10 @@ std::vector<MapTransformCase> cases(const std::string& folder, const std::vector
     return out;
 }
 
-/// Relative tolerance of positions after a transform that rounds UVs (of the bounding-box diagonal).
-constexpr double kRelativeTolerance = 1e-9;
+/// Relative tolerance of positions after a transform that rounds UVs (of the bounding-box
+/// diagonal): sanitizing re-truncates every UV to a precision set by its magnitude, which a
+/// translation or re-charting changes, and grid points move with it by about 1e-7 relative.
+constexpr double kRelativeTolerance = 1e-6;
 
 class RealMapTransform : public ::testing::TestWithParam<MapTransformCase> {};
 

@@ -172,7 +172,8 @@ struct Totals {
 Point2 sanitized_start(const TriMesh& m, int v, const Fan& fan, bool singular, const Rules& rules) {
     const Point2 u0 = m.uv[fan.corners[0]];
     if (singular) return fan.loop.r == 0 ? Point2{std::nearbyint(u0[0]), std::nearbyint(u0[1])} : fixed_point(fan.loop);
-    return truncated_for_fan(m, fan.corners, fan.to_c, rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
+    return truncated_for_fan(m, fan.corners, fan.to_c,
+                             rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
 }
 
 /// Sanitizes every fan, in corner order (TriMesh::vertex_order). Each vertex reads and writes

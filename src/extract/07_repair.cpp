@@ -76,8 +76,10 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
         // dE/dJ = (2 J + 2 det cof J) / chi - num chi' / chi^2 cof J, cof J = [[j11, -j10], [-j01, j00]].
         const double k = num * dchi / (c * c);
         const double w = 1 - theta, q = theta;
-        const double d00 = (2 * w * j00 + 2 * q * det * j11) / c - k * j11, d01 = (2 * w * j01 - 2 * q * det * j10) / c + k * j10;
-        const double d10 = (2 * w * j10 - 2 * q * det * j01) / c + k * j01, d11 = (2 * w * j11 + 2 * q * det * j00) / c - k * j00;
+        const double d00 = (2 * w * j00 + 2 * q * det * j11) / c - k * j11,
+                     d01 = (2 * w * j01 - 2 * q * det * j10) / c + k * j10;
+        const double d10 = (2 * w * j10 - 2 * q * det * j01) / c + k * j01,
+                     d11 = (2 * w * j11 + 2 * q * det * j00) / c - k * j00;
         // dE/d[a b] = area * dE/dJ * G^T.
         const Vec2 da{s.area * (d00 * s.g00 + d01 * s.g01), s.area * (d10 * s.g00 + d11 * s.g01)};
         const Vec2 db{s.area * (d00 * s.g10 + d01 * s.g11), s.area * (d10 * s.g10 + d11 * s.g11)};
@@ -300,8 +302,8 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 /// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
-void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x,
-              double eps, double length, int iterations) {
+void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x, double eps,
+              double length, int iterations) {
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
@@ -388,8 +390,10 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
         std::size_t inverted = 0;
         for (const int f : r.faces) inverted += !positive(m, f);
         if (inverted == 0) return true;
-        if (inverted < best) best = inverted, since_best = 0;
-        else ++since_best;
+        if (inverted < best)
+            best = inverted, since_best = 0;
+        else
+            ++since_best;
         const double after = region_energy(p, r, rest, x, eps, nullptr, &lowest);
         const double sigma = std::max(1.0 - after / before, 0.1);
         const double mu = (1.0 - sigma) * chi(lowest, eps);
@@ -403,8 +407,7 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
 /// Vertices that never move: boundary, singular, on a feature edge, or without a fan.
 std::vector<char> pinned_vertices(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges) {
     std::vector<char> pinned(static_cast<std::size_t>(m.num_vertices), 0);
-    for (int v = 0; v < m.num_vertices; ++v)
-        pinned[v] = m.fan_start[v] < 0 || m.on_boundary[v] || m.map.singular[v];
+    for (int v = 0; v < m.num_vertices; ++v) pinned[v] = m.fan_start[v] < 0 || m.on_boundary[v] || m.map.singular[v];
     if (!feature_edges.empty()) {
         std::vector<char> on_feature;
         for (const auto& fe : feature_edges)

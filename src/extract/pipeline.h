@@ -41,9 +41,9 @@ inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",        "collapse",      "untangle",       "compute_transitions", "count_valences",
-    "sanitize",        "repair",        "generate_qvertices", "enumerate_ports", "trace_ports",
-    "extract_faces",   "merge_vertices", "canonicalize",  "place_on_given_map", "check"};
+    "validate",      "collapse",       "untangle",           "compute_transitions", "count_valences",
+    "sanitize",      "repair",         "generate_qvertices", "enumerate_ports",     "trace_ports",
+    "extract_faces", "merge_vertices", "canonicalize",       "place_on_given_map",  "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
