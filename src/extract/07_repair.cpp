@@ -120,11 +120,9 @@ FreeFan free_fan(const TriMesh& m, int v) {
             return less3(m.pos(TriMesh::next(a)), m.pos(TriMesh::next(b)));
         return less3(m.pos(TriMesh::prev(a)), m.pos(TriMesh::prev(b)));
     };
-    std::vector<int> walk = fan.corners;
-    const auto first = std::min_element(walk.begin(), walk.end(), key_less);
-    // Walk again from the start (the fan is closed: the vertex is interior).
-    std::rotate(walk.begin(), first, walk.end());
-    fan.corners = walk;
+    std::vector<int>& walk = fan.corners;
+    // The fan is closed (the vertex is interior): rotating it keeps its order.
+    std::rotate(walk.begin(), std::min_element(walk.begin(), walk.end(), key_less), walk.end());
     const std::size_t n = walk.size();
     fan.to_c.assign(n, GridAutomorphism{});
     for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[walk[i - 1]].after(fan.to_c[i - 1]);
@@ -559,7 +557,6 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     const std::vector<Point2> sanitized = m.uv;
     std::vector<RestShape> rest(static_cast<std::size_t>(m.num_faces()));
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
-    std::vector<char> repaired_face(static_cast<std::size_t>(m.num_faces()), 0);
     std::vector<int> corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1);
     std::vector<GridAutomorphism> corner_to(corner_slot.size());
     for (const int radius : kRingRadii) {
@@ -576,10 +573,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             std::vector<Point2> before;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
-            if (untangle_region(m, r, rest, corner_slot, corner_to)) {
-                for (const int f : r.faces) repaired_face[f] = 1;
-                continue;
-            }
+            if (untangle_region(m, r, rest, corner_slot, corner_to)) continue;
             std::size_t i = 0;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) m.uv[c] = before[i++];
@@ -593,10 +587,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         if (changed) out.repaired_faces.push_back(f);
         m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
     }
-    std::vector<int> repaired_list;
-    for (int f = 0; f < m.num_faces(); ++f)
-        if (repaired_face[f]) repaired_list.push_back(f);
-    out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, repaired_list).size());
+    out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, out.repaired_faces).size());
     for (const auto& group : triangle_groups(m, stuck)) {
         explain_unrepaired(m, group, "all its corners are singular, boundary or feature vertices, which stay fixed",
                            report);
