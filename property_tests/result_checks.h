@@ -24,7 +24,8 @@ inline bool is_whole_mesh_violation(ViolationKind k) {
 /// An explanation of a quad count below the UV area, not a defect.
 inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
-           k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired;
+           k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
+           k == DefectKind::MapRefined;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
@@ -36,6 +37,7 @@ inline std::vector<Violation> expected_violations(const Input& in, const Result&
         QuadMesh bare;
         bare.positions = r.mesh.positions;
         bare.faces = r.mesh.faces;
+        bare.grid_scale = r.mesh.grid_scale;
         for (const Violation& v : verify(in, bare).violations) out.push_back(v);
     }
     return out;
@@ -104,8 +106,10 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d, 
     if (d.kind == DefectKind::NonQuadFace &&
         (d.output_face < 0 || r.mesh.faces[static_cast<std::size_t>(d.output_face)].size() == 4))
         return what + ": does not name a face with other than 4 vertices";
+    // A refinement names the first failure at scale 1, which may be one of the whole mesh.
     if (d.kind != DefectKind::CheckerViolation)
-        return d.input_element < 0 ? what + ": names no input triangle" : std::string();
+        return d.input_element < 0 && d.kind != DefectKind::MapRefined ? what + ": names no input triangle"
+                                                                       : std::string();
     const ViolationElement element = element_kind(*d.violation);
     if (is_whole_mesh_violation(*d.violation) != (element == ViolationElement::None))
         return what + ": element_kind disagrees with the kind's scope";

@@ -66,6 +66,14 @@ struct Options {
     /// paper's local handling of fold-overs alone, then (last resorts, uncertified) on maps whose
     /// folded regions are relaxed, with the mesh moved back onto the given map; see Report::rung.
     bool fallback_ladder = true;
+    /// When no rung gives a valid mesh at the map's own scale, retry with the map's UVs
+    /// multiplied by 2, then 4, ... up to this factor (a power of two; 1 disables). Maps too
+    /// coarse for their surface (a handle or neck less than a quad or two around, clusters of
+    /// singularities within a quad) induce no valid quad mesh at their own scale, but they do
+    /// once every quad is split into K x K. The mesh then carries QuadMesh::grid_scale = K, the
+    /// report says so (Report::grid_scale, and an explanation naming what failed at scale 1), and
+    /// the checker judges it against the map scaled by K. Needs fallback_ladder.
+    int max_refinement = 4;
     /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
     /// serially. The output is identical for every value.
     int threads = 0;
@@ -87,6 +95,9 @@ enum class DefectKind {
     GhostFacesCancelled,   ///< a face and its reverse (a fold-over's double cover) were removed together
     BoundaryFaceDiscarded, ///< a face walk ran into a boundary that is not on an integer iso-line
     FoldOverNotRepaired,   ///< stage repair left a fold-over as the map gives it (the paper's handling applies)
+    /// No valid mesh at the map's own scale: the mesh is extracted on the map with its UVs
+    /// multiplied by Report::grid_scale (Options::max_refinement); names the first failure at scale 1.
+    MapRefined,
 };
 const char* to_string(DefectKind kind);
 
@@ -147,6 +158,12 @@ struct Report {
     /// Last-resort rungs: output vertices that found no preimage of their grid point in the
     /// given map (they stay where the relaxed map put them, and the checker rejects them).
     std::int64_t unplaced_vertices = 0;
+    /// 1, or the factor K the map's UVs were multiplied by to give a valid mesh (each quad of the
+    /// map's own scale is then K x K quads of the mesh; Options::max_refinement). The rest of the
+    /// report describes the extraction at that scale; `explanations` names what failed at scale 1.
+    int grid_scale = 1;
+    /// Refinement factors tried after scale 1 failed (0 when scale 1 succeeded or refinement is off).
+    std::int64_t refinements_tried = 0;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
     /// name; see the README's pipeline table), summed over every run of the stage in this
     /// extraction (sanitize rounds, and every rung tried), in first-run order.

@@ -62,6 +62,11 @@ struct QuadMesh {
     /// changed. The checker verifies that each is positively oriented in `map_uvs`, exactly;
     /// every other triangle keeps its sanitized UVs.
     std::vector<std::int32_t> map_repaired;
+    /// The factor the input map's UVs were multiplied by before extraction (1, or a power of two
+    /// when the map was too coarse at its own scale; Options::max_refinement). The checker judges
+    /// the mesh against the input map scaled by it; for meshes from elsewhere, set it to judge a
+    /// mesh against a refined map (`qex check --grid-scale K`).
+    int grid_scale = 1;
 };
 
 } // namespace qex

@@ -103,7 +103,11 @@ nlohmann::json counts_json(const qex::Report& r) {
 
 nlohmann::json to_json(const qex::Report& r) {
     nlohmann::json j = counts_json(r);
-    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}, {"unplaced_vertices", r.unplaced_vertices}};
+    j["fallback"] = {{"rung", r.rung},
+                     {"rungs_tried", r.rungs_tried},
+                     {"unplaced_vertices", r.unplaced_vertices},
+                     {"grid_scale", r.grid_scale},
+                     {"refinements_tried", r.refinements_tried}};
     j["repair"] = {{"repaired_regions", r.repaired_regions},
                    {"repaired_triangles", r.repaired_triangles},
                    {"unrepaired_regions", r.unrepaired_regions},
@@ -144,6 +148,7 @@ struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path;
     bool poly = false, quiet = false;
     int threads = 0;
+    int max_refinement = qex::Options{}.max_refinement;
 };
 
 /// Reads the map (and valences); returns the exit code of a failure, or kOk.
@@ -195,6 +200,7 @@ int run_extract(const ExtractArgs& a) {
     const auto t1 = std::chrono::steady_clock::now();
     qex::Options options;
     options.threads = a.threads;
+    options.max_refinement = a.max_refinement;
     const qex::Result result = qex::extract(input, options);
     if (!result.ok()) {
         std::cerr << "qex: " << a.in_path << ": invalid input (" << qex::to_string(result.error.code)
@@ -213,13 +219,16 @@ int run_extract(const ExtractArgs& a) {
         return kIo;
     }
     const auto& r = result.report;
+    if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
+        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
+                  << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
     if (!a.quiet)
         std::printf(
             "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
-            "%lld recovered edges, map %s) -> %s\n",
+            "%lld recovered edges, map %s, grid scale %d) -> %s\n",
             result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
-            static_cast<long long>(r.recovered_edges), r.rung.c_str(), a.out_path.c_str());
+            static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale, a.out_path.c_str());
     return kOk;
 }
 
@@ -227,6 +236,7 @@ int run_extract(const ExtractArgs& a) {
 struct CheckArgs {
     std::string param_path, mesh_path;
     bool json = false;
+    int grid_scale = 1;
     qex::VerifyOptions options;
 };
 
@@ -272,6 +282,7 @@ int run_check(const CheckArgs& a) {
         std::cerr << "qex: " << a.mesh_path << ": " << e.message << "\n";
         return io_exit(e);
     }
+    mesh.grid_scale = a.grid_scale;
     const qex::VerifyResult v = qex::verify(input, mesh, a.options);
     if (a.json)
         std::cout << to_json(v).dump(2) << "\n";
@@ -296,6 +307,11 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));
+    extract
+        ->add_option("--max-refinement", a.max_refinement,
+                     "when the map gives no valid mesh at its own scale, retry with its UVs x2, x4, ... up to this "
+                     "power of two (1: never; default 4)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;
 }
@@ -305,6 +321,11 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check->add_option("--param", a.param_path, "the map: OBJ with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh OBJ to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");
+    check
+        ->add_option("--grid-scale", a.grid_scale,
+                     "judge the mesh against the map with its UVs multiplied by this power of two (a mesh qex "
+                     "extracted with refinement)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
     check
         ->add_option("--uv-tolerance", a.options.uv_tolerance,
                      "largest UV distance of a vertex to its grid point (default 1e-3)")

@@ -279,13 +279,8 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
     return {};
 }
 
-} // namespace
-} // namespace qex::detail
-
-namespace qex {
-
-Result extract(const Input& input, const Options& options) {
-    using namespace detail;
+/// The whole ladder on `input` at its own scale.
+Result extract_at_scale(const Input& input, const Options& options) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
@@ -331,6 +326,67 @@ Result extract(const Input& input, const Options& options) {
     // No rung gave a valid mesh: locate every violation on the input through the provenance.
     locate_violations(input, best);
     return best;
+}
+
+/// Adds `from`'s stage times to `to`'s, stage by stage.
+void add_stage_seconds(const Report& from, Report& to) {
+    for (const auto& [name, seconds] : from.stage_seconds) {
+        auto it = std::find_if(to.stage_seconds.begin(), to.stage_seconds.end(),
+                               [&](const auto& entry) { return entry.first == name; });
+        if (it == to.stage_seconds.end())
+            to.stage_seconds.emplace_back(name, seconds);
+        else
+            it->second += seconds;
+    }
+}
+
+/// The explanation of a refined mesh: what failed at the map's own scale, and where.
+Defect refinement_explanation(const Result& at_scale_one, int scale) {
+    Defect d{DefectKind::MapRefined, "", -1, -1, {0, 0}, std::nullopt};
+    std::string what = std::to_string(at_scale_one.check.violations.size()) + " checker violations";
+    if (!at_scale_one.report.defects.empty()) {
+        const Defect& first = at_scale_one.report.defects.front();
+        d.input_element = first.input_element;
+        d.grid = first.grid;
+        what += "; the first: " + first.message;
+    }
+    const std::string k = std::to_string(scale);
+    d.message = "the map gives no valid quad mesh at its own scale (" + what +
+                "); the mesh is extracted on the map with its UVs multiplied by " + k +
+                ", so each quad of the map's own size is " + k + " x " + k + " quads";
+    return d;
+}
+
+} // namespace
+} // namespace qex::detail
+
+namespace qex {
+
+Result extract(const Input& input, const Options& options) {
+    using namespace detail;
+    Result result = extract_at_scale(input, options);
+    if (!result.ok() || result.check.valid || !options.fallback_ladder || options.max_refinement < 2) return result;
+    // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
+    // that would leave the range integer transitions need comes back as an input error, and ends
+    // the refinement with the scale-1 result.
+    Input scaled = input;
+    for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
+        for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
+        Result refined = extract_at_scale(scaled, options);
+        ++result.report.refinements_tried;
+        add_stage_seconds(refined.report, result.report);
+        if (!refined.ok()) break;
+        if (refined.check.valid) {
+            refined.mesh.grid_scale = scale;
+            refined.report.grid_scale = scale;
+            refined.report.refinements_tried = result.report.refinements_tried;
+            refined.report.stage_seconds = std::move(result.report.stage_seconds);
+            refined.report.explanations.insert(refined.report.explanations.begin(),
+                                               refinement_explanation(result, scale));
+            return refined;
+        }
+    }
+    return result;
 }
 
 } // namespace qex

@@ -37,6 +37,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::FaceCollapsed: return "FaceCollapsed";
         case DefectKind::BoundaryFaceDiscarded: return "BoundaryFaceDiscarded";
         case DefectKind::FoldOverNotRepaired: return "FoldOverNotRepaired";
+        case DefectKind::MapRefined: return "MapRefined";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";
     }
     return "Unknown";

@@ -168,6 +168,22 @@ void compare_topology(const VerifyResult& r, std::vector<Violation>& out) {
 
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
     using namespace verify_detail;
+    if (mesh.grid_scale != 1) {
+        // A refined mesh is judged against the input map with its UVs multiplied by the scale, a
+        // power of two, so the product is exact (or overflows to Inf, which the map check rejects).
+        if (mesh.grid_scale < 2 || mesh.grid_scale > (1 << 20) || (mesh.grid_scale & (mesh.grid_scale - 1)) != 0) {
+            VerifyResult bad;
+            bad.violations.push_back(
+                {ViolationKind::MapNotIntegerGrid,
+                 "grid scale " + std::to_string(mesh.grid_scale) + " is not a power of two between 1 and 2^20", -1});
+            return bad;
+        }
+        Input scaled = input;
+        for (auto& uv : scaled.uvs) uv = {uv[0] * mesh.grid_scale, uv[1] * mesh.grid_scale};
+        QuadMesh at_scale = mesh; // the same mesh, judged at its own scale
+        at_scale.grid_scale = 1;
+        return verify(scaled, at_scale, options);
+    }
     VerifyResult r;
     auto& out = r.violations;
     const int threads = thread_count(options.threads);
