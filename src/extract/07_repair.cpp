@@ -194,7 +194,8 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
         else
             shape[i] = {0, 0, 0, 0}; // degenerate in 3D: an equilateral rest shape below
         area3 += shape[i][3];
-        const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+        // From the canonical base too: the rounding must not depend on the input's corner order.
+        const Vec2 &a = m.uv[base], &b = m.uv[TriMesh::next(base)], &c = m.uv[TriMesh::prev(base)];
         uv_area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     }
     if (!(uv_area > 0)) return false;

@@ -2,6 +2,7 @@
 // repeat until the walk closes; local UVs accumulate the transitions along the way.
 #include "pipeline.h"
 
+#include <algorithm>
 #include <string>
 
 namespace qex::detail {
@@ -28,6 +29,26 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
     }
     ok = false;
     return g;
+}
+
+bool qvertex_less(const QState& q, int a, int b) {
+    const QVertex &x = q.qvertices[static_cast<std::size_t>(a)], &y = q.qvertices[static_cast<std::size_t>(b)];
+    if (x.position != y.position) return x.position < y.position;
+    if (x.kind != y.kind) return x.kind < y.kind;
+    return a < b;
+}
+
+std::size_t canonical_start(const QState& q, const int* qv, std::size_t n) {
+    std::size_t best = 0;
+    for (std::size_t start = 1; start < n; ++start)
+        for (std::size_t k = 0; k < n; ++k) {
+            const int a = qv[(start + k) % n], b = qv[(best + k) % n];
+            if (a != b) {
+                if (qvertex_less(q, a, b)) best = start;
+                break;
+            }
+        }
+    return best;
 }
 
 namespace {
@@ -88,6 +109,31 @@ void walk_face(const TriMesh& m, const QState& q, int start, std::vector<char>& 
 
 /// Reports a walk that did not close: a boundary face discarded (an explanation) or an open walk
 /// (a defect); `chart` is the start port's triangle.
+/// Whether a closed walk is a plain quad: four corners at four distinct q-vertices.
+bool plain_quad(const Walk& w) {
+    if (w.qv.size() != 4) return false;
+    for (std::size_t i = 0; i < 4; ++i)
+        for (std::size_t j = i + 1; j < 4; ++j)
+            if (w.qv[i] == w.qv[j]) return false;
+    return true;
+}
+
+/// Restarts a closed walk at its canonical corner, with local UVs accumulated from there.
+void start_canonically(const TriMesh& m, const QState& q, Walk& w) {
+    const std::size_t n = w.ports.size(), s = canonical_start(q, w.qv.data(), n);
+    if (s == 0) return;
+    std::rotate(w.ports.begin(), w.ports.begin() + static_cast<std::ptrdiff_t>(s), w.ports.end());
+    std::rotate(w.qv.begin(), w.qv.begin() + static_cast<std::ptrdiff_t>(s), w.qv.end());
+    GridAutomorphism gbar; // as in walk_face, along the same ports
+    for (std::size_t i = 0; i < n; ++i) {
+        const int cur = w.ports[i];
+        w.uv[i] = gbar.inverse()(q.ports[cur].grid);
+        const Connection& c = q.connections[cur];
+        bool ok = true;
+        gbar = fan_transition_cw(m, q, c.to, w.ports[(i + 1) % n], ok).after(c.g.after(gbar));
+    }
+}
+
 void report_unclosed(const TriMesh& m, const QState& q, const Walk& w, int chart, Report& report) {
     if (w.boundary) {
         // The walk reached the boundary between grid points: the boundary is not on an integer
@@ -131,6 +177,7 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
             for (int p : w.ports) visited[p] = 2;
         ++report.faces_traced;
         if (w.closed) {
+            if (!plain_quad(w)) start_canonically(m, q, w);
             faces.qv.insert(faces.qv.end(), w.qv.begin(), w.qv.end());
             faces.uv.insert(faces.uv.end(), w.uv.begin(), w.uv.end());
             faces.first.push_back(faces.qv.size());

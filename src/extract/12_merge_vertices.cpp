@@ -18,6 +18,16 @@ struct Corner {
 };
 using Loop = std::vector<Corner>;
 
+/// Rotates a closed walk to its canonical start (canonical_start), so that the choices below
+/// (which lost edge to recover, where to split) do not depend on where the walk started. Only
+/// the start moves: the local UVs keep their chart, and their equalities are what counts.
+void rotate_canonically(const QState& q, Loop& l) {
+    std::vector<int> qv(l.size());
+    for (std::size_t i = 0; i < l.size(); ++i) qv[i] = l[i].v;
+    const std::size_t s = canonical_start(q, qv.data(), qv.size());
+    std::rotate(l.begin(), l.begin() + static_cast<std::ptrdiff_t>(s), l.end());
+}
+
 /// Splits a closed walk at positions i < j into walk[i..j] and walk[j..end] + walk[0..i].
 void split(const Loop& loop, std::size_t i, std::size_t j, Loop& first, Loop& second) {
     first.assign(loop.begin() + static_cast<std::ptrdiff_t>(i), loop.begin() + static_cast<std::ptrdiff_t>(j) + 1);
@@ -75,9 +85,10 @@ bool split_at_repeat(const Loop& l, std::vector<Loop>& work) {
 }
 
 /// Removes repeated consecutive vertices and spikes (x y x); splits walks visiting a vertex twice.
-void simplify(Loop loop, std::vector<Loop>& out) {
+void simplify(const QState& q, Loop loop, std::vector<Loop>& out) {
     // Most faces visit distinct vertices and are kept as they are.
     if (visits_distinct(loop)) {
+        if (loop.size() < 3) rotate_canonically(q, loop); // its first corner names it (explain_collapsed)
         out.push_back(std::move(loop));
         return;
     }
@@ -86,6 +97,7 @@ void simplify(Loop loop, std::vector<Loop>& out) {
         Loop l = std::move(work.back());
         work.pop_back();
         remove_repeats_and_spikes(l);
+        rotate_canonically(q, l);
         if (!split_at_repeat(l, work)) out.push_back(std::move(l));
     }
 }
@@ -160,8 +172,10 @@ std::vector<Loop> recover_lost_edges(const TriMesh& m, const QState& q, FaceWalk
         Loop l = std::move(work.back());
         work.pop_back();
         bool was_split = false;
-        if (opt.recover_lost_edges && l.size() > 4 && twice_area(l) >= 4)
+        if (opt.recover_lost_edges && l.size() > 4 && twice_area(l) >= 4) {
+            rotate_canonically(q, l);
             for (int pass = 0; pass < 2 && !was_split; ++pass) was_split = split_lost_edge(m, q, l, pass, a, b);
+        }
         if (was_split) {
             work.push_back(std::move(a));
             work.push_back(std::move(b));
@@ -173,15 +187,17 @@ std::vector<Loop> recover_lost_edges(const TriMesh& m, const QState& q, FaceWalk
     return loops;
 }
 
-/// 2. Merge q-vertices sharing local UVs within a face (Algorithm 7): the smaller index represents.
-void merge_clones(const std::vector<Loop>& loops, UnionFind& sets, Report& report) {
+/// 2. Merge q-vertices sharing local UVs within a face (Algorithm 7): the smallest in canonical
+///    order (qvertex_less) represents.
+void merge_clones(const QState& q, const std::vector<Loop>& loops, UnionFind& sets, Report& report) {
     for (const Loop& l : loops)
         for (std::size_t i = 0; i < l.size(); ++i)
             for (std::size_t j = i + 1; j < l.size(); ++j)
                 if (l[i].uv == l[j].uv && l[i].v != l[j].v) {
-                    const int a = sets.find(l[i].v), b = sets.find(l[j].v);
+                    int a = sets.find(l[i].v), b = sets.find(l[j].v);
                     if (a != b) {
-                        sets.attach(std::max(a, b), std::min(a, b));
+                        if (qvertex_less(q, b, a)) std::swap(a, b);
+                        sets.attach(b, a);
                         ++report.merged_qvertices;
                     }
                 }
@@ -210,7 +226,7 @@ std::vector<Loop> simplify_faces(const TriMesh& m, const QState& q, std::vector<
     for (Loop& l : loops) {
         for (Corner& c : l) c.v = sets.find(c.v);
         parts.clear();
-        simplify(std::move(l), parts);
+        simplify(q, std::move(l), parts);
         for (Loop& p : parts) {
             if (p.size() < 3) {
                 ++report.collapsed_faces;
@@ -412,7 +428,7 @@ void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Op
                     Report& report) {
     std::vector<Loop> loops = recover_lost_edges(m, q, faces, opt, report);
     UnionFind sets(q.qvertices.size());
-    if (opt.merge_vertices) merge_clones(loops, sets, report);
+    if (opt.merge_vertices) merge_clones(q, loops, sets, report);
     std::vector<Loop> simple = simplify_faces(m, q, loops, sets, report);
     cancel_ghost_faces(m, q, simple, report);
     write_output(m, q, simple, sets, out, report);

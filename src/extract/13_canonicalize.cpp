@@ -1,5 +1,5 @@
 // Canonical output order: vertices sorted by position, each face rotated to start at its smallest
-// vertex with local UVs relative to that corner, faces sorted by their vertex lists. Positions are
+// vertex with local UVs relative to that corner (and turned so its first edge runs along +u), faces sorted by their vertex lists. Positions are
 // computed order-independently upstream, so any vertex, face or corner order of the input gives
 // the identical mesh.
 #include "pipeline.h"
@@ -23,7 +23,7 @@ std::vector<int> vertex_order(const QuadMesh& mesh) {
 }
 
 /// Renumbers each face's vertices by `rank` and rotates it to start at its smallest vertex,
-/// with local UVs relative to that corner.
+/// with local UVs relative to that corner and turned so the first edge runs along +u.
 void normalize_faces(QuadMesh& mesh, const std::vector<int>& rank) {
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
         auto& face = mesh.faces[f];
@@ -32,9 +32,19 @@ void normalize_faces(QuadMesh& mesh, const std::vector<int>& rank) {
         const auto first = std::min_element(face.begin(), face.end()) - face.begin();
         std::rotate(face.begin(), face.begin() + first, face.end());
         std::rotate(uv.begin(), uv.begin() + first, uv.end());
-        // Local UVs relative to the first corner: independent of the chart the walk started in.
+        // Local UVs relative to the first corner, turned so the first non-zero edge points along
+        // +u (or into the first quadrant): independent of the chart the walk started in.
         const auto o = uv.empty() ? std::array<std::int64_t, 2>{0, 0} : uv[0];
         for (auto& x : uv) x = {x[0] - o[0], x[1] - o[1]};
+        for (std::size_t k = 1; k < uv.size(); ++k) {
+            auto e = std::array<std::int64_t, 2>{uv[k][0] - uv[k - 1][0], uv[k][1] - uv[k - 1][1]};
+            if (e[0] == 0 && e[1] == 0) continue;
+            int turns = 0; // quarter turns counter-clockwise, (u, v) -> (-v, u), until u > 0 and v >= 0
+            while (!(e[0] > 0 && e[1] >= 0)) e = {-e[1], e[0]}, ++turns;
+            for (int t = 0; t < turns; ++t)
+                for (auto& x : uv) x = {-x[1], x[0]};
+            break;
+        }
     }
 }
 

@@ -212,8 +212,18 @@ struct FaceWalks {
     std::size_t size() const { return first.size() - 1; }
 };
 
-/// Walks the faces of the q-port graph, accumulating local UVs (Algorithm 6).
+/// Walks the faces of the q-port graph, accumulating local UVs (Algorithm 6). A walk that is not
+/// a plain quad starts at its canonical corner (canonical_start): around a singularity its local
+/// UVs depend on where the accumulation starts, and so would every choice made on them later.
 FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
+
+/// A total order on q-vertices that does not depend on the input's order: by 3D position (then
+/// kind, and index for the rare q-vertices at one point).
+bool qvertex_less(const QState& q, int a, int b);
+
+/// The start of the rotation of the cyclic q-vertex sequence qv[0..n) that is smallest in
+/// qvertex_less order.
+std::size_t canonical_start(const QState& q, const int* qv, std::size_t n);
 
 /// Transition from the chart of port a's triangle to that of port b (same q-vertex), stepping
 /// clockwise around the q-vertex; `ok` is false if the step would cross the mesh boundary.
