@@ -3,7 +3,11 @@
 // found. All decisions are exact orientation tests on the sanitized map.
 #include "pipeline.h"
 
+#include <algorithm>
+#include <array>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace qex::detail {
 namespace {
@@ -140,6 +144,7 @@ struct TraceEnd {
     GridAutomorphism g;
     bool arrived = false;  ///< b lies in the closed triangle f
     bool boundary = false; ///< the iso-line left the surface through a boundary edge
+    bool folded = false;   ///< it crossed a flipped or degenerate triangle
 };
 
 /// Follows a port's iso-line across triangles, transitions and orientation flips until its next
@@ -148,6 +153,7 @@ TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port,
     TraceEnd end{TriMesh::face(port.corner), port.dir, {}, {}};
     int entry = -1;
     int s = m.map.face_sign[end.f];
+    end.folded = s <= 0;
     IPoint a = port.grid;
     end.b = {a[0] + unit_dir(end.dir)[0], a[1] + unit_dir(end.dir)[1]};
     for (std::int64_t step = 0; step < opt.max_trace_steps; ++step) {
@@ -172,6 +178,7 @@ TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port,
         end.f = TriMesh::face(o);
         entry = o;
         const int s2 = m.map.face_sign[end.f];
+        end.folded = end.folded || s2 <= 0;
         if (s2 != 0 && s2 != s) { // orientation flip: the iso-line runs backwards in this chart
             std::swap(a, end.b);
             end.dir = (end.dir + 2) & 3;
@@ -182,13 +189,19 @@ TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port,
     return end;
 }
 
+/// The port pointing back where the iso-line arrived (-1 if none); `to_port` receives the
+/// transition from the chart of the arrival triangle to that port's.
+int arrival_port(const TriMesh& m, const QState& q, const TraceEnd& end, GridAutomorphism& to_port) {
+    const int target = qvertex_at(m, q, end.f, end.b);
+    return target < 0 ? -1 : matching_port(m, q, target, end.f, (end.dir + 2) & 3, to_port);
+}
+
 /// Connects port p to the port pointing back where its iso-line arrived, or reports why it cannot.
 void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& report) {
     const Port& port = q.ports[p];
     const std::int64_t where = m.input_triangle[end.f];
-    const int target = qvertex_at(m, q, end.f, end.b);
     GridAutomorphism to_port;
-    const int p2 = target < 0 ? -1 : matching_port(m, q, target, end.f, (end.dir + 2) & 3, to_port);
+    const int p2 = arrival_port(m, q, end, to_port);
     if (p2 < 0) {
         add_defect(report, DefectKind::UnmatchedPort,
                    iso_line_from(port.grid) + " arrived at (" + std::to_string(end.b[0]) + ", " +
@@ -209,15 +222,37 @@ void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& re
 
 } // namespace
 
+bool triangle_less(const TriMesh& m, int f, int g) {
+    auto key = [&](int t) {
+        int base = 3 * t;
+        for (int c = 3 * t + 1; c < 3 * t + 3; ++c)
+            if (m.pos(c) < m.pos(base)) base = c;
+        return std::array<std::array<double, 3>, 3>{m.pos(base), m.pos(TriMesh::next(base)),
+                                                    m.pos(TriMesh::prev(base))};
+    };
+    return key(f) < key(g);
+}
+
+bool port_less(const TriMesh& m, const QState& q, int a, int b) {
+    const Port &x = q.ports[static_cast<std::size_t>(a)], &y = q.ports[static_cast<std::size_t>(b)];
+    if (x.qvertex != y.qvertex) return qvertex_less(q, x.qvertex, y.qvertex);
+    const int fx = TriMesh::face(x.corner), fy = TriMesh::face(y.corner);
+    if (fx != fy) return triangle_less(m, fx, fy);
+    return x.dir < y.dir;
+}
+
 void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report) {
     const int np = static_cast<int>(q.ports.size());
     q.connections.assign(np, Connection{});
     q.into_boundary.assign(np, 0);
-    for (int p = 0; p < np; ++p) {
-        if (q.connections[p].to >= 0 || q.into_boundary[p]) continue;
+    // Two iso-lines may arrive at one port (through fold-overs, mostly): the first to arrive would
+    // win, and so the input's order would decide. Instead, iso-lines through fold-overs, and every
+    // port some iso-line contests (with all that arrive at it), are settled after the rest, in
+    // canonical port order. The others connect in pairs whose order does not matter.
+    std::vector<char> contested(static_cast<std::size_t>(np), 0);
+    std::vector<int> later;
+    auto settle = [&](int p, const TraceEnd& end) {
         const Port& port = q.ports[p];
-        ++report.traces;
-        const TraceEnd end = follow_iso_line(m, opt, port, report);
         if (end.boundary) {
             q.into_boundary[p] = 1;
             ++report.traces_into_boundary;
@@ -228,6 +263,35 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
         } else {
             connect(m, q, p, end, report);
         }
+    };
+    for (int p = 0; p < np; ++p) {
+        if (q.connections[p].to >= 0 || q.into_boundary[p] || contested[p]) continue;
+        ++report.traces;
+        const TraceEnd end = follow_iso_line(m, opt, q.ports[p], report);
+        if (end.folded) {
+            later.push_back(p);
+            continue;
+        }
+        GridAutomorphism to_port;
+        const int p2 = end.arrived && !end.boundary ? arrival_port(m, q, end, to_port) : -1;
+        if (p2 >= 0 && p2 != p && (contested[p2] || q.connections[p2].to >= 0)) {
+            // Contested: p, p2 and whatever p2 was connected to wait for the canonical pass.
+            for (const int x : {p, p2, q.connections[p2].to})
+                if (x >= 0) contested[x] = 1, later.push_back(x);
+            if (const int p4 = q.connections[p2].to; p4 >= 0) {
+                q.connections[p2] = q.connections[p4] = Connection{};
+                --report.traces_connected;
+            }
+            continue;
+        }
+        settle(p, end);
+    }
+    std::sort(later.begin(), later.end(), [&](int a, int b) { return port_less(m, q, a, b); });
+    later.erase(std::unique(later.begin(), later.end()), later.end());
+    for (const int p : later) {
+        if (q.connections[p].to >= 0 || q.into_boundary[p]) continue;
+        ++report.traces;
+        settle(p, follow_iso_line(m, opt, q.ports[p], report));
     }
 }
 

@@ -170,11 +170,12 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
     std::vector<char> visited(np, 0);
     FaceWalks faces;
     Walk w;
-    for (int start = 0; start < np; ++start) {
-        if (visited[start] || q.connections[start].to < 0) continue;
-        walk_face(m, q, start, visited, w);
-        if (w.boundary)
-            for (int p : w.ports) visited[p] = 2;
+    // Closed walks are cycles of the port graph: found from any of their ports. A walk that does
+    // not close ends where it meets another walk or the boundary, so what it holds depends on
+    // where it started: those walks are undone and walked again afterwards, from their starts in
+    // canonical port order.
+    std::vector<int> later;
+    auto take = [&](int start) {
         ++report.faces_traced;
         if (w.closed) {
             if (!plain_quad(w)) start_canonically(m, q, w);
@@ -184,6 +185,24 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
         } else {
             report_unclosed(m, q, w, TriMesh::face(q.ports[start].corner), report);
         }
+    };
+    for (int start = 0; start < np; ++start) {
+        if (visited[start] || q.connections[start].to < 0) continue;
+        walk_face(m, q, start, visited, w);
+        if (!w.closed) {
+            for (const int p : w.ports) visited[p] = 0;
+            later.push_back(start);
+            continue;
+        }
+        take(start);
+    }
+    std::sort(later.begin(), later.end(), [&](int a, int b) { return port_less(m, q, a, b); });
+    for (const int start : later) {
+        if (visited[start]) continue;
+        walk_face(m, q, start, visited, w);
+        if (w.boundary)
+            for (const int p : w.ports) visited[p] = 2;
+        take(start);
     }
     return faces;
 }

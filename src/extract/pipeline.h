@@ -217,6 +217,14 @@ struct FaceWalks {
 /// UVs depend on where the accumulation starts, and so would every choice made on them later.
 FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 
+/// Whether triangle f comes before triangle g in an order that does not depend on the input's:
+/// their corners' 3D positions, each read from its smallest corner on.
+bool triangle_less(const TriMesh& m, int f, int g);
+
+/// Ports in an order that does not depend on the input's: by q-vertex (qvertex_less), then the
+/// triangle the port points into, then its direction there.
+bool port_less(const TriMesh& m, const QState& q, int a, int b);
+
 /// A total order on q-vertices that does not depend on the input's order: by 3D position (then
 /// kind, and index for the rare q-vertices at one point).
 bool qvertex_less(const QState& q, int a, int b);
