@@ -150,6 +150,16 @@ def test_bad_options_and_extras():
         qex.extract(V, F, UV, max_qvertices=1)
     with pytest.raises(ValueError):
         qex.verify(V, F, UV, "not a result")
+    with pytest.raises(TypeError, match="max_qvertices"):
+        qex.extract(V, F, UV, max_qvertices="many")
+    for threads in (-1, 2**40, 1.5, True):
+        with pytest.raises(ValueError, match="threads"):
+            qex.extract(V, F, UV, threads=threads)
+    for tolerance in (-1.0, float("nan")):
+        with pytest.raises(ValueError, match="uv_tolerance"):
+            qex.check(V, F, UV, V, [[0, 1, 2, 3]], uv_tolerance=tolerance)
+    with pytest.raises(TypeError):
+        qex.read_obj(None)
     assert qex.extract(V, F, UV, feature_edges=[[0, 1]], valences=[4, 4, 4, 4]).valid
 
 

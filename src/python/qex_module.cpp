@@ -30,7 +30,7 @@ void expect_shape(const py::array& a, py::ssize_t cols, const char* what) {
 
 int to_index(std::int64_t x, const char* what) {
     if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
-        throw py::value_error(std::string(what) + ": index " + std::to_string(x) + " does not fit in 32 bits");
+        throw py::value_error(std::string(what) + ": " + std::to_string(x) + " does not fit in 32 bits");
     return static_cast<int>(x);
 }
 
@@ -88,27 +88,36 @@ qex::QuadMesh to_mesh(const Doubles& QV, const Int64s& QF) {
     throw py::value_error(std::string(qex::to_string(e.code)) + ": " + e.message);
 }
 
+void set_option(qex::Options& o, const std::string& k, const py::handle& value) {
+    if (k == "max_qvertices")
+        o.max_qvertices = value.cast<std::int64_t>();
+    else if (k == "max_trace_steps")
+        o.max_trace_steps = value.cast<std::int64_t>();
+    else if (k == "recover_lost_edges")
+        o.recover_lost_edges = value.cast<bool>();
+    else if (k == "merge_vertices")
+        o.merge_vertices = value.cast<bool>();
+    else if (k == "canonical_order")
+        o.canonical_order = value.cast<bool>();
+    else if (k == "snap_boundary")
+        o.snap_boundary = value.cast<bool>();
+    else if (k == "repair_fold_overs")
+        o.repair_fold_overs = value.cast<bool>();
+    else if (k == "fallback_ladder")
+        o.fallback_ladder = value.cast<bool>();
+    else
+        throw py::type_error("extract() got an unexpected option '" + k + "'");
+}
+
 void set_options(qex::Options& o, const py::dict& options) {
     for (const auto& [key, value] : options) {
         const std::string k = py::str(key);
-        if (k == "max_qvertices")
-            o.max_qvertices = value.cast<std::int64_t>();
-        else if (k == "max_trace_steps")
-            o.max_trace_steps = value.cast<std::int64_t>();
-        else if (k == "recover_lost_edges")
-            o.recover_lost_edges = value.cast<bool>();
-        else if (k == "merge_vertices")
-            o.merge_vertices = value.cast<bool>();
-        else if (k == "canonical_order")
-            o.canonical_order = value.cast<bool>();
-        else if (k == "snap_boundary")
-            o.snap_boundary = value.cast<bool>();
-        else if (k == "repair_fold_overs")
-            o.repair_fold_overs = value.cast<bool>();
-        else if (k == "fallback_ladder")
-            o.fallback_ladder = value.cast<bool>();
-        else
-            throw py::type_error("extract() got an unexpected option '" + k + "'");
+        try {
+            set_option(o, k, value);
+        } catch (const py::cast_error&) {
+            throw py::type_error("extract(): option '" + k + "' cannot be a " +
+                                 py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>());
+        }
     }
 }
 

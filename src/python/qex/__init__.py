@@ -22,6 +22,7 @@ library releases the GIL while it works, so extractions in several Python thread
 """
 
 import json as _json
+import os as _os
 
 import numpy as _np
 
@@ -99,6 +100,20 @@ def _shaped(name, a, shape):
     return a
 
 
+def _threads(threads):
+    """The thread count as the CLI takes it (0: every core)."""
+    if isinstance(threads, bool) or not isinstance(threads, (int, _np.integer)) or not 0 <= threads <= 1024:
+        raise ValueError("threads must be an integer from 0 (every core) to 1024, not %r" % (threads,))
+    return int(threads)
+
+
+def _tolerance(name, x):
+    x = float(x)
+    if not x >= 0:  # NaN too
+        raise ValueError("%s must be a non-negative number, not %r" % (name, x))
+    return x
+
+
 def _map(V, F, UV):
     V = _real("V", V, (None, 3))
     F = _integer("F", F, (None, 3))
@@ -168,7 +183,7 @@ def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options
         valences = _integer("valences", valences, (None,))
     if feature_edges is not None:
         feature_edges = _integer("feature_edges", feature_edges, (None, 2))
-    return Result(_qex.extract(V, F, UV, valences, feature_edges, int(threads), options))
+    return Result(_qex.extract(V, F, UV, valences, feature_edges, _threads(threads), options))
 
 
 def verify(V, F, UV, result, *, threads=0):
@@ -192,7 +207,7 @@ def verify(V, F, UV, result, *, threads=0):
     if not isinstance(result, Result):
         raise ValueError("result must be a qex.Result (what qex.extract returns)")
     V, F, UV = _map(V, F, UV)
-    return _json.loads(_qex.verify(V, F, UV, result._mesh, int(threads)))
+    return _json.loads(_qex.verify(V, F, UV, result._mesh, _threads(threads)))
 
 
 def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locate=True, threads=0):
@@ -230,9 +245,9 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
     V, F, UV = _map(V, F, UV)
     QV = _real("QV", QV, (None, 3))
     QF = _integer("QF", QF, (None, None))
-    return _json.loads(
-        _qex.check(V, F, UV, QV, QF, float(uv_tolerance), float(distance_tolerance), bool(locate), int(threads))
-    )
+    uv_tolerance = _tolerance("uv_tolerance", uv_tolerance)
+    distance_tolerance = _tolerance("distance_tolerance", distance_tolerance)
+    return _json.loads(_qex.check(V, F, UV, QV, QF, uv_tolerance, distance_tolerance, bool(locate), _threads(threads)))
 
 
 def read_obj(path, *, threads=0):
@@ -252,7 +267,7 @@ def read_obj(path, *, threads=0):
     ValueError
         A malformed file (the message names the line).
     """
-    return _qex.read_obj(str(path), int(threads))
+    return _qex.read_obj(_os.fspath(path), _threads(threads))
 
 
 def write_obj(path, result):
@@ -267,4 +282,4 @@ def write_obj(path, result):
     """
     if not isinstance(result, Result):
         raise ValueError("result must be a qex.Result (what qex.extract returns)")
-    _qex.write_obj(str(path), result._mesh)
+    _qex.write_obj(_os.fspath(path), result._mesh)
