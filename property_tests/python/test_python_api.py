@@ -136,6 +136,33 @@ def test_bad_input_raises_value_error(case):
         qex.extract(*args)
 
 
+def test_random_shapes_dtypes_and_strides_never_crash():
+    """Any array for any argument: a result, ValueError or TypeError, never a crash."""
+    V, F, UV = square()
+    rng = np.random.default_rng(15)
+    pool = [V, F, UV, UV.reshape(-1, 2), V[::-1], V.T, F.T, UV.transpose(1, 0, 2), np.asfortranarray(UV),
+            np.zeros(()), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3), np.int32), np.zeros((1, 1, 1, 1)),
+            V.astype(np.float32), F.astype(np.int8), F.astype(np.uint64), F.astype(bool), V.astype(complex),
+            V.astype(object), V.astype(str), np.array(["2020-01-01"], "datetime64[D]"), np.full((4, 3), np.nan),
+            np.full((2, 3), -(2**31)), np.full((2, 3, 2), np.inf), [[0, 1, 2]], [], None, 1, "abc"]
+    outcomes = {}
+    for _ in range(400):
+        args = [pool[i] for i in rng.integers(0, len(pool), 3)]
+        try:
+            qex.extract(*args)
+            outcome = "result"
+        except (ValueError, TypeError) as e:
+            outcome = type(e).__name__
+        outcomes[outcome] = outcomes.get(outcome, 0) + 1
+    assert outcomes.get("ValueError", 0) > 100, outcomes
+    for bad in [np.zeros(()), np.zeros(0), np.zeros((1, 1, 1, 1)), V.astype(complex), V.astype(object), V.astype(str),
+                np.array(["2020-01-01"], "datetime64[D]"), None, "abc"]:
+        with pytest.raises((ValueError, TypeError)):
+            qex.check(V, F, UV, bad, [[0, 1, 2, 3]])
+        with pytest.raises((ValueError, TypeError)):
+            qex.check(V, F, UV, V, bad)
+
+
 def test_bad_options_and_extras():
     V, F, UV = square()
     with pytest.raises(TypeError, match="no_such_option"):

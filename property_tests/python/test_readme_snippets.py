@@ -33,3 +33,11 @@ def test_python_snippet():
     done = run(snippet("python-snippet"))
     assert done.returncode == 0, done.stderr
     assert "54 quads" in done.stdout, done.stdout
+
+
+def test_docstring_examples():
+    """The examples in the package's docstrings (paths relative to the checkout)."""
+    qex = pytest.importorskip("qex")
+    code = "import doctest, qex, sys\nr = doctest.testmod(qex)\nprint(r)\nsys.exit(1 if r.failed or not r.attempted else 0)"
+    done = run(code)
+    assert done.returncode == 0, done.stdout + done.stderr

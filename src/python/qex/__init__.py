@@ -7,7 +7,7 @@ it. Arrays follow numpy's conventions:
 >>> V, F, UV = qex.read_obj("corpus/fuzz_obj/valid/cube_n3_k4.obj")
 >>> r = qex.extract(V, F, UV)
 >>> r.valid, r.quads.shape
-(True, (96, 4))
+(True, (54, 4))
 
 Functions
 ---------
