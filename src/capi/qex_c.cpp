@@ -6,10 +6,10 @@
 #include "qex/report.h"
 
 #include <chrono>
-#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -83,31 +83,26 @@ qex_result* run(const double* positions, int64_t num_vertices, const int32_t* tr
     const qex::Result result = qex::extract(in, opts);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    auto* r = new qex_result;
-    try {
-        r->ok = result.ok();
-        r->error_code = qex::to_string(result.error.code);
-        r->error = result.error.message;
-        if (!r->ok) return r;
-        r->valid = result.check.valid;
-        const qex::QuadMesh& m = result.mesh;
-        r->positions.reserve(3 * m.positions.size());
-        for (const auto& p : m.positions) r->positions.insert(r->positions.end(), p.begin(), p.end());
-        for (std::size_t f = 0; f < m.faces.size(); ++f) {
-            if (m.faces[f].size() != 4) continue; // only in a mesh the checker rejected
-            for (int v : m.faces[f]) r->quads.push_back(v);
-            for (std::size_t k = 0; k < 4; ++k) {
-                const bool has_uv = f < m.face_uvs.size() && m.face_uvs[f].size() == 4;
-                r->face_uvs.push_back(has_uv ? m.face_uvs[f][k][0] : 0);
-                r->face_uvs.push_back(has_uv ? m.face_uvs[f][k][1] : 0);
-            }
+    auto r = std::make_unique<qex_result>();
+    r->ok = result.ok();
+    r->error_code = qex::to_string(result.error.code);
+    r->error = result.error.message;
+    if (!r->ok) return r.release();
+    r->valid = result.check.valid;
+    const qex::QuadMesh& m = result.mesh;
+    r->positions.reserve(3 * m.positions.size());
+    for (const auto& p : m.positions) r->positions.insert(r->positions.end(), p.begin(), p.end());
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+        if (m.faces[f].size() != 4) continue; // only in a mesh the checker rejected
+        for (int v : m.faces[f]) r->quads.push_back(v);
+        const bool has_uv = f < m.face_uvs.size() && m.face_uvs[f].size() == 4;
+        for (std::size_t k = 0; k < 4; ++k) {
+            r->face_uvs.push_back(has_uv ? m.face_uvs[f][k][0] : 0);
+            r->face_uvs.push_back(has_uv ? m.face_uvs[f][k][1] : 0);
         }
-        r->report_json = qex::report_json(result, 0.0, seconds);
-    } catch (...) {
-        delete r;
-        throw;
     }
-    return r;
+    r->report_json = qex::report_json(result, 0.0, seconds);
+    return r.release();
 }
 
 } // namespace
