@@ -246,27 +246,30 @@ def test_docstrings_and_stubs():
 
 def test_threads_run_in_parallel_and_agree():
     V, F, UV = qex.read_obj(SAMPLE)
-    # A bigger map: the sample refined by the scale of its UVs.
-    UV8 = UV * 8
-    want = qex.extract(V, F, UV8, threads=1)
-    # While one thread extracts, another runs Python code: the GIL is released.
-    counter = 0
-    done = threading.Event()
+    # While one thread is inside extract(), the main thread runs Python code: the GIL is
+    # released. Held, the main thread could not run from the call's start to its end, and the
+    # largest gap between its steps would be the whole call.
+    UV24 = UV * 24  # 31104 quads, some 0.1 s to 0.5 s
+    window = {}
 
     def work():
-        for _ in range(3):
-            qex.extract(V, F, UV8, threads=1)
-        done.set()
+        window["start"] = time.perf_counter()
+        qex.extract(V, F, UV24, threads=1)
+        window["end"] = time.perf_counter()
 
+    stamps = []
     t = threading.Thread(target=work)
-    started = time.perf_counter()
     t.start()
-    while not done.is_set():
-        counter += 1
+    while t.is_alive():
+        stamps.append(time.perf_counter())
     t.join()
-    elapsed = time.perf_counter() - started
-    assert counter > 1000, "the main thread ran %d loops in %.2f s" % (counter, elapsed)
+    start, end = window["start"], window["end"]
+    steps = [start] + [s for s in stamps if start < s < end] + [end]
+    gap = max(b - a for a, b in zip(steps, steps[1:]))
+    assert gap < 0.5 * (end - start), "the main thread stood still %.3f s of the call's %.3f s" % (gap, end - start)
     # Several threads at once give the same meshes as one.
+    UV8 = UV * 8
+    want = qex.extract(V, F, UV8, threads=1)
     with ThreadPoolExecutor(4) as pool:
         results = list(pool.map(lambda _: qex.extract(V, F, UV8, threads=1), range(8)))
     for r in results:
