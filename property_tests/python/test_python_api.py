@@ -1,0 +1,277 @@
+# The Python package against the CLI and the library: arrays in and out, the report, every bad
+# input, the oracle `check` on corrupted meshes, files, and threads.
+import json
+import subprocess
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+import qex
+from conftest import SAMPLE
+
+PAPER = ["duck_miq_4", "duck_miq_8", "duck_miq_16", "duck_miq_28", "duck_qc_8"]
+
+
+def square():
+    V = np.array([[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0]], float)
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    return V, F, V[F][:, :, :2].copy()
+
+
+def read_quads(path):
+    """(positions, faces) of a quad OBJ as qex writes it."""
+    V, Q = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                V.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("f "):
+                Q.append([int(c.split("/")[0]) - 1 for c in line.split()[1:]])
+    return np.array(V), np.array(Q)
+
+
+def without_times(report):
+    report = dict(report)
+    report.pop("seconds")
+    report.pop("stage_seconds")
+    return report
+
+
+def against_cli(cli, tmp_path, map_path):
+    out, rep = tmp_path / "cli.obj", tmp_path / "cli.json"
+    # The CLI runs while Python extracts (the GIL is released).
+    proc = subprocess.Popen([str(cli), "extract", str(map_path), "-o", str(out), "--report", str(rep), "-q"])
+    V, F, UV = qex.read_obj(map_path)
+    r = qex.extract(V, F, UV)
+    assert proc.wait() == 0
+    assert r.valid
+    QV, QF = read_quads(out)
+    np.testing.assert_array_equal(r.positions, QV)  # shortest round-trip text: bitwise equal
+    np.testing.assert_array_equal(r.quads, QF)
+    assert without_times(r.report) == without_times(json.loads(rep.read_text()))
+    assert r.defects == r.report["defects"]
+    mine = tmp_path / "py.obj"
+    qex.write_obj(mine, r)
+    assert mine.read_bytes() == out.read_bytes()
+    return V, F, UV, r
+
+
+def test_sample_same_as_cli(cli, tmp_path):
+    V, F, UV, r = against_cli(cli, tmp_path, SAMPLE)
+    assert r.quads.shape == (54, 4) and r.quads.dtype == np.int32
+    assert r.positions.shape == (56, 3) and r.positions.dtype == np.float64
+    assert r.face_uvs.shape == (54, 4, 2)
+    # Each quad's local UVs are a counter-clockwise unit square.
+    d = np.diff(np.concatenate([r.face_uvs, r.face_uvs[:, :1]], axis=1), axis=1)
+    assert (np.abs(d).sum(axis=2) == 1).all()
+    p = r.provenance
+    assert all(len(p[k]) == 56 for k in p)
+    assert p["barycentric"].shape == (56, 3) and p["grid"].shape == (56, 2)
+    assert qex.verify(V, F, UV, r)["valid"]
+
+
+@pytest.mark.parametrize("name", PAPER)
+def test_paper_map_same_as_cli(cli, shared_dir, tmp_path, name):
+    against_cli(cli, tmp_path, shared_dir / "paper" / (name + "_param.obj"))
+
+
+def test_layouts_and_dtypes_give_the_same_mesh():
+    V, F, UV = qex.read_obj(SAMPLE)
+    want = qex.extract(V, F, UV)
+    variants = [
+        (V, F, UV.reshape(-1, 2)),  # (3m, 2)
+        (np.asfortranarray(V), np.asfortranarray(F), UV),  # column-major
+        (np.repeat(V, 2, axis=0)[::2], F[:, ::-1][:, ::-1], UV[::-1][::-1]),  # strided views
+        (V.tolist(), F.tolist(), UV.tolist()),  # nested lists
+        (V, F.astype(np.uint16), UV),
+        (V, F.astype(np.int64), UV.astype(np.longdouble)),
+    ]
+    for Vx, Fx, UVx in variants:
+        got = qex.extract(Vx, Fx, UVx)
+        np.testing.assert_array_equal(got.quads, want.quads)
+        np.testing.assert_array_equal(got.positions, want.positions)
+    assert qex.extract(V, F, UV, threads=1, canonical_order=True).valid
+
+
+def bad_inputs():
+    V, F, UV = square()
+    nan_v = V.copy()
+    nan_v[2, 1] = np.nan
+    inf_uv = UV.copy()
+    inf_uv[1, 2, 0] = np.inf
+    fan = np.array([[0, 1, 2], [0, 2, 3], [2, 0, 1]])
+    return {
+        "V not (n,3)": ((V[:, :2], F, UV), "V must have shape"),
+        "V 1-d": ((V.ravel(), F, UV), "V must have shape"),
+        "V complex": ((V.astype(complex), F, UV), "real numbers"),
+        "V strings": ((V.astype(str), F, UV), "real numbers"),
+        "V objects": ((np.array([[None] * 3] * 4), F, UV), "real numbers"),
+        "F float": ((V, F.astype(float), UV), "integers"),
+        "F (m,4)": ((V, np.hstack([F, F[:, :1]]), UV), "F must have shape"),
+        "F too large": ((V, F + 2**40, UV), "32 bits"),
+        "F uint64 huge": ((V, np.full((2, 3), 2**64 - 1, np.uint64), UV), "out of range"),
+        "UV too few": ((V, F, UV[:1]), "UV must have shape"),
+        "UV (m,3,3)": ((V, F, np.zeros((2, 3, 3))), "UV must have shape"),
+        "UV (3m,3)": ((V, F, np.zeros((6, 3))), "UV must have shape"),
+        "empty": ((np.zeros((0, 3)), np.zeros((0, 3), int), np.zeros((0, 2))), "EmptyMesh"),
+        "empty lists": (([], [], []), "must have shape"),
+        "NaN position": ((nan_v, F, UV), "NonFiniteValue: vertex 2"),
+        "Inf uv": ((V, F, inf_uv), "NonFiniteValue: triangle 1"),
+        "index out of range": ((V, F + 1, UV), "IndexOutOfRange"),
+        "negative index": ((V, F - 1, UV), "IndexOutOfRange"),
+        "isolated vertex": ((np.vstack([V, [5, 5, 5]]), F, UV), "IsolatedVertex: vertex 4"),
+        "repeated vertex": ((V, np.array([[0, 1, 1], [0, 2, 3]]), UV), "DegenerateTriangle"),
+        "three triangles on an edge": ((V, fan, np.zeros((3, 3, 2))), "triangle"),
+        "huge coordinate": ((V * 2.0**60, F, UV), "CoordinateTooLarge"),
+    }
+
+
+@pytest.mark.parametrize("case", list(bad_inputs()))
+def test_bad_input_raises_value_error(case):
+    args, message = bad_inputs()[case]
+    with pytest.raises(ValueError, match=message):
+        qex.extract(*args)
+
+
+def test_random_shapes_dtypes_and_strides_never_crash():
+    """Any array for any argument: a result, ValueError or TypeError, never a crash."""
+    V, F, UV = square()
+    rng = np.random.default_rng(15)
+    pool = [V, F, UV, UV.reshape(-1, 2), V[::-1], V.T, F.T, UV.transpose(1, 0, 2), np.asfortranarray(UV),
+            np.zeros(()), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3), np.int32), np.zeros((1, 1, 1, 1)),
+            V.astype(np.float32), F.astype(np.int8), F.astype(np.uint64), F.astype(bool), V.astype(complex),
+            V.astype(object), V.astype(str), np.array(["2020-01-01"], "datetime64[D]"), np.full((4, 3), np.nan),
+            np.full((2, 3), -(2**31)), np.full((2, 3, 2), np.inf), [[0, 1, 2]], [], None, 1, "abc"]
+    outcomes = {}
+    for _ in range(400):
+        args = [pool[i] for i in rng.integers(0, len(pool), 3)]
+        try:
+            qex.extract(*args)
+            outcome = "result"
+        except (ValueError, TypeError) as e:
+            outcome = type(e).__name__
+        outcomes[outcome] = outcomes.get(outcome, 0) + 1
+    assert outcomes.get("ValueError", 0) > 100, outcomes
+    for bad in [np.zeros(()), np.zeros(0), np.zeros((1, 1, 1, 1)), V.astype(complex), V.astype(object), V.astype(str),
+                np.array(["2020-01-01"], "datetime64[D]"), None, "abc"]:
+        with pytest.raises((ValueError, TypeError)):
+            qex.check(V, F, UV, bad, [[0, 1, 2, 3]])
+        with pytest.raises((ValueError, TypeError)):
+            qex.check(V, F, UV, V, bad)
+
+
+def test_bad_options_and_extras():
+    V, F, UV = square()
+    with pytest.raises(TypeError, match="no_such_option"):
+        qex.extract(V, F, UV, no_such_option=1)
+    with pytest.raises(ValueError, match="valences"):
+        qex.extract(V, F, UV, valences=np.zeros((4, 2), int))
+    with pytest.raises(ValueError, match="ValenceCountMismatch"):
+        qex.extract(V, F, UV, valences=[4, 4])
+    with pytest.raises(ValueError, match="BadFeatureEdge"):
+        qex.extract(V, F, UV, feature_edges=[[1, 3]])
+    with pytest.raises(ValueError, match="MapTooLarge"):
+        qex.extract(V, F, UV, max_qvertices=1)
+    with pytest.raises(ValueError):
+        qex.verify(V, F, UV, "not a result")
+    with pytest.raises(TypeError, match="max_qvertices"):
+        qex.extract(V, F, UV, max_qvertices="many")
+    for threads in (-1, 2**40, 1.5, True):
+        with pytest.raises(ValueError, match="threads"):
+            qex.extract(V, F, UV, threads=threads)
+    for tolerance in (-1.0, float("nan")):
+        with pytest.raises(ValueError, match="uv_tolerance"):
+            qex.check(V, F, UV, V, [[0, 1, 2, 3]], uv_tolerance=tolerance)
+    with pytest.raises(TypeError):
+        qex.read_obj(None)
+    assert qex.extract(V, F, UV, feature_edges=[[0, 1]], valences=[4, 4, 4, 4]).valid
+
+
+def test_check_is_the_oracle_of_arrays():
+    V, F, UV = qex.read_obj(SAMPLE)
+    r = qex.extract(V, F, UV)
+    ok = qex.check(V, F, UV, r.positions, r.quads)
+    assert ok["valid"] and ok["violations"] == [] and ok["faces"] == 54
+
+    flipped = r.quads.copy()
+    flipped[3] = flipped[3][::-1]
+    verdict = qex.check(V, F, UV, r.positions, flipped)
+    assert not verdict["valid"]
+    assert {"InconsistentOrientation"} <= {v["kind"] for v in verdict["violations"]}
+
+    moved = r.positions.copy()
+    moved[7] += [0.01, 0.02, -0.01]
+    verdict = qex.check(V, F, UV, moved, r.quads)
+    assert not verdict["valid"]
+    assert any(v["kind"] == "OffSurface" and v["element"] == 7 for v in verdict["violations"])
+
+    verdict = qex.check(V, F, UV, r.positions, r.quads[1:])
+    assert not verdict["valid"]
+
+    verdict = qex.check(V, F, UV, r.positions, r.quads + 1000)
+    assert any(v["kind"] == "BadIndex" for v in verdict["violations"])
+    # Topology only, and tolerances.
+    assert qex.check(V, F, UV, moved, r.quads, locate=False)["valid"]
+    assert qex.check(V, F, UV, moved, r.quads, distance_tolerance=1.0, uv_tolerance=1.0)["valid"] in (True, False)
+    # A map that extraction would reject judges nothing.
+    with pytest.raises(ValueError, match="IndexOutOfRange"):
+        qex.check(V, F + 1000, UV, r.positions, r.quads)
+    with pytest.raises(ValueError, match="QF must"):
+        qex.check(V, F, UV, r.positions, r.quads.ravel())
+
+
+def test_files(tmp_path):
+    with pytest.raises(OSError):
+        qex.read_obj(tmp_path / "missing.obj")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(ValueError, match="line"):
+        qex.read_obj(bad)
+    V, F, UV = square()
+    with pytest.raises(OSError):
+        qex.write_obj(tmp_path / "no" / "such" / "dir.obj", qex.extract(V, F, UV))
+
+
+def test_docstrings_and_stubs():
+    assert "Parameters\n    ----------" in qex.extract.__doc__
+    for f in (qex.extract, qex.verify, qex.check, qex.read_obj, qex.write_obj):
+        assert "Returns" in f.__doc__ or "Raises" in f.__doc__
+    import pathlib
+
+    assert (pathlib.Path(qex.__file__).parent / "__init__.pyi").exists()
+
+
+def test_threads_run_in_parallel_and_agree():
+    V, F, UV = qex.read_obj(SAMPLE)
+    # While one thread is inside extract(), the main thread runs Python code: the GIL is
+    # released. Held, the main thread could not run from the call's start to its end, and the
+    # largest gap between its steps would be the whole call.
+    UV24 = UV * 24  # 31104 quads, some 0.1 s to 0.5 s
+    window = {}
+
+    def work():
+        window["start"] = time.perf_counter()
+        qex.extract(V, F, UV24, threads=1)
+        window["end"] = time.perf_counter()
+
+    stamps = []
+    t = threading.Thread(target=work)
+    t.start()
+    while t.is_alive():
+        stamps.append(time.perf_counter())
+    t.join()
+    start, end = window["start"], window["end"]
+    steps = [start] + [s for s in stamps if start < s < end] + [end]
+    gap = max(b - a for a, b in zip(steps, steps[1:]))
+    assert gap < 0.5 * (end - start), "the main thread stood still %.3f s of the call's %.3f s" % (gap, end - start)
+    # Several threads at once give the same meshes as one.
+    UV8 = UV * 8
+    want = qex.extract(V, F, UV8, threads=1)
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(lambda _: qex.extract(V, F, UV8, threads=1), range(8)))
+    for r in results:
+        np.testing.assert_array_equal(r.quads, want.quads)
+        np.testing.assert_array_equal(r.positions, want.positions)

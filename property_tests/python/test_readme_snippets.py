@@ -1,0 +1,43 @@
+# The README's snippets run as they are written: the ctypes one against libqex_c (no pybind11),
+# the Python one against the package.
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+
+def snippet(marker):
+    text = (ROOT / "README.md").read_text()
+    m = re.search(r"<!-- %s -->\s*```python\n(.*?)```" % re.escape(marker), text, re.S)
+    assert m, "README.md has no python block after <!-- %s -->" % marker
+    return m.group(1)
+
+
+def run(code, **env):
+    return subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=300,
+                          env=dict(os.environ, **env))
+
+
+def test_ctypes_snippet(c_library):
+    done = run(snippet("ctypes-snippet"), QEX_C_LIBRARY=str(c_library))
+    assert done.returncode == 0, done.stderr
+    assert "4 quads, valid: True" in done.stdout, done.stdout
+
+
+def test_python_snippet():
+    pytest.importorskip("qex")
+    done = run(snippet("python-snippet"))
+    assert done.returncode == 0, done.stderr
+    assert "54 quads" in done.stdout, done.stdout
+
+
+def test_docstring_examples():
+    """The examples in the package's docstrings (paths relative to the checkout)."""
+    qex = pytest.importorskip("qex")
+    code = "import doctest, qex, sys\nr = doctest.testmod(qex)\nprint(r)\nsys.exit(1 if r.failed or not r.attempted else 0)"
+    done = run(code)
+    assert done.returncode == 0, done.stdout + done.stderr

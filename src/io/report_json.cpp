@@ -1,0 +1,114 @@
+// The report and the verdict as JSON, field for field what the CLI writes (`qex extract --report`,
+// `qex check --json`); property_tests/report_json_test.cpp compares the two.
+#include "qex/report.h"
+
+#include <nlohmann/json.hpp>
+
+namespace qex {
+namespace {
+
+nlohmann::json violations_json(const std::vector<Violation>& list) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& x : list)
+        j.push_back({{"kind", to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
+    return j;
+}
+
+nlohmann::json verify_object(const VerifyResult& v) {
+    nlohmann::json j;
+    j["valid"] = v.valid;
+    j["faces"] = v.faces;
+    j["vertices"] = v.vertices;
+    j["edges"] = v.edges;
+    j["euler"] = v.euler;
+    j["boundary_loops"] = v.boundary_loops;
+    j["components"] = v.components;
+    j["map_displacement"] = {{"max", v.max_map_displacement}, {"sum", v.sum_map_displacement}};
+    j["map_singularities"] = v.map_singularities;
+    if (v.located)
+        j["located"] = {{"max_grid_distance", v.max_grid_distance},
+                        {"max_surface_distance", v.max_surface_distance},
+                        {"map_flipped_triangles", v.map_flipped_triangles},
+                        {"coverage_difference", v.coverage_difference}};
+    j["input"] = {{"euler", v.input_euler},
+                  {"boundary_loops", v.input_boundary_loops},
+                  {"components", v.input_components},
+                  {"signed_uv_area", v.input_signed_uv_area}};
+    j["undecided"] = violations_json(v.undecided);
+    j["violations"] = violations_json(v.violations);
+    return j;
+}
+
+nlohmann::json defect_json(const Defect& d) {
+    nlohmann::json j = {{"kind", to_string(d.kind)},
+                        {"input_element", d.input_element},
+                        {"output_face", d.output_face},
+                        {"grid", {d.grid[0], d.grid[1]}},
+                        {"message", d.message}};
+    if (d.violation) j["violation"] = to_string(*d.violation);
+    return j;
+}
+
+nlohmann::json report_object(const Report& r) {
+    nlohmann::json j;
+    j["input"] = {{"vertices", r.input_vertices},
+                  {"triangles", r.input_triangles},
+                  {"flipped_triangles", r.flipped_triangles},
+                  {"degenerate_triangles", r.degenerate_triangles},
+                  {"collapsed_edges", r.collapsed_edges},
+                  {"singularities", r.singularities},
+                  {"signed_uv_area", r.signed_uv_area}};
+    j["sanitization"] = {{"max_displacement", r.max_sanitization_displacement},
+                         {"sum_displacement", r.sum_sanitization_displacement}};
+    j["qvertices"] = {{"on_vertices", r.qvertices_on_vertices},
+                      {"on_edges", r.qvertices_on_edges},
+                      {"in_faces", r.qvertices_in_faces}};
+    j["ports"] = r.ports;
+    j["traces"] = {{"started", r.traces},
+                   {"connected", r.traces_connected},
+                   {"into_boundary", r.traces_into_boundary},
+                   {"failed", r.traces_failed},
+                   {"orientation_flips_crossed", r.orientation_flips_crossed}};
+    j["faces"] = {{"traced", r.faces_traced},
+                  {"boundary_discarded", r.boundary_faces_discarded},
+                  {"open_walks", r.open_face_walks},
+                  {"recovered_edges", r.recovered_edges},
+                  {"merged_qvertices", r.merged_qvertices},
+                  {"collapsed", r.collapsed_faces},
+                  {"ghosts_cancelled", r.ghost_faces_cancelled},
+                  {"non_quad", r.non_quad_faces}};
+    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}, {"unplaced_vertices", r.unplaced_vertices}};
+    j["repair"] = {{"repaired_regions", r.repaired_regions},
+                   {"repaired_triangles", r.repaired_triangles},
+                   {"unrepaired_regions", r.unrepaired_regions},
+                   {"flipped_after_repair", r.flipped_after_repair}};
+    j["defects"] = nlohmann::json::array();
+    for (const auto& d : r.defects) j["defects"].push_back(defect_json(d));
+    j["explanations"] = nlohmann::json::array();
+    for (const auto& d : r.explanations)
+        j["explanations"].push_back({{"kind", to_string(d.kind)},
+                                     {"input_element", d.input_element},
+                                     {"grid", {d.grid[0], d.grid[1]}},
+                                     {"message", d.message}});
+    j["stage_seconds"] = nlohmann::json::object();
+    for (const auto& [name, s] : r.stage_seconds) j["stage_seconds"][name] = s;
+    return j;
+}
+
+// Messages name elements of the user's files; invalid UTF-8 in them is replaced, never thrown on.
+std::string dump(const nlohmann::json& j, int indent) {
+    return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+} // namespace
+
+std::string verify_json(const VerifyResult& verdict, int indent) { return dump(verify_object(verdict), indent); }
+
+std::string report_json(const Result& result, double read_seconds, double extract_seconds, int indent) {
+    nlohmann::json j = report_object(result.report);
+    j["check"] = verify_object(result.check);
+    j["seconds"] = {{"read", read_seconds}, {"extract_and_check", extract_seconds}};
+    return dump(j, indent);
+}
+
+} // namespace qex

@@ -1,0 +1,299 @@
+// The compiled half of the Python package qex (qex._qex): numpy arrays in and out of qex::extract,
+// qex::verify and the OBJ files. The Python half (qex/__init__.py) checks dtypes and shapes and
+// holds the docstrings; this side checks them again, so that no call from Python can crash the
+// interpreter, and releases the GIL while the library works.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "qex/qex.h"
+#include "qex/report.h"
+
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace py = pybind11;
+
+namespace {
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Int64s = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// An array's shape must be (rows, cols) (rows any); raises ValueError naming `what` otherwise.
+void expect_shape(const py::array& a, py::ssize_t cols, const char* what) {
+    if (a.ndim() != 2 || a.shape(1) != cols)
+        throw py::value_error(std::string(what) + " must have shape (n, " + std::to_string(cols) + ")");
+}
+
+int to_index(std::int64_t x, const char* what) {
+    if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
+        throw py::value_error(std::string(what) + ": " + std::to_string(x) + " does not fit in 32 bits");
+    return static_cast<int>(x);
+}
+
+/// The Input of arrays V (n,3), F (m,3) and UV (3m,2), valences (n,) or None, feature edges (e,2) or None.
+qex::Input to_input(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
+                    const py::object& feature_edges) {
+    expect_shape(V, 3, "V");
+    expect_shape(F, 3, "F");
+    expect_shape(UV, 2, "UV");
+    if (UV.shape(0) != 3 * F.shape(0))
+        throw py::value_error("UV must hold 3 UVs per triangle: " + std::to_string(UV.shape(0)) + " for " +
+                              std::to_string(F.shape(0)) + " triangles");
+    qex::Input in;
+    auto v = V.unchecked<2>();
+    auto f = F.unchecked<2>();
+    auto uv = UV.unchecked<2>();
+    in.positions.resize(static_cast<std::size_t>(V.shape(0)));
+    for (py::ssize_t i = 0; i < V.shape(0); ++i) in.positions[i] = {v(i, 0), v(i, 1), v(i, 2)};
+    in.triangles.resize(static_cast<std::size_t>(F.shape(0)));
+    for (py::ssize_t i = 0; i < F.shape(0); ++i)
+        for (py::ssize_t k = 0; k < 3; ++k) in.triangles[i][k] = to_index(f(i, k), "F");
+    in.uvs.resize(static_cast<std::size_t>(UV.shape(0)));
+    for (py::ssize_t i = 0; i < UV.shape(0); ++i) in.uvs[i] = {uv(i, 0), uv(i, 1)};
+    if (!valences.is_none()) {
+        const Int64s a = valences.cast<Int64s>();
+        if (a.ndim() != 1) throw py::value_error("valences must have shape (n,)");
+        auto x = a.unchecked<1>();
+        for (py::ssize_t i = 0; i < a.shape(0); ++i) in.valences.push_back(to_index(x(i), "valences"));
+    }
+    if (!feature_edges.is_none()) {
+        const Int64s a = feature_edges.cast<Int64s>();
+        expect_shape(a, 2, "feature_edges");
+        auto x = a.unchecked<2>();
+        for (py::ssize_t i = 0; i < a.shape(0); ++i)
+            in.feature_edges.push_back({to_index(x(i, 0), "feature_edges"), to_index(x(i, 1), "feature_edges")});
+    }
+    return in;
+}
+
+/// The mesh of arrays QV (p,3) and QF (k,c): one face per row.
+qex::QuadMesh to_mesh(const Doubles& QV, const Int64s& QF) {
+    expect_shape(QV, 3, "QV");
+    if (QF.ndim() != 2) throw py::value_error("QF must have shape (k, 4)");
+    qex::QuadMesh m;
+    auto v = QV.unchecked<2>();
+    auto f = QF.unchecked<2>();
+    for (py::ssize_t i = 0; i < QV.shape(0); ++i) m.positions.push_back({v(i, 0), v(i, 1), v(i, 2)});
+    m.faces.resize(static_cast<std::size_t>(QF.shape(0)));
+    for (py::ssize_t i = 0; i < QF.shape(0); ++i)
+        for (py::ssize_t k = 0; k < QF.shape(1); ++k) m.faces[i].push_back(to_index(f(i, k), "QF"));
+    return m;
+}
+
+[[noreturn]] void reject(const qex::Error& e) {
+    throw py::value_error(std::string(qex::to_string(e.code)) + ": " + e.message);
+}
+
+void set_option(qex::Options& o, const std::string& k, const py::handle& value) {
+    if (k == "max_qvertices")
+        o.max_qvertices = value.cast<std::int64_t>();
+    else if (k == "max_trace_steps")
+        o.max_trace_steps = value.cast<std::int64_t>();
+    else if (k == "recover_lost_edges")
+        o.recover_lost_edges = value.cast<bool>();
+    else if (k == "merge_vertices")
+        o.merge_vertices = value.cast<bool>();
+    else if (k == "canonical_order")
+        o.canonical_order = value.cast<bool>();
+    else if (k == "snap_boundary")
+        o.snap_boundary = value.cast<bool>();
+    else if (k == "repair_fold_overs")
+        o.repair_fold_overs = value.cast<bool>();
+    else if (k == "fallback_ladder")
+        o.fallback_ladder = value.cast<bool>();
+    else
+        throw py::type_error("extract() got an unexpected option '" + k + "'");
+}
+
+void set_options(qex::Options& o, const py::dict& options) {
+    for (const auto& [key, value] : options) {
+        const std::string k = py::str(key);
+        try {
+            set_option(o, k, value);
+        } catch (const py::cast_error&) {
+            throw py::type_error("extract(): option '" + k + "' cannot be a " +
+                                 py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>());
+        }
+    }
+}
+
+/// What extract() returns to the Python side: the mesh (kept for verify and write_obj) and the
+/// arrays and report made of it.
+py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
+                 const py::object& feature_edges, int threads, const py::dict& options) {
+    qex::Input in = to_input(V, F, UV, valences, feature_edges);
+    qex::Options o;
+    o.threads = threads;
+    set_options(o, options);
+    qex::Result r;
+    std::string report;
+    {
+        py::gil_scoped_release unlocked;
+        const auto t0 = std::chrono::steady_clock::now();
+        r = qex::extract(in, o);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (r.ok()) report = qex::report_json(r, 0.0, seconds);
+    }
+    if (!r.ok()) reject(r.error);
+    const qex::QuadMesh& m = r.mesh;
+    py::ssize_t quads = 0;
+    for (const auto& face : m.faces) quads += face.size() == 4 ? 1 : 0;
+    py::array_t<std::int32_t> Q({quads, py::ssize_t{4}});
+    py::array_t<std::int64_t> FUV({quads, py::ssize_t{4}, py::ssize_t{2}});
+    py::array_t<double> P({static_cast<py::ssize_t>(m.positions.size()), py::ssize_t{3}});
+    {
+        auto q = Q.mutable_unchecked<2>();
+        auto fuv = FUV.mutable_unchecked<3>();
+        py::ssize_t row = 0;
+        for (std::size_t f = 0; f < m.faces.size(); ++f) {
+            if (m.faces[f].size() != 4) continue; // only in a mesh the checker rejected
+            const bool uvs = f < m.face_uvs.size() && m.face_uvs[f].size() == 4;
+            for (py::ssize_t k = 0; k < 4; ++k) {
+                q(row, k) = m.faces[f][k];
+                fuv(row, k, 0) = uvs ? m.face_uvs[f][k][0] : 0;
+                fuv(row, k, 1) = uvs ? m.face_uvs[f][k][1] : 0;
+            }
+            ++row;
+        }
+        auto p = P.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < m.positions.size(); ++i)
+            for (py::ssize_t c = 0; c < 3; ++c) p(i, c) = m.positions[i][c];
+    }
+    const auto n = static_cast<py::ssize_t>(m.provenance.size());
+    py::array_t<std::int8_t> kind(n);
+    py::array_t<std::int32_t> element(n), local_edge(n), chart(n), merged(n);
+    py::array_t<double> bary({n, py::ssize_t{3}});
+    py::array_t<std::int64_t> grid({n, py::ssize_t{2}});
+    {
+        auto k = kind.mutable_unchecked<1>();
+        auto e = element.mutable_unchecked<1>();
+        auto le = local_edge.mutable_unchecked<1>();
+        auto c = chart.mutable_unchecked<1>();
+        auto mg = merged.mutable_unchecked<1>();
+        auto b = bary.mutable_unchecked<2>();
+        auto g = grid.mutable_unchecked<2>();
+        for (py::ssize_t i = 0; i < n; ++i) {
+            const qex::Provenance& pv = m.provenance[i];
+            k(i) = static_cast<std::int8_t>(pv.kind);
+            e(i) = pv.element;
+            le(i) = pv.local_edge;
+            c(i) = pv.chart_triangle;
+            mg(i) = pv.merged;
+            for (py::ssize_t j = 0; j < 3; ++j) b(i, j) = pv.barycentric[j];
+            for (py::ssize_t j = 0; j < 2; ++j) g(i, j) = pv.grid[j];
+        }
+    }
+    py::dict provenance;
+    provenance["kind"] = kind;
+    provenance["element"] = element;
+    provenance["local_edge"] = local_edge;
+    provenance["barycentric"] = bary;
+    provenance["grid"] = grid;
+    provenance["chart_triangle"] = chart;
+    provenance["merged"] = merged;
+    py::dict out;
+    out["quads"] = Q;
+    out["positions"] = P;
+    out["face_uvs"] = FUV;
+    out["provenance"] = provenance;
+    out["valid"] = r.check.valid;
+    out["report_json"] = report;
+    out["mesh"] = py::cast(std::move(r.mesh));
+    return out;
+}
+
+std::string verify(const Doubles& V, const Int64s& F, const Doubles& UV, const qex::QuadMesh& mesh, int threads) {
+    const qex::Input in = to_input(V, F, UV, py::none(), py::none());
+    py::gil_scoped_release unlocked;
+    qex::VerifyOptions o;
+    o.threads = threads;
+    return qex::verify_json(qex::verify(in, mesh, o));
+}
+
+std::string check(const Doubles& V, const Int64s& F, const Doubles& UV, const Doubles& QV, const Int64s& QF,
+                  double uv_tolerance, double distance_tolerance, bool locate, int threads) {
+    const qex::Input in = to_input(V, F, UV, py::none(), py::none());
+    const qex::QuadMesh mesh = to_mesh(QV, QF);
+    qex::Error e;
+    std::string verdict;
+    {
+        py::gil_scoped_release unlocked;
+        // The map is the judge's reference: one that extraction would reject judges nothing.
+        e = qex::validate(in);
+        if (e.code == qex::ErrorCode::None) {
+            qex::VerifyOptions o;
+            o.uv_tolerance = uv_tolerance;
+            o.distance_tolerance = distance_tolerance;
+            o.locate = locate;
+            o.threads = threads;
+            verdict = qex::verify_json(qex::verify(in, mesh, o));
+        }
+    }
+    if (e.code != qex::ErrorCode::None) reject(e);
+    return verdict;
+}
+
+[[noreturn]] void raise(const std::string& path, const qex::IoError& e) {
+    const std::string message = path + ": " + e.message;
+    if (e.code == qex::IoError::Code::CannotOpen || e.code == qex::IoError::Code::CannotWrite) {
+        PyErr_SetString(PyExc_OSError, message.c_str());
+        throw py::error_already_set();
+    }
+    throw py::value_error(message);
+}
+
+py::tuple read_obj(const std::string& path, int threads) {
+    qex::Input in;
+    qex::IoError e;
+    {
+        py::gil_scoped_release unlocked;
+        e = qex::read_obj(path, in, threads);
+    }
+    if (!e.ok()) raise(path, e);
+    const auto nv = static_cast<py::ssize_t>(in.positions.size());
+    const auto nf = static_cast<py::ssize_t>(in.triangles.size());
+    py::array_t<double> V({nv, py::ssize_t{3}});
+    py::array_t<std::int32_t> F({nf, py::ssize_t{3}});
+    py::array_t<double> UV({nf, py::ssize_t{3}, py::ssize_t{2}});
+    auto v = V.mutable_unchecked<2>();
+    auto f = F.mutable_unchecked<2>();
+    auto uv = UV.mutable_unchecked<3>();
+    for (py::ssize_t i = 0; i < nv; ++i)
+        for (py::ssize_t c = 0; c < 3; ++c) v(i, c) = in.positions[i][c];
+    for (py::ssize_t i = 0; i < nf; ++i)
+        for (py::ssize_t k = 0; k < 3; ++k) {
+            f(i, k) = in.triangles[i][k];
+            uv(i, k, 0) = in.uvs[3 * i + k][0];
+            uv(i, k, 1) = in.uvs[3 * i + k][1];
+        }
+    return py::make_tuple(V, F, UV);
+}
+
+void write_obj(const std::string& path, const qex::QuadMesh& mesh) {
+    qex::IoError e;
+    {
+        py::gil_scoped_release unlocked;
+        e = qex::write_obj(path, mesh);
+    }
+    if (!e.ok()) raise(path, e);
+}
+
+} // namespace
+
+PYBIND11_MODULE(_qex, m) {
+    m.doc() = "The compiled core of the qex package; use the functions of `qex` itself.";
+    py::class_<qex::QuadMesh>(m, "QuadMesh", "The extracted mesh as the library holds it (for verify and write_obj).")
+        .def_property_readonly("num_faces", [](const qex::QuadMesh& q) { return q.faces.size(); })
+        .def_property_readonly("num_vertices", [](const qex::QuadMesh& q) { return q.positions.size(); });
+    m.def("extract", &extract, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("valences"), py::arg("feature_edges"),
+          py::arg("threads"), py::arg("options"));
+    m.def("verify", &verify, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("mesh"), py::arg("threads"));
+    m.def("check", &check, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"),
+          py::arg("uv_tolerance"), py::arg("distance_tolerance"), py::arg("locate"), py::arg("threads"));
+    m.def("read_obj", &read_obj, py::arg("path"), py::arg("threads"));
+    m.def("write_obj", &write_obj, py::arg("path"), py::arg("mesh"));
+}
