@@ -77,7 +77,11 @@ nlohmann::json report_object(const Report& r) {
                   {"collapsed", r.collapsed_faces},
                   {"ghosts_cancelled", r.ghost_faces_cancelled},
                   {"non_quad", r.non_quad_faces}};
-    j["fallback"] = {{"rung", r.rung}, {"rungs_tried", r.rungs_tried}, {"unplaced_vertices", r.unplaced_vertices}};
+    j["fallback"] = {{"rung", r.rung},
+                     {"rungs_tried", r.rungs_tried},
+                     {"unplaced_vertices", r.unplaced_vertices},
+                     {"grid_scale", r.grid_scale},
+                     {"refinements_tried", r.refinements_tried}};
     j["repair"] = {{"repaired_regions", r.repaired_regions},
                    {"repaired_triangles", r.repaired_triangles},
                    {"unrepaired_regions", r.unrepaired_regions},
