@@ -39,8 +39,12 @@ private:
     /// Glues b into a; triangles holding both die.
     void glue(int b, int a);
 
+    /// A vertex's position, the canonical key of what survives a collapse.
+    const std::array<double, 3>& position(int v) const { return vpos_[static_cast<std::size_t>(v)]; }
+
     const TriMesh& m_;
     UnionFind sets_;
+    std::vector<std::array<double, 3>> vpos_;
     std::vector<std::vector<int>> faces_of_;
     std::vector<char> dead_;
     std::vector<int> na_, nb_, common_, opposite_; // scratch
@@ -48,8 +52,12 @@ private:
 
 Gluing::Gluing(const TriMesh& m) : m_(m), sets_(static_cast<std::size_t>(m.num_vertices)) {
     faces_of_.resize(m.num_vertices);
+    vpos_.resize(static_cast<std::size_t>(m.num_vertices));
     for (int f = 0; f < m.num_faces(); ++f)
-        for (int k = 0; k < 3; ++k) faces_of_[m.tri[f][k]].push_back(f);
+        for (int k = 0; k < 3; ++k) {
+            faces_of_[m.tri[f][k]].push_back(f);
+            vpos_[static_cast<std::size_t>(m.tri[f][k])] = m.pos(3 * f + k);
+        }
     dead_.assign(m.num_faces(), 0);
 }
 
@@ -100,16 +108,28 @@ void Gluing::glue(int b, int a) {
 
 std::int64_t Gluing::collapse_all() {
     std::int64_t collapsed = 0;
+    // The zero-length edges in an order that does not depend on the input's (by their end
+    // points' positions): where collapses compete for the link condition, and which end
+    // survives (the one with the smaller position), are then the same for any input order.
+    using Key = std::array<std::array<double, 3>, 2>;
+    std::vector<std::pair<Key, int>> edges;
+    for (int h = 0; h < 3 * m_.num_faces(); ++h)
+        if (m_.uv[h] == m_.uv[TriMesh::next(h)]) {
+            const auto &p = position(m_.origin(h)), &q = position(m_.target(h));
+            edges.push_back({p < q ? Key{p, q} : Key{q, p}, h});
+        }
+    std::sort(edges.begin(), edges.end());
     // A collapse the link condition refuses may become possible after others: passes repeat
     // until one collapses nothing.
-    for (bool changed = true; changed;) {
+    for (bool changed = !edges.empty(); changed;) {
         changed = false;
-        for (int h = 0; h < 3 * m_.num_faces(); ++h) {
+        for (const auto& [key, h] : edges) {
             const int f = TriMesh::face(h);
-            if (dead_[f] || m_.uv[h] != m_.uv[TriMesh::next(h)]) continue;
-            const int a = sets_.find(m_.origin(h)), b = sets_.find(m_.target(h));
+            if (dead_[f]) continue;
+            int a = sets_.find(m_.origin(h)), b = sets_.find(m_.target(h));
             if (a == b) continue;
             if (!link_condition(a, b)) continue; // the collapse would pinch the surface
+            if (position(b) < position(a) || (position(b) == position(a) && b < a)) std::swap(a, b);
             glue(b, a);
             ++collapsed;
             changed = true;

@@ -20,9 +20,14 @@ int vertices_on_segment(const TriMesh& m, int h, const Point2& a, const Point2& 
 /// The edge of face f (other than `entry`) through which segment (a, b] leaves it (PICKNEXTEDGE).
 /// Of two candidates the paper takes the one incident to fewer vertices on the segment; an edge
 /// the segment runs along ranks last, so a trace along a boundary edge is not mistaken for one
-/// leaving the surface there.
+/// leaving the surface there. Ties go to the edge with the smaller 3D end points, not to the
+/// input's corner order.
 int pick_next_edge(const TriMesh& m, int f, int entry, const Point2& a, const Point2& b) {
     int best = -1, best_rank = 100;
+    auto edge_key = [&](int h) {
+        const auto &p = m.pos(h), &q = m.pos(TriMesh::next(h));
+        return p < q ? std::array<std::array<double, 3>, 2>{p, q} : std::array<std::array<double, 3>, 2>{q, p};
+    };
     for (int k = 0; k < 3; ++k) {
         const int h = 3 * f + k;
         if (h == entry || !segment_hits_half_open(m.uv[h], m.uv[TriMesh::next(h)], a, b)) continue;
@@ -30,7 +35,7 @@ int pick_next_edge(const TriMesh& m, int f, int entry, const Point2& a, const Po
         const bool along = orient2d(a, b, m.uv[h]) == Orientation::Collinear &&
                            orient2d(a, b, m.uv[TriMesh::next(h)]) == Orientation::Collinear;
         const int rank = on + (along ? 10 : 0);
-        if (rank < best_rank) {
+        if (rank < best_rank || (rank == best_rank && edge_key(h) < edge_key(best))) {
             best = h;
             best_rank = rank;
         }
