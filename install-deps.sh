@@ -10,7 +10,8 @@ PKGS="build-essential cmake ninja-build python3 \
   libopenmesh-dev \
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev \
   libcli11-dev nlohmann-json3-dev libfast-float-dev \
-  clang libclang-rt-dev"
+  clang libclang-rt-dev \
+  librsvg2-bin"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

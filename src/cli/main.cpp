@@ -1,7 +1,10 @@
-// qex: command-line front end. `qex extract` turns an OBJ with an integer-grid map into a quad
-// mesh and checks it; `qex check` judges any quad mesh against a map.
+// qex: command-line front end. `qex extract` turns a map (OBJ or PLY) into a quad mesh and checks
+// it; `qex check` judges any quad mesh against a map. `qex info`, `qex draw` and `qex batch` live
+// in their own files (info.cpp, draw.cpp, batch.cpp); cli.h lists what they share.
 #include "qex/qex.h"
+#include "cli.h"
 #include "heap_policy.h"
+#include "progress.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -13,22 +16,9 @@
 #include <fstream>
 #include <iostream>
 
+using namespace qex::cli;
+
 namespace {
-
-// Exit codes; each failure family has its own.
-enum Exit : int {
-    kOk = 0,
-    kUsage = 1,         // bad command line
-    kIo = 2,            // a file cannot be read or written
-    kParse = 3,         // malformed OBJ or VVAL
-    kBadInput = 4,      // the mesh or map is not acceptable input
-    kInvalidOutput = 5, // extraction finished but the checker rejects its output
-    kRejected = 6,      // `qex check`: the judged mesh is not valid
-};
-
-int io_exit(const qex::IoError& e) {
-    return e.code == qex::IoError::Code::CannotOpen || e.code == qex::IoError::Code::CannotWrite ? kIo : kParse;
-}
 
 nlohmann::json to_json(const qex::VerifyResult& v) {
     nlohmann::json j;
@@ -121,15 +111,6 @@ nlohmann::json to_json(const qex::Report& r) {
     return j;
 }
 
-bool write_text(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        if (!f || !(f << text)) return false;
-    }
-    return std::rename(tmp.c_str(), path.c_str()) == 0;
-}
-
 void print_violations(const qex::VerifyResult& v, std::size_t limit = 20) {
     for (std::size_t i = 0; i < v.violations.size() && i < limit; ++i)
         std::cerr << "  " << qex::to_string(v.violations[i].kind) << ": " << v.violations[i].message << "\n";
@@ -141,22 +122,24 @@ void print_violations(const qex::VerifyResult& v, std::size_t limit = 20) {
 
 /// What `qex extract` was asked to do.
 struct ExtractArgs {
-    std::string in_path, out_path, vval_path, report_path;
-    bool poly = false, quiet = false;
+    std::string in_path, out_path, vval_path, report_path, features_path;
+    bool poly = false, quiet = false, snap_boundary = false;
     int threads = 0;
 };
 
 /// Reads the map (and valences); returns the exit code of a failure, or kOk.
 int read_input(const ExtractArgs& a, qex::Input& input) {
-    if (const auto e = qex::read_obj(a.in_path, input, a.threads); !e.ok()) {
-        std::cerr << "qex: " << a.in_path << ": " << e.message << "\n";
-        return io_exit(e);
-    }
+    if (const int code = read_map(a.in_path, input, a.threads); code != kOk) return code;
     if (!a.vval_path.empty())
         if (const auto e = qex::read_vval(a.vval_path, input.valences); !e.ok()) {
+            stop_progress();
             std::cerr << "qex: " << a.vval_path << ": " << e.message << "\n";
             return io_exit(e);
         }
+    if (!a.features_path.empty()) {
+        stop_progress(); // a problem in the file is printed at once
+        return read_features(a.features_path, input);
+    }
     return kOk;
 }
 
@@ -179,7 +162,7 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
                   << defects[i].message << "\n";
     print_violations(check);
     if (a.poly) {
-        if (const auto e = qex::write_obj(a.out_path, result.mesh); !e.ok()) {
+        if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
@@ -190,13 +173,19 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
 
 int run_extract(const ExtractArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
+    Progress progress(!a.quiet, 3);
+    progress.step("reading " + a.in_path);
     qex::Input input;
     if (const int code = read_input(a, input); code != kOk) return code;
     const auto t1 = std::chrono::steady_clock::now();
     qex::Options options;
     options.threads = a.threads;
+    options.snap_boundary = a.snap_boundary;
+    progress.step("extracting and checking " + std::to_string(input.triangles.size()) + " triangles");
     const qex::Result result = qex::extract(input, options);
+    progress.step("writing " + a.out_path);
     if (!result.ok()) {
+        progress.stop();
         std::cerr << "qex: " << a.in_path << ": invalid input (" << qex::to_string(result.error.code)
                   << "): " << result.error.message << "\n";
         return kBadInput;
@@ -207,11 +196,15 @@ int run_extract(const ExtractArgs& a) {
         std::cerr << "qex: cannot write report '" << a.report_path << "'\n";
         return kIo;
     }
-    if (!result.check.valid) return reject(a, result); // the checker's verdict, taken inside extract()
-    if (const auto e = qex::write_obj(a.out_path, result.mesh); !e.ok()) {
+    if (!result.check.valid) {
+        progress.stop();
+        return reject(a, result); // the checker's verdict, taken inside extract()
+    }
+    if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
         std::cerr << "qex: " << e.message << "\n";
         return kIo;
     }
+    progress.stop();
     const auto& r = result.report;
     if (!a.quiet)
         std::printf(
@@ -256,23 +249,23 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
 }
 
 int run_check(const CheckArgs& a) {
+    Progress progress(true, 3);
+    progress.step("reading " + a.param_path);
     qex::Input input;
-    if (const auto e = qex::read_obj(a.param_path, input); !e.ok()) {
-        std::cerr << "qex: " << a.param_path << ": " << e.message << "\n";
-        return io_exit(e);
-    }
+    if (const int code = read_map(a.param_path, input); code != kOk) return code;
     // The map is the judge's reference: one that extraction would reject judges nothing.
     if (const qex::Error e = qex::validate(input); e.code != qex::ErrorCode::None) {
+        progress.stop();
         std::cerr << "qex: " << a.param_path << ": invalid input (" << qex::to_string(e.code) << "): " << e.message
                   << "\n";
         return kBadInput;
     }
+    progress.step("reading " + a.mesh_path);
     qex::QuadMesh mesh;
-    if (const auto e = qex::read_polygon_obj(a.mesh_path, mesh); !e.ok()) {
-        std::cerr << "qex: " << a.mesh_path << ": " << e.message << "\n";
-        return io_exit(e);
-    }
+    if (const int code = read_quads(a.mesh_path, mesh); code != kOk) return code;
+    progress.step("checking " + std::to_string(mesh.faces.size()) + " faces");
     const qex::VerifyResult v = qex::verify(input, mesh, a.options);
+    progress.stop();
     if (a.json)
         std::cout << to_json(v).dump(2) << "\n";
     else
@@ -280,18 +273,16 @@ int run_check(const CheckArgs& a) {
     return v.valid ? kOk : kRejected;
 }
 
-std::uintmax_t size_of(const std::string& path) {
-    std::error_code ec;
-    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-    return ec ? 0 : bytes;
-}
-
 CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
-    auto* extract = app.add_subcommand("extract", "Extract the quad mesh of an OBJ carrying per-corner UVs (vt)");
-    extract->add_option("input", a.in_path, "input OBJ: v, vt and f a/ta b/tb c/tc records")->required();
-    extract->add_option("-o,--output", a.out_path, "output OBJ (quads, local UVs as vt)")->required();
+    auto* extract = app.add_subcommand("extract", "Extract the quad mesh of a map (OBJ or PLY with per-corner UVs)");
+    extract->add_option("input", a.in_path, "input map: OBJ (v, vt, f a/ta b/tb c/tc) or PLY (per-face texcoord)")
+        ->required();
+    extract->add_option("-o,--output", a.out_path, "output quad mesh, OBJ or PLY by extension (local UVs)")->required();
     extract->add_option("--valences", a.vval_path, "VVAL file with per-vertex cross-field valences");
     extract->add_option("--report", a.report_path, "write a JSON report (counts, defects, timings, check)");
+    extract->add_option("--features", a.features_path,
+                        "feature edges to snap onto iso-lines: one 'i j' per line (0-based vertices), # comments");
+    extract->add_flag("--snap-boundary", a.snap_boundary, "snap every boundary edge onto its closest iso-line");
     extract->add_flag("--poly", a.poly, "write the mesh even if faces are not quads (exit code stays 5)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
@@ -302,8 +293,8 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
 
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     auto* check = app.add_subcommand("check", "Judge a quad mesh (from any extractor) against an integer-grid map");
-    check->add_option("--param", a.param_path, "the map: OBJ with per-corner UVs")->required();
-    check->add_option("mesh", a.mesh_path, "the quad mesh OBJ to judge")->required();
+    check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
+    check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");
     check
         ->add_option("--uv-tolerance", a.options.uv_tolerance,
@@ -318,15 +309,35 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     return check;
 }
 
+/// The help's closing lines: one example per subcommand, on the shared maps.
+const char* kExamples = R"(Examples (the maps in ../shared/meshes/):
+  qex extract paper/fandisk_param.obj -o fandisk.obj --report fandisk.json   extract and check
+  qex check --param paper/fandisk_param.obj fandisk.obj                      judge any quad mesh
+  qex info paper/duck_miq_8_param.obj --json                                 the map before extraction
+  qex extract paper/fandisk_param.obj -o fandisk.ply --features f.txt      PLY out, feature edges
+  qex draw paper/duck_miq_8_param.obj -o duck_map.svg --png                  the map in UV space
+  qex draw paper/fandisk_param.obj --quads fandisk.obj -o fandisk.svg        the mesh, defects circled
+  qex batch paper -o out --jobs 2 --summary out/summary.jsonl                a folder of maps
+Exit codes: 0 ok, 1 command line, 2 file, 3 malformed file, 4 input rejected, 5 mesh invalid,
+6 check found violations, 7 batch: some maps failed (the count is printed).)";
+
 } // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"qex: robust quad mesh extraction from integer-grid maps (QEx)"};
     app.require_subcommand(0, 1);
+    app.set_version_flag("--version", version_string());
+    app.footer(kExamples);
     ExtractArgs extract_args;
     CheckArgs check_args;
+    InfoArgs info_args;
+    DrawArgs draw_args;
+    BatchArgs batch_args;
     CLI::App* extract = add_extract(app, extract_args);
     CLI::App* check = add_check(app, check_args);
+    CLI::App* info = add_info(app, info_args);
+    CLI::App* draw = add_draw(app, draw_args);
+    CLI::App* batch = add_batch(app, batch_args);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) { return app.exit(e) == 0 ? kOk : kUsage; }
@@ -337,6 +348,14 @@ int main(int argc, char** argv) {
     if (*check) {
         qex::cli::prepare_heap(size_of(check_args.param_path) + size_of(check_args.mesh_path));
         return run_check(check_args);
+    }
+    if (*info) return run_info(info_args);
+    if (*draw) return run_draw(draw_args);
+    if (*batch) {
+        std::error_code ec;
+        const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+        batch_args.self = ec ? std::string(argv[0]) : self.string();
+        return run_batch(batch_args);
     }
     std::cout << app.help();
     return kUsage;
