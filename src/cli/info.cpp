@@ -103,17 +103,22 @@ int run_info(const InfoArgs& a) {
         return kBadInput;
     }
     MapInfo m = analyse_map(input);
-    progress.step("sanitizing (the extractor's first stages)");
+    progress.step("extracting once (one rung, no repair) for the sanitized map");
     const Error e = add_sanitized(input, a.threads, m);
     progress.stop();
-    if (e.code != ErrorCode::None) {
+    // A map the extractor rejects is still described (all but its sanitized part), then refused.
+    const bool rejected = e.code != ErrorCode::None;
+    if (a.json) {
+        nlohmann::json j = to_json(m);
+        if (rejected) j["error"] = {{"code", to_string(e.code)}, {"element", e.element}, {"message", e.message}};
+        std::cout << j.dump(2) << "\n";
+    } else {
+        print_text(a.map_path, m);
+    }
+    if (rejected) {
         std::cerr << "qex: " << a.map_path << ": invalid input (" << to_string(e.code) << "): " << e.message << "\n";
         return kBadInput;
     }
-    if (a.json)
-        std::cout << to_json(m).dump(2) << "\n";
-    else
-        print_text(a.map_path, m);
     return kOk;
 }
 

@@ -51,8 +51,8 @@ int orientation(const std::array<double, 2>& a, const std::array<double, 2>& b, 
 
 /// Everything but the sanitized part; the input must have passed qex::validate().
 MapInfo analyse_map(const Input& input);
-/// Runs the extractor's sanitization (one rung, no repair) and fills the sanitized part; an
-/// input the extractor rejects comes back as the error.
+/// Runs the extractor once (one rung, no repair) and fills the sanitized part from its report
+/// and map; an input the extractor rejects comes back as the error.
 Error add_sanitized(const Input& input, int threads, MapInfo& info);
 
 } // namespace qex::cli

@@ -256,6 +256,7 @@ IoError parse_data(const char* data, std::size_t size, PlyData& out) {
             ptex = find_property(el, {"texcoord"}, true);
             out.has_texcoords = ptex >= 0;
         }
+        if (el.properties.empty()) continue; // instances without properties take no bytes
         // Each instance takes at least a byte per property: a count the file cannot hold is an error now.
         std::size_t least = 0;
         for (const Property& p : el.properties) least += r.min_size(p.list ? p.count_type : p.type);
