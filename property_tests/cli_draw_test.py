@@ -3,8 +3,12 @@
 installed, as PNG of the right size and not blank; defects circled where the checker finds them
 (a mesh with one vertex moved off its grid point) and none on a valid mesh; bad input refused.
 
-usage: cli_draw_test.py QEX MAP WORKDIR SINGULARITIES
+A large map (more than 30,000 triangles, optional: skipped where absent) is drawn in outline:
+its flipped and degenerate triangles only, and its boundary and seam edges.
+
+usage: cli_draw_test.py QEX MAP WORKDIR SINGULARITIES [LARGE_MAP]
 """
+import json
 import os
 import re
 import shutil
@@ -14,6 +18,7 @@ import sys
 import zlib
 
 qex, map_path, work, singularities = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
+large = sys.argv[5] if len(sys.argv) > 5 else None
 os.makedirs(work, exist_ok=True)
 have_rsvg = shutil.which("rsvg-convert") is not None
 
@@ -60,7 +65,7 @@ def png_pixels(path):
     return width, height, pixels
 
 
-def check_png(svg, min_width, min_height):
+def check_png(svg, min_width, min_height, min_drawn=0.05):
     png = svg[:-4] + ".png"
     if not have_rsvg:
         print(f"rsvg-convert absent: {png} not checked")
@@ -70,7 +75,7 @@ def check_png(svg, min_width, min_height):
     white = b"\xff\xff\xff"
     drawn = sum(1 for p in pixels if p[:3] != white)
     colors = len(set(pixels))
-    assert drawn > len(pixels) // 20 and colors > 8, f"{png} is nearly blank ({drawn} drawn pixels, {colors} colors)"
+    assert drawn > min_drawn * len(pixels) and colors > 8, f"{png} is nearly blank ({drawn} drawn pixels, {colors} colors)"
     print(f"{png}: {w}x{h}, {drawn} of {len(pixels)} pixels drawn, {colors} colors")
 
 
@@ -84,6 +89,20 @@ assert text.count("<polygon") == triangles, f"{text.count('<polygon')} polygons 
 labels = re.findall(r'font-weight="bold"[^>]*>(\d+)</text>', text)
 assert len(labels) == singularities, f"{len(labels)} singularity labels, expected {singularities}"
 check_png(svg, 500, 300)
+
+# --around: the chart around one triangle, fewer triangles than the map.
+svg = os.path.join(work, "around.svg")
+run("draw", map_path, "--around", "5", "--radius", "1", "-o", svg)
+text = open(svg).read()
+assert "around triangle 5" in text and 0 < text.count("<polygon") < triangles, "--around drew the whole map"
+run("draw", map_path, "--around", str(triangles), "-o", svg, expect=1)
+
+# --png without rsvg-convert on the PATH: a clean error, the SVG written, no PNG.
+svg = os.path.join(work, "no_rsvg.svg")
+r = subprocess.run([os.path.abspath(qex), "draw", map_path, "-o", svg, "--png"], capture_output=True, text=True,
+                   env={"PATH": "/nonexistent"})
+assert r.returncode == 2 and "librsvg2-bin" in r.stderr, f"exit code {r.returncode}: {r.stderr}"
+assert os.path.exists(svg) and not os.path.exists(svg[:-4] + ".png"), "the SVG or a PNG without rsvg-convert"
 
 # The valid mesh: three views, no circle; then one vertex moved: circled in each of the three views.
 mesh = os.path.join(work, "mesh.obj")
@@ -114,4 +133,17 @@ for args, code in [(["/nonexistent.obj"], 2), ([map_path, "--quads", "/nonexiste
                    ([map_path, "--quads", mesh, "--report", map_path], 3)]:
     r = run("draw", *args, "-o", bad, expect=code)
     assert r.stderr and not os.path.exists(bad) and not os.path.exists(bad + ".tmp"), f"draw {args}: {r.stderr}"
+# A large map: in outline (flipped and degenerate triangles only, boundary and seam lines).
+if large and os.path.exists(large):
+    info = json.loads(run("info", large, "--json").stdout)
+    assert info["triangles"] > 30000, f"{large} is not large"
+    svg = os.path.join(work, "large.svg")
+    run("draw", large, "-o", svg, *png)
+    text = open(svg).read()
+    folded = info["flipped_triangles"] + info["degenerate_triangles"]
+    assert text.count("<polygon") == folded, f"{text.count('<polygon')} polygons, {folded} folded triangles"
+    assert text.count("<line") > 100 and "outline" in text, "no outline drawn"
+    check_png(svg, 800, 300, min_drawn=0.02)  # an outline covers little
+elif large:
+    print(f"skipped the large map: {large} is absent")
 print("qex draw: map, valid mesh and moved vertex drawn as expected")

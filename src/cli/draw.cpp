@@ -30,7 +30,7 @@ namespace {
 using Vec2 = std::array<double, 2>;
 using Vec3 = std::array<double, 3>;
 
-constexpr std::size_t kWholeMapTriangles = 30000; ///< larger maps are drawn around one region
+constexpr std::size_t kWholeMapTriangles = 30000; ///< larger maps are drawn in outline
 constexpr double kMapSize = 1000.0;               ///< the map picture's larger side, in pixels
 constexpr double kPanel = 520.0;                  ///< one view of the mesh, in pixels
 constexpr std::size_t kListed = 40;               ///< defects listed under the mesh picture
@@ -85,23 +85,31 @@ std::string svg_document(double w, double h, const std::string& body) {
 
 /// The triangles to draw around triangle `t`: those reached from it across edges whose ends
 /// keep their UVs (one chart), within `radius` grid units of its centroid.
-std::vector<int> around(const Input& in, int t, double radius) {
-    std::unordered_map<std::int64_t, int> he; // directed edge -> 3 * triangle + corner
+/// Directed edge (a, b), packed, -> 3 * triangle + corner of a.
+std::unordered_map<std::int64_t, int> half_edges(const Input& in) {
+    std::unordered_map<std::int64_t, int> he;
+    he.reserve(3 * in.triangles.size());
     for (std::size_t f = 0; f < in.triangles.size(); ++f)
         for (int k = 0; k < 3; ++k)
             he.emplace(static_cast<std::int64_t>(in.triangles[f][k]) << 32 |
                            static_cast<std::uint32_t>(in.triangles[f][(k + 1) % 3]),
                        static_cast<int>(3 * f + k));
+    return he;
+}
+
+/// Whether two UVs are the same point up to solver noise.
+bool same_uv(const Vec2& a, const Vec2& b) {
+    return std::abs(a[0] - b[0]) <= 1e-6 * (1 + std::abs(a[0])) && std::abs(a[1] - b[1]) <= 1e-6 * (1 + std::abs(a[1]));
+}
+
+std::vector<int> around(const Input& in, int t, double radius) {
+    const auto he = half_edges(in);
     const auto centroid = [&](int f) {
         Vec2 c{0, 0};
         for (int k = 0; k < 3; ++k) c[0] += in.uvs[3 * f + k][0] / 3, c[1] += in.uvs[3 * f + k][1] / 3;
         return c;
     };
     const Vec2 c0 = centroid(t);
-    const auto near = [&](const Vec2& a, const Vec2& b) {
-        return std::abs(a[0] - b[0]) <= 1e-6 * (1 + std::abs(a[0])) &&
-               std::abs(a[1] - b[1]) <= 1e-6 * (1 + std::abs(a[1]));
-    };
     std::vector<char> in_set(in.triangles.size(), 0);
     std::vector<int> out{t};
     in_set[t] = 1;
@@ -115,8 +123,8 @@ std::vector<int> around(const Input& in, int t, double radius) {
             const auto twin = he.find(static_cast<std::int64_t>(b) << 32 | static_cast<std::uint32_t>(a));
             if (twin == he.end()) continue;
             const int g = twin->second / 3, kg = twin->second % 3;
-            if (in_set[g] || !near(in.uvs[3 * f + k], in.uvs[3 * g + (kg + 1) % 3]) ||
-                !near(in.uvs[3 * f + (k + 1) % 3], in.uvs[3 * g + kg]))
+            if (in_set[g] || !same_uv(in.uvs[3 * f + k], in.uvs[3 * g + (kg + 1) % 3]) ||
+                !same_uv(in.uvs[3 * f + (k + 1) % 3], in.uvs[3 * g + kg]))
                 continue;
             const Vec2 c = centroid(g);
             if (std::max(std::abs(c[0] - c0[0]), std::abs(c[1] - c0[1])) > radius) continue;
@@ -128,8 +136,10 @@ std::vector<int> around(const Input& in, int t, double radius) {
     return out;
 }
 
-std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int>& tris, const std::string& title,
-                     double& width, double& height) {
+/// The map's picture: every triangle of `tris`, or with `outline` (large maps) only its
+/// boundary and seam edges, its flipped and degenerate triangles and its singularities.
+std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int>& tris, bool outline,
+                     const std::string& title, double& width, double& height) {
     Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
     for (int t : tris)
         for (int k = 0; k < 3; ++k)
@@ -137,7 +147,7 @@ std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int
                 lo[c] = std::min(lo[c], in.uvs[3 * t + k][c]), hi[c] = std::max(hi[c], in.uvs[3 * t + k][c]);
     const double span = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9});
     const double scale = kMapSize / span, margin = 30.0, top = 60.0;
-    width = (hi[0] - lo[0]) * scale + 2 * margin;
+    width = std::max((hi[0] - lo[0]) * scale + 2 * margin, 900.0); // room for the title lines
     height = (hi[1] - lo[1]) * scale + top + margin;
     const auto at = [&](const Vec2& p) { return Vec2{margin + (p[0] - lo[0]) * scale, top + (hi[1] - p[1]) * scale}; };
     std::string s;
@@ -146,14 +156,32 @@ std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int
     for (int t : tris) {
         const std::vector<Vec2> p = {at(in.uvs[3 * t]), at(in.uvs[3 * t + 1]), at(in.uvs[3 * t + 2])};
         const int o = info.orientation[t];
-        if (o > 0)
-            regular += polygon(p, "");
-        else if (o < 0)
+        if (o > 0) {
+            if (!outline) regular += polygon(p, "");
+        } else if (o < 0)
             folded += polygon(p, "fill=\"#e02020\" fill-opacity=\"0.8\" stroke=\"#900\" stroke-width=\"1\"");
         else
             folded += polygon(p, "fill=\"none\" stroke=\"#f08000\" stroke-width=\"3\"");
     }
     s += "<g fill=\"#dde6f3\" stroke=\"#8090a8\" stroke-width=\"0.5\">\n" + regular + "</g>\n";
+    if (outline) { // boundary edges, and seams (an edge whose two sides have different UVs)
+        const auto he = half_edges(in);
+        s += "<g stroke=\"#40608a\" stroke-width=\"1\">\n";
+        for (int t : tris)
+            for (int k = 0; k < 3; ++k) {
+                const int a = in.triangles[t][k], b = in.triangles[t][(k + 1) % 3];
+                const auto twin = he.find(static_cast<std::int64_t>(b) << 32 | static_cast<std::uint32_t>(a));
+                const Vec2& p = in.uvs[3 * t + k];
+                const Vec2& q = in.uvs[3 * t + (k + 1) % 3];
+                if (twin != he.end() && same_uv(p, in.uvs[3 * (twin->second / 3) + (twin->second % 3 + 1) % 3]) &&
+                    same_uv(q, in.uvs[twin->second]))
+                    continue;
+                const Vec2 x = at(p), y = at(q);
+                s += "<line x1=\"" + num(x[0]) + "\" y1=\"" + num(x[1]) + "\" x2=\"" + num(y[0]) + "\" y2=\"" +
+                     num(y[1]) + "\"/>\n";
+            }
+        s += "</g>\n";
+    }
     // The integer grid (every line while there are few, else every k-th).
     const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>(span / 200) + 1);
     s += "<g stroke=\"#303030\" stroke-width=\"0.8\" stroke-opacity=\"0.6\">\n";
@@ -448,24 +476,16 @@ int run_draw(const DrawArgs& a) {
             std::cerr << "qex: --around " << a.around << ": the map has " << in.triangles.size() << " triangles\n";
             return kUsage;
         }
-        if (a.around >= 0 || in.triangles.size() > kWholeMapTriangles) {
-            int t = static_cast<int>(a.around);
-            if (t < 0) { // a large map: around its largest fold region, or its first triangle
-                t = 0;
-                std::size_t most = 0;
-                for (const FoldRegion& r : info.fold_regions)
-                    if (r.triangles.size() > most) most = r.triangles.size(), t = r.triangles.front();
-                stop_progress();
-                std::cerr << "qex: " << in.triangles.size() << " triangles: drawing around triangle " << t
-                          << " (choose with --around)\n";
-            }
-            tris = around(in, t, a.radius);
-            title += " around triangle " + std::to_string(t);
+        const bool outline = a.around < 0 && in.triangles.size() > kWholeMapTriangles;
+        if (a.around >= 0) {
+            tris = around(in, static_cast<int>(a.around), a.radius);
+            title += " around triangle " + std::to_string(a.around);
         } else {
             tris.resize(in.triangles.size());
             for (std::size_t t = 0; t < tris.size(); ++t) tris[t] = static_cast<int>(t);
+            if (outline) title += " (outline: " + std::to_string(tris.size()) + " triangles; --around T for detail)";
         }
-        body = draw_map(in, info, tris, title, width, height);
+        body = draw_map(in, info, tris, outline, title, width, height);
     } else {
         QuadMesh mesh;
         if (const int code = read_quads(a.quads_path, mesh); code != kOk) return code;
