@@ -103,7 +103,7 @@ int run_info(const InfoArgs& a) {
         return kBadInput;
     }
     MapInfo m = analyse_map(input);
-    progress.step("extracting once (one rung, no repair) for the sanitized map");
+    progress.step("extracting once (first rung only, no fallback ladder) for the sanitized map");
     const Error e = add_sanitized(input, a.threads, m);
     progress.stop();
     // A map the extractor rejects is still described (all but its sanitized part), then refused.

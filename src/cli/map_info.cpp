@@ -200,7 +200,6 @@ MapInfo analyse_map(const Input& in) {
 Error add_sanitized(const Input& input, int threads, MapInfo& info) {
     Options options;
     options.threads = threads;
-    options.repair_fold_overs = false; // the sanitized map as the paper's method sees it
     options.fallback_ladder = false;
     const Result r = extract(input, options);
     if (!r.ok()) return r.error;

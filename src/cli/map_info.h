@@ -51,7 +51,7 @@ int orientation(const std::array<double, 2>& a, const std::array<double, 2>& b, 
 
 /// Everything but the sanitized part; the input must have passed qex::validate().
 MapInfo analyse_map(const Input& input);
-/// Runs the extractor once (one rung, no repair) and fills the sanitized part from its report
+/// Runs the extractor once (first rung only, no fallback ladder) and fills the sanitized part from its report
 /// and map; an input the extractor rejects comes back as the error.
 Error add_sanitized(const Input& input, int threads, MapInfo& info);
 

@@ -296,7 +296,7 @@ IoError parse_data(const char* data, std::size_t size, PlyData& out) {
                     if (!r.read(p.type, x)) return fail("missing or malformed list value");
                     if (indices) {
                         if (!(x >= 0 && x <= INT32_MAX))
-                            return fail("vertex index " + std::to_string(x) + " out of range");
+                            return fail("vertex index " + std::to_string(static_cast<long long>(x)) + " out of range");
                         face.push_back(static_cast<int>(x));
                     }
                     if (texcoords) tex.push_back(x);
