@@ -44,7 +44,23 @@ int read_features(const std::string& path, Input& input);
 /// Size of the file at `path` in bytes (0 if unknown).
 std::uintmax_t size_of(const std::string& path);
 
-// The subcommands beside extract and check, each in its own file: its options, then its run.
+// The subcommands, each in its own file: its options (add_*), then its run (run_*).
+struct ExtractArgs {
+    std::string in_path, out_path, vval_path, report_path, features_path;
+    bool poly = false, quiet = false, snap_boundary = false;
+    int threads = 0;
+};
+CLI::App* add_extract(CLI::App& app, ExtractArgs& a);
+int run_extract(const ExtractArgs& a);
+
+struct CheckArgs {
+    std::string param_path, mesh_path;
+    bool json = false;
+    VerifyOptions options;
+};
+CLI::App* add_check(CLI::App& app, CheckArgs& a);
+int run_check(const CheckArgs& a);
+
 struct InfoArgs {
     std::string map_path;
     bool json = false;
