@@ -25,8 +25,8 @@ nlohmann::json to_json(const MapInfo& m) {
     j["degenerate_triangles"] = m.degenerate;
     j["fold_regions"] = nlohmann::json::array();
     for (const FoldRegion& r : m.fold_regions)
-        j["fold_regions"].push_back({{"triangles", r.triangles.size()},
-                                     {"first_triangle", r.triangles.front()},
+        j["fold_regions"].push_back({{"triangles", r.triangles},
+                                     {"triangle_count", r.triangles.size()},
                                      {"uv_area", r.uv_area},
                                      {"grid_box", {{r.grid_lo[0], r.grid_lo[1]}, {r.grid_hi[0], r.grid_hi[1]}}}});
     j["singularities"] = nlohmann::json::array();
