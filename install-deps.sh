@@ -12,7 +12,8 @@ PKGS="build-essential cmake ninja-build python3 \
   libcli11-dev nlohmann-json3-dev libfast-float-dev \
   clang libclang-rt-dev \
   libeigen3-dev python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
-  python3-dask python3-distributed"
+  python3-dask python3-distributed \
+  librsvg2-bin"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

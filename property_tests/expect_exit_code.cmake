@@ -1,7 +1,10 @@
-# Runs `qex extract IN -o OUT` (or, with MESH given, `qex check --param IN MESH`) and fails
-# unless the exit code is EXPECT, an error message was printed (matching the regular expression
-# MESSAGE, if given) and OUT was not written.
-if(DEFINED MESH)
+# Runs `qex extract IN -o OUT` (or, with MESH given, `qex check --param IN MESH`; with SUB given,
+# `qex SUB IN EXTRA...`, EXTRA '|'-separated) and fails unless the exit code is EXPECT, an error
+# message was printed (matching the regular expression MESSAGE, if given) and OUT was not written.
+if(DEFINED SUB)
+  string(REPLACE "|" ";" extra "${EXTRA}")
+  execute_process(COMMAND ${QEX} ${SUB} ${IN} ${extra} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+elseif(DEFINED MESH)
   execute_process(COMMAND ${QEX} check --param ${IN} ${MESH} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
 else()
   execute_process(COMMAND ${QEX} extract ${IN} -o ${OUT} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)

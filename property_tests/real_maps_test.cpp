@@ -84,8 +84,9 @@ TEST(RealMaps, SubdividedDuckGivesTheSameQuadMesh) {
     // verdict is the same there; where both are fully repaired, so is the quad count.
     const Result ra = extract(in), rb = extract(twice);
     EXPECT_TRUE(ra.check.valid && rb.check.valid);
-    if (ra.report.flipped_after_repair == 0 && rb.report.flipped_after_repair == 0)
+    if (ra.report.flipped_after_repair == 0 && rb.report.flipped_after_repair == 0) {
         EXPECT_EQ(ra.mesh.faces.size(), rb.mesh.faces.size());
+    }
 }
 
 TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {

@@ -1,6 +1,7 @@
-// Files: the OBJ maps parametrizers write, VVAL valence files, and quad meshes as OBJ. Every
-// reader reports the first problem with its line and leaves its output empty; every writer goes
-// through a temporary file renamed into place, so no partial file is ever left.
+// Files: the OBJ and PLY maps parametrizers write, VVAL valence files, and quad meshes as OBJ or
+// PLY. Every reader reports the first problem with its line (PLY data: its byte offset and
+// element) and leaves its output empty; every writer goes through a temporary file renamed into
+// place, so no partial file is ever left.
 #pragma once
 
 #include "qex/mesh.h"
@@ -22,11 +23,13 @@ struct IoError {
         NonTriangle,
         IndexOutOfRange,
         NonFinite,
-        VvalSyntax
+        VvalSyntax,
+        PlySyntax ///< a PLY header or element that cannot be read (the message names it)
     };
     Code code = Code::None;
     std::string message;
-    std::int64_t line = 0; ///< 1-based line number, 0 if not applicable
+    std::int64_t line = 0;    ///< 1-based line number, 0 if not applicable
+    std::int64_t offset = -1; ///< PLY: byte offset in the file of the problem, -1 if not applicable
     bool ok() const { return code == Code::None; }
 };
 
@@ -42,5 +45,18 @@ IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valence
 IoError write_obj(const std::string& path, const QuadMesh& mesh);
 /// Reads a polygon OBJ (v and f records; vt ignored) as a QuadMesh without UVs or provenance.
 IoError read_polygon_obj(const std::string& path, QuadMesh& out);
+
+/// Parses a PLY map (ASCII, binary little or big endian): `vertex` with x, y, z; `face` with a
+/// `vertex_indices` (or `vertex_index`) list of 3 and a `texcoord` list of 6 (u, v per corner,
+/// the MeshLab/Blender convention), or per-vertex UVs (s/t, u/v or texture_u/texture_v). Other
+/// elements and properties are skipped. A problem in the data names its byte offset and element.
+IoError parse_ply(const char* data, std::size_t size, Input& out);
+IoError read_ply(const std::string& path, Input& out);
+/// Reads a polygon PLY (vertex x, y, z and face vertex lists; UVs ignored) as a QuadMesh.
+IoError parse_polygon_ply(const char* data, std::size_t size, QuadMesh& out);
+IoError read_polygon_ply(const std::string& path, QuadMesh& out);
+/// Writes the quad mesh as PLY (binary little endian, or ASCII): positions as doubles, faces as
+/// vertex lists and local UVs as a per-face `texcoord` list, through a temporary file.
+IoError write_ply(const std::string& path, const QuadMesh& mesh, bool binary = true);
 
 } // namespace qex

@@ -78,15 +78,8 @@ double grid_point_bound(const TriMesh& m) {
 void add_vertex_qvertices(const TriMesh& m, QState& q) {
     q.vertex_qvertex.assign(m.num_vertices, -1);
     for (int v = 0; v < m.num_vertices; ++v) {
-        int c = m.fan_start[v];
+        const int c = m.fan_start[v];
         if (c < 0 || !is_integer_point(m.uv[c])) continue;
-        // A vertex glued by collapsing UV-degenerate edges keeps its own input vertex's position
-        // (the collapse chose it canonically), not that of whichever corner starts its fan.
-        for (int h = c, n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
-            if (m.corner_vertex[h] == m.input_vertex[v]) {
-                c = h;
-                break;
-            }
         q.vertex_qvertex[v] = static_cast<int>(q.qvertices.size());
         std::array<double, 3> w{0, 0, 0};
         w[c % 3] = 1.0;
@@ -94,7 +87,10 @@ void add_vertex_qvertices(const TriMesh& m, QState& q) {
                                v,
                                TriMesh::face(c),
                                {static_cast<std::int64_t>(m.uv[c][0]), static_cast<std::int64_t>(m.uv[c][1])},
-                               m.pos(c),
+                               // A vertex glued by collapsing UV-degenerate edges sits at its own input
+                               // vertex (the collapse chose it canonically), not at whichever glued
+                               // vertex's corner starts its fan.
+                               (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])],
                                w});
     }
 }

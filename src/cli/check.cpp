@@ -1,0 +1,90 @@
+// `qex check --param MAP MESH`: judges any quad mesh (OBJ or PLY) against a map with the
+// independent checker; the verdict in words or as JSON.
+#include "cli.h"
+#include "progress.h"
+#include "violations.h"
+#include "qex/report.h"
+
+#include <cstdio>
+#include <iostream>
+
+namespace qex::cli {
+namespace {
+
+/// The verdict in words, on stdout.
+void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
+    std::printf(
+        "%s: %lld faces, %lld vertices, euler %lld (input %lld), boundary loops %lld (input %lld), "
+        "components %lld (input %lld), input signed UV area %s\n",
+        mesh_path.c_str(), static_cast<long long>(v.faces), static_cast<long long>(v.vertices),
+        static_cast<long long>(v.euler), static_cast<long long>(v.input_euler),
+        static_cast<long long>(v.boundary_loops), static_cast<long long>(v.input_boundary_loops),
+        static_cast<long long>(v.components), static_cast<long long>(v.input_components),
+        v.input_signed_uv_area.c_str());
+    if (v.located) {
+        std::printf(
+            "located on the map: largest distance to a grid point %.3g (UV), to the surface %.3g (of the "
+            "diagonal); %lld faces against the map's area %lld",
+            v.max_grid_distance, v.max_surface_distance, static_cast<long long>(v.faces),
+            static_cast<long long>(v.input_signed_uv_area_rounded));
+        if (v.coverage_difference != 0 && v.map_flipped_triangles > 0)
+            std::printf(" (the map has %lld flipped triangles, so full coverage may be impossible)",
+                        static_cast<long long>(v.map_flipped_triangles));
+        std::printf("\n");
+    }
+    print_violations(v);
+    std::printf("%s\n", v.valid ? "VALID" : "INVALID");
+}
+
+} // namespace
+
+int run_check(const CheckArgs& a) {
+    Progress progress(true, 3);
+    progress.step("reading " + a.param_path);
+    qex::Input input;
+    if (const int code = read_map(a.param_path, input); code != kOk) return code;
+    // The map is the judge's reference: one that extraction would reject judges nothing.
+    if (const qex::Error e = qex::validate(input); e.code != qex::ErrorCode::None) {
+        progress.stop();
+        std::cerr << "qex: " << a.param_path << ": invalid input (" << qex::to_string(e.code) << "): " << e.message
+                  << "\n";
+        return kBadInput;
+    }
+    progress.step("reading " + a.mesh_path);
+    qex::QuadMesh mesh;
+    if (const int code = read_quads(a.mesh_path, mesh); code != kOk) return code;
+    progress.step("checking " + std::to_string(mesh.faces.size()) + " faces");
+    mesh.grid_scale = a.grid_scale;
+    const qex::VerifyResult v = qex::verify(input, mesh, a.options);
+    progress.stop();
+    if (a.json)
+        std::cout << qex::verify_json(v) << "\n";
+    else
+        print_verdict(a.mesh_path, v);
+    return v.valid ? kOk : kRejected;
+}
+
+CLI::App* add_check(CLI::App& app, CheckArgs& a) {
+    auto* check = app.add_subcommand("check", "Judge a quad mesh (from any extractor) against an integer-grid map");
+    check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
+    check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
+    check->add_flag("--json", a.json, "print the verdict as JSON");
+    check
+        ->add_option("--grid-scale", a.grid_scale,
+                     "judge the mesh against the map with its UVs multiplied by this power of two (a mesh qex "
+                     "extracted with refinement)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
+    check
+        ->add_option("--uv-tolerance", a.options.uv_tolerance,
+                     "largest UV distance of a vertex to its grid point (default 1e-3)")
+        ->check(CLI::NonNegativeNumber);
+    check
+        ->add_option("--distance-tolerance", a.options.distance_tolerance,
+                     "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
+        ->check(CLI::NonNegativeNumber);
+    check->add_flag(
+        "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
+    return check;
+}
+
+} // namespace qex::cli

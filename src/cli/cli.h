@@ -1,0 +1,92 @@
+// What the qex program's subcommands share: exit codes, reading maps and meshes by file
+// extension (OBJ or PLY), atomic text output, and the subcommands' entry points.
+#pragma once
+
+#include "qex/qex.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace qex::cli {
+
+// Exit codes; each failure family has its own.
+enum Exit : int {
+    kOk = 0,
+    kUsage = 1,         // bad command line
+    kIo = 2,            // a file cannot be read or written
+    kParse = 3,         // malformed OBJ, PLY, VVAL or features file
+    kBadInput = 4,      // the mesh or map is not acceptable input
+    kInvalidOutput = 5, // extraction finished but the checker rejects its output
+    kRejected = 6,      // `qex check`: the judged mesh is not valid
+};
+
+/// The exit code of a reader's or writer's error.
+int io_exit(const IoError& e);
+
+/// The version and the git commit this program was built from ("0.2.0 (commit abc123)").
+const char* version_string();
+
+/// Whether `path` names a PLY file (by its extension, any case).
+bool is_ply(const std::string& path);
+/// Reads a map (OBJ or PLY by extension); on a problem prints it and returns its exit code.
+int read_map(const std::string& path, Input& input, int threads = 0);
+/// Reads a polygon mesh (OBJ or PLY by extension); on a problem prints it and returns its exit code.
+int read_quads(const std::string& path, QuadMesh& mesh);
+/// Writes the quad mesh (OBJ or PLY by extension) through a temporary file renamed into place.
+IoError write_quads(const std::string& path, const QuadMesh& mesh);
+/// Writes `text` to `path` through a temporary file renamed into place.
+bool write_text(const std::string& path, const std::string& text);
+/// Reads a feature-edge file (`i j` per line, 0-based vertex indices, `#` comments) into
+/// `input.feature_edges`; on a problem prints it (with its line) and returns kParse or kIo.
+int read_features(const std::string& path, Input& input);
+/// Size of the file at `path` in bytes (0 if unknown).
+std::uintmax_t size_of(const std::string& path);
+
+// The subcommands, each in its own file: its options (add_*), then its run (run_*).
+struct ExtractArgs {
+    std::string in_path, out_path, vval_path, report_path, features_path;
+    bool poly = false, quiet = false, snap_boundary = false;
+    int threads = 0;
+    int max_refinement = Options{}.max_refinement;
+};
+CLI::App* add_extract(CLI::App& app, ExtractArgs& a);
+int run_extract(const ExtractArgs& a);
+
+struct CheckArgs {
+    std::string param_path, mesh_path;
+    bool json = false;
+    int grid_scale = 1;
+    VerifyOptions options;
+};
+CLI::App* add_check(CLI::App& app, CheckArgs& a);
+int run_check(const CheckArgs& a);
+
+struct InfoArgs {
+    std::string map_path;
+    bool json = false;
+    int threads = 0;
+};
+CLI::App* add_info(CLI::App& app, InfoArgs& a);
+int run_info(const InfoArgs& a);
+
+struct DrawArgs {
+    std::string map_path, quads_path, report_path, out_path;
+    long long around = -1;
+    double radius = 6.0;
+    bool png = false;
+};
+CLI::App* add_draw(CLI::App& app, DrawArgs& a);
+int run_draw(const DrawArgs& a);
+
+struct BatchArgs {
+    std::string input, out_dir, summary_path, format = "obj";
+    int jobs = 0;
+    bool quiet = false, force = false, snap_boundary = false;
+    std::string self; ///< this program, run once per map
+};
+CLI::App* add_batch(CLI::App& app, BatchArgs& a);
+int run_batch(const BatchArgs& a);
+
+} // namespace qex::cli

@@ -1,0 +1,131 @@
+// `qex extract MAP -o OUT`: the quad mesh of a map (OBJ or PLY, by extension), checked by the
+// independent checker inside extract(); the mesh is written only if the checker accepts it
+// (or with --poly), the report with --report.
+#include "cli.h"
+#include "progress.h"
+#include "violations.h"
+#include "qex/report.h"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+namespace qex::cli {
+namespace {
+
+/// Reads the map (and valences); returns the exit code of a failure, or kOk.
+int read_input(const ExtractArgs& a, qex::Input& input) {
+    if (const int code = read_map(a.in_path, input, a.threads); code != kOk) return code;
+    if (!a.vval_path.empty())
+        if (const auto e = qex::read_vval(a.vval_path, input.valences); !e.ok()) {
+            stop_progress();
+            std::cerr << "qex: " << a.vval_path << ": " << e.message << "\n";
+            return io_exit(e);
+        }
+    if (!a.features_path.empty()) {
+        stop_progress(); // a problem in the file is printed at once
+        return read_features(a.features_path, input);
+    }
+    return kOk;
+}
+
+bool write_report(const std::string& path, const qex::Result& result, double read_seconds, double extract_seconds) {
+    return write_text(path, qex::report_json(result, read_seconds, extract_seconds) + "\n");
+}
+
+/// The checker rejected the mesh: its defects and violations on stderr, the mesh only with --poly.
+int reject(const ExtractArgs& a, const qex::Result& result) {
+    const qex::VerifyResult& check = result.check;
+    const auto& defects = result.report.defects;
+    std::cerr << "qex: " << a.in_path << ": the extracted mesh fails the check (" << check.violations.size()
+              << " violations, " << defects.size() << " extraction defects)\n";
+    for (std::size_t i = 0; i < defects.size() && i < 20; ++i)
+        std::cerr << "  " << qex::to_string(defects[i].kind)
+                  << (defects[i].violation ? std::string(" ") + qex::to_string(*defects[i].violation) : "") << ": "
+                  << defects[i].message << "\n";
+    print_violations(check);
+    if (a.poly) {
+        if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
+            std::cerr << "qex: " << e.message << "\n";
+            return kIo;
+        }
+        std::cerr << "qex: wrote the invalid mesh to " << a.out_path << " (--poly)\n";
+    }
+    return kInvalidOutput;
+}
+
+} // namespace
+
+int run_extract(const ExtractArgs& a) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Progress progress(!a.quiet, 3);
+    progress.step("reading " + a.in_path);
+    qex::Input input;
+    if (const int code = read_input(a, input); code != kOk) return code;
+    const auto t1 = std::chrono::steady_clock::now();
+    qex::Options options;
+    options.threads = a.threads;
+    options.snap_boundary = a.snap_boundary;
+    options.max_refinement = a.max_refinement;
+    progress.step("extracting and checking " + std::to_string(input.triangles.size()) + " triangles");
+    const qex::Result result = qex::extract(input, options);
+    progress.step("writing " + a.out_path);
+    if (!result.ok()) {
+        progress.stop();
+        std::cerr << "qex: " << a.in_path << ": invalid input (" << qex::to_string(result.error.code)
+                  << "): " << result.error.message << "\n";
+        return kBadInput;
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+    const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    if (!a.report_path.empty() && !write_report(a.report_path, result, seconds(t1 - t0), seconds(t2 - t1))) {
+        std::cerr << "qex: cannot write report '" << a.report_path << "'\n";
+        return kIo;
+    }
+    if (!result.check.valid) {
+        progress.stop();
+        return reject(a, result); // the checker's verdict, taken inside extract()
+    }
+    if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
+        std::cerr << "qex: " << e.message << "\n";
+        return kIo;
+    }
+    progress.stop();
+    const auto& r = result.report;
+    if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
+        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
+                  << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
+    if (!a.quiet)
+        std::printf(
+            "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
+            "%lld recovered edges, map %s, grid scale %d) -> %s\n",
+            result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
+            static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
+            static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale, a.out_path.c_str());
+    return kOk;
+}
+
+CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
+    auto* extract = app.add_subcommand("extract", "Extract the quad mesh of a map (OBJ or PLY with per-corner UVs)");
+    extract->add_option("input", a.in_path, "input map: OBJ (v, vt, f a/ta b/tb c/tc) or PLY (per-face texcoord)")
+        ->required();
+    extract->add_option("-o,--output", a.out_path, "output quad mesh, OBJ or PLY by extension (local UVs)")->required();
+    extract->add_option("--valences", a.vval_path, "VVAL file with per-vertex cross-field valences");
+    extract->add_option("--report", a.report_path, "write a JSON report (counts, defects, timings, check)");
+    extract->add_option("--features", a.features_path,
+                        "feature edges to snap onto iso-lines: one 'i j' per line (0-based vertices), # comments");
+    extract->add_flag("--snap-boundary", a.snap_boundary, "snap every boundary edge onto its closest iso-line");
+    extract->add_flag("--poly", a.poly, "write the mesh even if faces are not quads (exit code stays 5)");
+    extract
+        ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
+        ->check(CLI::Range(0, 1024));
+    extract
+        ->add_option("--max-refinement", a.max_refinement,
+                     "when the map gives no valid mesh at its own scale, retry with its UVs x2, x4, ... up to this "
+                     "power of two (1: never; default 4)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
+    return extract;
+}
+
+} // namespace qex::cli

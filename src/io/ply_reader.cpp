@@ -1,0 +1,402 @@
+// PLY files (ASCII, binary little and big endian): the header's elements and properties, then
+// their data, read value by value against the bytes left, so a count in the header never sizes
+// an allocation beyond what the file can hold. Every problem names its place: the header line,
+// or the byte offset and the element (and instance) being read.
+#include "qex/io.h"
+
+#include "io/text_cursor.h"
+
+#include <fast_float/fast_float.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace qex {
+namespace {
+
+enum class Type { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
+
+bool parse_type(std::string_view name, Type& t) {
+    static const std::pair<const char*, Type> kNames[] = {
+        {"char", Type::Int8},     {"int8", Type::Int8},       {"uchar", Type::Uint8},    {"uint8", Type::Uint8},
+        {"short", Type::Int16},   {"int16", Type::Int16},     {"ushort", Type::Uint16},  {"uint16", Type::Uint16},
+        {"int", Type::Int32},     {"int32", Type::Int32},     {"uint", Type::Uint32},    {"uint32", Type::Uint32},
+        {"float", Type::Float32}, {"float32", Type::Float32}, {"double", Type::Float64}, {"float64", Type::Float64}};
+    for (const auto& [n, type] : kNames)
+        if (name == n) {
+            t = type;
+            return true;
+        }
+    return false;
+}
+
+std::size_t size_of(Type t) {
+    switch (t) {
+        case Type::Int8:
+        case Type::Uint8: return 1;
+        case Type::Int16:
+        case Type::Uint16: return 2;
+        case Type::Int32:
+        case Type::Uint32:
+        case Type::Float32: return 4;
+        case Type::Float64: return 8;
+    }
+    return 1;
+}
+
+struct Property {
+    std::string name;
+    bool list = false;
+    Type count_type = Type::Uint8, type = Type::Float32;
+};
+
+struct Element {
+    std::string name;
+    std::int64_t count = 0;
+    std::vector<Property> properties;
+};
+
+enum class Format { Ascii, BinaryLittle, BinaryBig };
+
+/// What the readers take from a PLY file.
+struct PlyData {
+    std::vector<std::array<double, 3>> positions;
+    std::vector<std::array<double, 2>> vertex_uvs; ///< per vertex, when the vertices carry UVs
+    std::vector<std::vector<int>> faces;
+    std::vector<std::vector<double>> texcoords; ///< per face, when the faces carry a texcoord list
+    bool has_vertex_uvs = false, has_texcoords = false;
+};
+
+IoError header_error(std::int64_t line, const std::string& msg) {
+    return {IoError::Code::PlySyntax,
+            (line > 0 ? "PLY header line " + std::to_string(line) : std::string("PLY header")) + ": " + msg, line};
+}
+
+/// Reads the values of the data section, one at a time, in the file's format.
+class ValueReader {
+public:
+    ValueReader(const char* begin, const char* p, const char* end, Format f) : begin_(begin), p_(p), end_(end), f_(f) {}
+
+    /// The next value of type `t`; false at the end of the data or on a malformed ASCII number.
+    bool read(Type t, double& x) {
+        if (f_ == Format::Ascii) return read_ascii(t, x);
+        const std::size_t n = size_of(t);
+        if (static_cast<std::size_t>(end_ - p_) < n) return false;
+        unsigned char b[8];
+        std::memcpy(b, p_, n);
+        p_ += n;
+        if (big_endian_host() != (f_ == Format::BinaryBig)) std::reverse(b, b + n);
+        switch (t) {
+            case Type::Int8: x = static_cast<std::int8_t>(b[0]); break;
+            case Type::Uint8: x = b[0]; break;
+            case Type::Int16: x = load<std::int16_t>(b); break;
+            case Type::Uint16: x = load<std::uint16_t>(b); break;
+            case Type::Int32: x = load<std::int32_t>(b); break;
+            case Type::Uint32: x = load<std::uint32_t>(b); break;
+            case Type::Float32: x = load<float>(b); break;
+            case Type::Float64: x = load<double>(b); break;
+        }
+        return true;
+    }
+    std::int64_t offset() const { return p_ - begin_; }
+    /// The smallest number of bytes a value takes (for bounding counts by the bytes left).
+    std::size_t min_size(Type t) const { return f_ == Format::Ascii ? 2 : size_of(t); }
+    std::size_t left() const { return static_cast<std::size_t>(end_ - p_); }
+    bool only_blanks_left() {
+        skip_space();
+        return p_ >= end_;
+    }
+
+private:
+    static bool big_endian_host() {
+        const std::uint16_t one = 1;
+        unsigned char c;
+        std::memcpy(&c, &one, 1);
+        return c == 0;
+    }
+    template <class T>
+    static T load(const unsigned char* b) {
+        T v;
+        std::memcpy(&v, b, sizeof v);
+        return v;
+    }
+    void skip_space() {
+        while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
+    }
+    bool read_ascii(Type t, double& x) {
+        skip_space();
+        if (p_ >= end_) return false;
+        const char* from = p_;
+        if (*from == '+') ++from;
+        const auto r = fast_float::from_chars(from, end_, x);
+        if (r.ec != std::errc() || r.ptr == from) return false;
+        if (r.ptr < end_ && !(*r.ptr == ' ' || *r.ptr == '\t' || *r.ptr == '\r' || *r.ptr == '\n')) return false;
+        p_ = r.ptr;
+        // Integer types hold integers (a list's count, an index).
+        if (t != Type::Float32 && t != Type::Float64 && x != std::floor(x)) return false;
+        return true;
+    }
+
+    const char* begin_;
+    const char* p_;
+    const char* end_;
+    Format f_;
+};
+
+/// Parses the header from `data`; on success `body` is where the data begin.
+IoError parse_header(const char* data, std::size_t size, Format& format, std::vector<Element>& elements,
+                     std::size_t& body) {
+    io_detail::Cursor c{data, data + size};
+    bool have_format = false;
+    for (;;) {
+        if (c.p >= c.end) return header_error(c.line, "the header ends without 'end_header'");
+        const char* eol = static_cast<const char*>(std::memchr(c.p, '\n', static_cast<std::size_t>(c.end - c.p)));
+        if (!eol) return header_error(c.line, "the header ends without 'end_header'");
+        std::string_view line(c.p, static_cast<std::size_t>(eol - c.p));
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        std::vector<std::string_view> words;
+        for (std::size_t i = 0; i < line.size();) {
+            while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+            const std::size_t from = i;
+            while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+            if (i > from) words.push_back(line.substr(from, i - from));
+        }
+        const std::int64_t number = c.line;
+        c.p = eol + 1;
+        ++c.line;
+        if (number == 1) {
+            if (words.size() != 1 || words[0] != "ply") return header_error(1, "not a PLY file (no 'ply' line)");
+            continue;
+        }
+        if (words.empty() || words[0] == "comment" || words[0] == "obj_info") continue;
+        if (words[0] == "format") {
+            if (words.size() != 3 || words[2] != "1.0") return header_error(number, "expected 'format <kind> 1.0'");
+            if (words[1] == "ascii")
+                format = Format::Ascii;
+            else if (words[1] == "binary_little_endian")
+                format = Format::BinaryLittle;
+            else if (words[1] == "binary_big_endian")
+                format = Format::BinaryBig;
+            else
+                return header_error(number, "unknown format '" + std::string(words[1]) + "'");
+            have_format = true;
+        } else if (words[0] == "element") {
+            std::int64_t count = -1;
+            io_detail::Cursor n{words.size() == 3 ? words[2].data() : nullptr,
+                                words.size() == 3 ? words[2].data() + words[2].size() : nullptr};
+            if (words.size() != 3 || !n.read_int(count) || n.p != n.end || count < 0 || count > INT32_MAX)
+                return header_error(number, "expected 'element <name> <count>' with a count below 2^31");
+            elements.push_back({std::string(words[1]), count, {}});
+        } else if (words[0] == "property") {
+            if (elements.empty()) return header_error(number, "a property before any element");
+            Property prop;
+            if (words.size() == 5 && words[1] == "list") {
+                prop.list = true;
+                if (!parse_type(words[2], prop.count_type) || !parse_type(words[3], prop.type))
+                    return header_error(number, "unknown type in a list property");
+                if (prop.count_type == Type::Float32 || prop.count_type == Type::Float64)
+                    return header_error(number, "a list's count must have an integer type");
+                prop.name = std::string(words[4]);
+            } else if (words.size() == 3) {
+                if (!parse_type(words[1], prop.type))
+                    return header_error(number, "unknown type '" + std::string(words[1]) + "'");
+                prop.name = std::string(words[2]);
+            } else {
+                return header_error(number,
+                                    "expected 'property <type> <name>' or 'property list <type> <type> <name>'");
+            }
+            elements.back().properties.push_back(prop);
+        } else if (words[0] == "end_header") {
+            if (words.size() != 1) return header_error(number, "trailing words after 'end_header'");
+            if (!have_format) return header_error(number, "no 'format' line");
+            body = static_cast<std::size_t>(c.p - data);
+            return {};
+        } else {
+            return header_error(number, "unknown keyword '" + std::string(words[0]) + "'");
+        }
+    }
+}
+
+/// The index of the property named by one of `names` in `e`, or -1.
+int find_property(const Element& e, std::initializer_list<const char*> names, bool list) {
+    for (std::size_t i = 0; i < e.properties.size(); ++i)
+        for (const char* n : names)
+            if (e.properties[i].name == n && e.properties[i].list == list) return static_cast<int>(i);
+    return -1;
+}
+
+IoError parse_data(const char* data, std::size_t size, PlyData& out) {
+    Format format = Format::Ascii;
+    std::vector<Element> elements;
+    std::size_t body = 0;
+    if (IoError e = parse_header(data, size, format, elements, body); !e.ok()) return e;
+    ValueReader r(data, data + body, data + size, format);
+    bool seen_vertex = false, seen_face = false;
+    for (const Element& el : elements) {
+        const bool is_vertex = el.name == "vertex" && !seen_vertex;
+        const bool is_face = el.name == "face" && !seen_face;
+        int px = -1, py = -1, pz = -1, pu = -1, pv = -1, pidx = -1, ptex = -1;
+        if (is_vertex) {
+            seen_vertex = true;
+            px = find_property(el, {"x"}, false), py = find_property(el, {"y"}, false);
+            pz = find_property(el, {"z"}, false);
+            if (px < 0 || py < 0 || pz < 0) return header_error(0, "element vertex has no x, y and z properties");
+            pu = find_property(el, {"s", "u", "texture_u", "texture_s"}, false);
+            pv = find_property(el, {"t", "v", "texture_v", "texture_t"}, false);
+            out.has_vertex_uvs = pu >= 0 && pv >= 0;
+        }
+        if (is_face) {
+            seen_face = true;
+            pidx = find_property(el, {"vertex_indices", "vertex_index"}, true);
+            if (pidx < 0) return header_error(0, "element face has no vertex_indices list");
+            ptex = find_property(el, {"texcoord"}, true);
+            out.has_texcoords = ptex >= 0;
+        }
+        if (el.properties.empty()) continue; // instances without properties take no bytes
+        // Each instance takes at least a byte per property: a count the file cannot hold is an error now.
+        std::size_t least = 0;
+        for (const Property& p : el.properties) least += r.min_size(p.list ? p.count_type : p.type);
+        if (least > 0 && static_cast<std::size_t>(el.count) > r.left() / least + 1)
+            return {IoError::Code::PlySyntax,
+                    "byte " + std::to_string(r.offset()) + ": element " + el.name + ": " + std::to_string(el.count) +
+                        " instances cannot fit in the " + std::to_string(r.left()) + " bytes left",
+                    0, r.offset()};
+        for (std::int64_t i = 0; i < el.count; ++i) {
+            std::array<double, 3> pos{};
+            std::array<double, 2> uv{};
+            std::vector<int> face;
+            std::vector<double> tex;
+            for (std::size_t k = 0; k < el.properties.size(); ++k) {
+                const Property& p = el.properties[k];
+                const auto fail = [&](const std::string& what) {
+                    return IoError{IoError::Code::PlySyntax,
+                                   "byte " + std::to_string(r.offset()) + ": element " + el.name + " " +
+                                       std::to_string(i) + ", property " + p.name + ": " + what,
+                                   0, r.offset()};
+                };
+                double x = 0;
+                if (!p.list) {
+                    if (!r.read(p.type, x)) return fail("missing or malformed value");
+                    const int ki = static_cast<int>(k);
+                    if (ki == px || ki == py || ki == pz) pos[ki == px ? 0 : ki == py ? 1 : 2] = x;
+                    if (ki == pu) uv[0] = x;
+                    if (ki == pv) uv[1] = x;
+                    continue;
+                }
+                double n = 0;
+                if (!r.read(p.count_type, n) || n < 0) return fail("missing or malformed list count");
+                if (n * static_cast<double>(r.min_size(p.type)) > static_cast<double>(r.left()))
+                    return fail("a list of " + std::to_string(static_cast<long long>(n)) + " values runs past the end");
+                const bool indices = static_cast<int>(k) == pidx, texcoords = static_cast<int>(k) == ptex;
+                for (std::int64_t j = 0; j < static_cast<std::int64_t>(n); ++j) {
+                    if (!r.read(p.type, x)) return fail("missing or malformed list value");
+                    if (indices) {
+                        if (!(x >= 0 && x <= INT32_MAX))
+                            return fail("vertex index " + std::to_string(static_cast<long long>(x)) + " out of range");
+                        face.push_back(static_cast<int>(x));
+                    }
+                    if (texcoords) tex.push_back(x);
+                }
+            }
+            if (is_vertex) {
+                out.positions.push_back(pos);
+                if (out.has_vertex_uvs) out.vertex_uvs.push_back(uv);
+            }
+            if (is_face) {
+                out.faces.push_back(std::move(face));
+                if (out.has_texcoords) out.texcoords.push_back(std::move(tex));
+            }
+        }
+    }
+    if (format == Format::Ascii ? !r.only_blanks_left() : r.left() != 0)
+        return {IoError::Code::PlySyntax, "byte " + std::to_string(r.offset()) + ": data after the last element", 0,
+                r.offset()};
+    if (!seen_vertex) return header_error(0, "no vertex element");
+    if (!seen_face) return header_error(0, "no face element");
+    // Indices refer to the vertices (which may come after the faces in the file).
+    for (std::size_t f = 0; f < out.faces.size(); ++f)
+        for (int v : out.faces[f])
+            if (static_cast<std::size_t>(v) >= out.positions.size())
+                return {IoError::Code::IndexOutOfRange,
+                        "face " + std::to_string(f) + ": vertex index " + std::to_string(v) + " out of range (" +
+                            std::to_string(out.positions.size()) + " vertices)",
+                        0};
+    return {};
+}
+
+/// The PLY's triangles and per-corner UVs as a map.
+IoError to_input(PlyData& d, Input& out) {
+    if (!d.has_texcoords && !d.has_vertex_uvs)
+        return {IoError::Code::MissingUv, "no UVs: neither a face texcoord list nor vertex s/t (u/v) properties", 0};
+    for (std::size_t i = 0; i < d.positions.size(); ++i)
+        for (double x : d.positions[i])
+            if (!std::isfinite(x))
+                return {IoError::Code::NonFinite, "vertex " + std::to_string(i) + ": non-finite coordinate", 0};
+    out.positions = std::move(d.positions);
+    out.triangles.resize(d.faces.size());
+    out.uvs.resize(3 * d.faces.size());
+    for (std::size_t f = 0; f < d.faces.size(); ++f) {
+        const std::vector<int>& face = d.faces[f];
+        if (face.size() != 3)
+            return {
+                IoError::Code::NonTriangle,
+                "face " + std::to_string(f) + " has " + std::to_string(face.size()) + " vertices (a map has triangles)",
+                0};
+        if (d.has_texcoords && d.texcoords[f].size() != 6)
+            return {IoError::Code::MissingUv,
+                    "face " + std::to_string(f) + ": texcoord list has " + std::to_string(d.texcoords[f].size()) +
+                        " values, expected 6 (u, v per corner)",
+                    0};
+        for (int k = 0; k < 3; ++k) {
+            out.triangles[f][k] = face[k];
+            std::array<double, 2> uv = d.has_texcoords
+                                           ? std::array<double, 2>{d.texcoords[f][2 * k], d.texcoords[f][2 * k + 1]}
+                                           : d.vertex_uvs[face[k]];
+            if (!std::isfinite(uv[0]) || !std::isfinite(uv[1]))
+                return {IoError::Code::NonFinite, "face " + std::to_string(f) + ": non-finite UV", 0};
+            out.uvs[3 * f + k] = uv;
+        }
+    }
+    return {};
+}
+
+} // namespace
+
+IoError parse_ply(const char* data, std::size_t size, Input& out) {
+    out = Input{};
+    PlyData d;
+    IoError e = parse_data(data, size, d);
+    if (e.ok()) e = to_input(d, out);
+    if (!e.ok()) out = Input{};
+    return e;
+}
+
+IoError read_ply(const std::string& path, Input& out) {
+    out = Input{};
+    std::string data;
+    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    return parse_ply(data.data(), data.size(), out);
+}
+
+IoError parse_polygon_ply(const char* data, std::size_t size, QuadMesh& out) {
+    out = QuadMesh{};
+    PlyData d;
+    IoError e = parse_data(data, size, d);
+    if (!e.ok()) return e;
+    out.positions = std::move(d.positions);
+    out.faces = std::move(d.faces);
+    return {};
+}
+
+IoError read_polygon_ply(const std::string& path, QuadMesh& out) {
+    out = QuadMesh{};
+    std::string data;
+    if (!io_detail::read_file(path, data)) return {IoError::Code::CannotOpen, "cannot open '" + path + "'", 0};
+    return parse_polygon_ply(data.data(), data.size(), out);
+}
+
+} // namespace qex
