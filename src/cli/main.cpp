@@ -30,6 +30,18 @@ int io_exit(const qex::IoError& e) {
     return e.code == qex::IoError::Code::CannotOpen || e.code == qex::IoError::Code::CannotWrite ? kIo : kParse;
 }
 
+/// One violation: its kind, the element it names and that element's kind, and its places.
+nlohmann::json violation_json(const qex::Violation& x) {
+    static const char* const element_names[] = {"none", "face", "vertex", "input_vertex", "input_triangle"};
+    nlohmann::json places = nlohmann::json::array();
+    for (const auto& p : x.places) places.push_back({{"kind", qex::to_string(p.kind)}, {"indices", p.indices}});
+    return {{"kind", qex::to_string(x.kind)},
+            {"element", x.element},
+            {"element_kind", element_names[static_cast<int>(qex::element_kind(x.kind))]},
+            {"places", places},
+            {"message", x.message}};
+}
+
 nlohmann::json to_json(const qex::VerifyResult& v) {
     nlohmann::json j;
     j["valid"] = v.valid;
@@ -50,12 +62,15 @@ nlohmann::json to_json(const qex::VerifyResult& v) {
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},
                   {"signed_uv_area", v.input_signed_uv_area}};
+    if (v.located)
+        j["located"]["precision"] = {{"position_digits", v.position_digits},
+                                     {"positions_float32", v.positions_float32},
+                                     {"surface_tolerance", v.surface_tolerance},
+                                     {"max_rounding_tolerance", v.max_rounding_tolerance}};
     j["undecided"] = nlohmann::json::array();
-    for (const auto& x : v.undecided)
-        j["undecided"].push_back({{"kind", qex::to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
+    for (const auto& x : v.undecided) j["undecided"].push_back(violation_json(x));
     j["violations"] = nlohmann::json::array();
-    for (const auto& x : v.violations)
-        j["violations"].push_back({{"kind", qex::to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
+    for (const auto& x : v.violations) j["violations"].push_back(violation_json(x));
     return j;
 }
 
@@ -250,6 +265,11 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
             std::printf(" (the map has %lld flipped triangles, so full coverage may be impossible)",
                         static_cast<long long>(v.map_flipped_triangles));
         std::printf("\n");
+        std::printf(
+            "positions carry up to %d significant digits%s; distance tolerance %.3g + up to %.3g for rounding "
+            "(model units)\n",
+            v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,
+            v.max_rounding_tolerance);
     }
     print_violations(v);
     std::printf("%s\n", v.valid ? "VALID" : "INVALID");
@@ -313,6 +333,13 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
         ->add_option("--distance-tolerance", a.options.distance_tolerance,
                      "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
         ->check(CLI::NonNegativeNumber);
+    check
+        ->add_option("--digits", a.options.position_digits,
+                     "the positions may be rounded to this many significant digits (default 6: float precision)")
+        ->check(CLI::Range(0, 17));
+    check->add_flag(
+        "--strict", [&a](std::int64_t) { a.options.position_digits = 0; },
+        "double-precision output: no allowance for rounded positions (--digits 0)");
     check->add_flag(
         "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
     return check;
