@@ -106,6 +106,12 @@ TEST(CheckerMutations, DroppedQuadIsAHoleWithItsLoop) {
                 for (const Place& p : x.places)
                     faces_named = faces_named || (p.kind == PlaceKind::Face && p.indices.size() == 4);
         EXPECT_TRUE(faces_named) << c.name;
+        // And the grid cell no face covers now: exactly the dropped one (the map has no fold-overs).
+        std::size_t cells = 0;
+        for (const Violation& x : v.violations)
+            if (x.kind == ViolationKind::BoundaryMismatch)
+                for (const Place& p : x.places) cells += p.kind == PlaceKind::GridCell ? p.indices.size() / 3 : 0;
+        EXPECT_EQ(cells, 1u) << c.name;
         EXPECT_EQ(unplaced(v), "") << c.name;
     }
 }

@@ -8,11 +8,14 @@
 // bounding-box diagonal), and the input's transitions are rounded with the UV tolerance too
 // (transitions.cpp); the grid points are then compared as integers.
 #include "checker.h"
+#include "grid.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <string>
 
 namespace qex::verify_detail {
@@ -165,6 +168,85 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
     return loc;
 }
 
+/// The unit cells that no face covers, where the map is a plain grid: per cell (triangle, u, v),
+/// its lower-left grid point (u, v) in the chart of a positive triangle none of whose vertices
+/// is a fold-over's or a cone, which holds a point near the cell's centre. A face covers the
+/// cell its corners showed (`cells`, check_face_cells), carried from its anchor's chart into
+/// every triangle reached across triangles whose UV boxes meet it. Names places only: it decides
+/// nothing (at most `most` cells).
+std::vector<std::array<std::int64_t, 3>> uncovered_cells(const LocatedMap& map, const std::vector<FaceCell>& cells,
+                                                         std::size_t most) {
+    const Input& in = map.in;
+    std::set<std::array<std::int64_t, 3>> covered;
+    std::vector<std::pair<std::uint32_t, GridPoint>> queue;
+    std::set<std::uint32_t> seen;
+    auto meets = [&](std::size_t t, const GridPoint& c) {
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &d = in.uvs[3 * t + 2];
+        const double x = static_cast<double>(c[0]), y = static_cast<double>(c[1]);
+        return std::max({a[0], b[0], d[0]}) >= x && std::min({a[0], b[0], d[0]}) <= x + 1 &&
+               std::max({a[1], b[1], d[1]}) >= y && std::min({a[1], b[1], d[1]}) <= y + 1;
+    };
+    for (const FaceCell& fc : cells) {
+        if (fc[0] < 0) continue;
+        queue.assign(1, {static_cast<std::uint32_t>(fc[0]), GridPoint{fc[1], fc[2]}});
+        seen = {static_cast<std::uint32_t>(fc[0])};
+        for (std::size_t head = 0; head < queue.size() && queue.size() < 300; ++head) {
+            const auto [t, c] = queue[head];
+            covered.insert({static_cast<std::int64_t>(t), c[0], c[1]});
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::int64_t o = map.edges.opposite[3 * t + k];
+                if (o < 0) continue;
+                const auto n = static_cast<std::uint32_t>(o / 3);
+                if (seen.count(n)) continue;
+                // The cell in n's chart: its corners carried across, the lowest of each coordinate.
+                const Transition& T = map.edges.across[3 * t + k];
+                GridPoint lo{INT64_MAX, INT64_MAX};
+                for (const GridPoint& corner :
+                     {c, GridPoint{c[0] + 1, c[1]}, GridPoint{c[0], c[1] + 1}, GridPoint{c[0] + 1, c[1] + 1}}) {
+                    const GridPoint q = rotate_quarter(corner, T.r);
+                    lo = {std::min(lo[0], q[0] + T.tx), std::min(lo[1], q[1] + T.ty)};
+                }
+                if (!meets(n, lo)) continue;
+                seen.insert(n);
+                queue.push_back({n, lo});
+            }
+        }
+    }
+    std::vector<char> fold_vertex(in.positions.size(), 0);
+    for (std::size_t t = 0; t < in.triangles.size(); ++t)
+        if (map.fold_over[t])
+            for (int v : in.triangles[t]) fold_vertex[static_cast<std::size_t>(v)] = 1;
+    std::vector<std::array<std::int64_t, 3>> out;
+    double budget = 1e7; // cells looked at, at most (a broken map can span huge UV boxes)
+    for (std::size_t t = 0; t < in.triangles.size() && out.size() < most && budget > 0; ++t) {
+        if (map.fold_over[t]) continue;
+        bool near_fold = false;
+        for (int v : in.triangles[t])
+            near_fold =
+                near_fold || fold_vertex[static_cast<std::size_t>(v)] || map.singular[static_cast<std::size_t>(v)];
+        if (near_fold) continue;
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+        const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        const double u0 = std::floor(std::min({a[0], b[0], c[0]})), u1 = std::max({a[0], b[0], c[0]});
+        const double v0 = std::floor(std::min({a[1], b[1], c[1]})), v1 = std::max({a[1], b[1], c[1]});
+        budget -= (u1 - u0 + 1) * (v1 - v0 + 1);
+        if (!(area > 0) || budget < 0) continue;
+        for (double u = u0; u < u1 && out.size() < most; ++u)
+            for (double v = v0; v < v1 && out.size() < most; ++v) {
+                // A point of the cell near its centre, off the lines generated maps put triangle
+                // edges on (the centre itself lies on diagonals).
+                const double x = u + 0.5137, y = v + 0.4729;
+                const double l1 = ((x - a[0]) * (c[1] - a[1]) - (y - a[1]) * (c[0] - a[0])) / area;
+                const double l2 = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
+                if (!(l1 > 0 && l2 > 0 && l1 + l2 < 1)) continue;
+                const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(t), static_cast<std::int64_t>(u),
+                                                      static_cast<std::int64_t>(v)};
+                if (!covered.count(key)) out.push_back(key);
+            }
+    }
+    return out;
+}
+
 } // namespace
 
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
@@ -186,7 +268,8 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
         for (std::size_t v = 0; v < loc.size(); ++v)
             if (loc[v].ok) (*located_triangle)[v] = loc[v].triangle;
     }
-    check_face_cells(map, mesh, loc, r, out);
+    std::vector<FaceCell> cells;
+    check_face_cells(map, mesh, loc, r, out, &cells);
     // Coverage: a closed, consistently oriented mesh of positive unit cells covers the map once
     // exactly when it has as many faces as the map has area. Flipped triangles (UV area < 0) can
     // make that impossible: with any, the difference is reported but not a violation (degenerate
@@ -197,6 +280,26 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                    std::to_string(mesh.faces.size()) + " faces, but the map (without fold-overs) has area " +
                        std::to_string(r.input_signed_uv_area_rounded),
                    -1);
+    // The whole mesh's violations name the unit cells no face covers (where the map is a plain
+    // grid: away from fold-overs), with the triangle whose chart holds each.
+    std::vector<Violation*> global;
+    for (Violation& v : out)
+        if (v.kind == ViolationKind::BoundaryMismatch || v.kind == ViolationKind::EulerMismatch ||
+            v.kind == ViolationKind::CoverageMismatch)
+            global.push_back(&v);
+    if (global.empty()) return;
+    const auto uncovered = uncovered_cells(map, cells, 100);
+    if (uncovered.empty()) return;
+    Place place{PlaceKind::GridCell, {}};
+    for (const auto& c : uncovered) place.indices.insert(place.indices.end(), c.begin(), c.end());
+    const std::string first = "; " + std::to_string(uncovered.size()) + (uncovered.size() == 100 ? " or more" : "") +
+                              " grid cells no face covers, the first (" + std::to_string(uncovered[0][1]) + ", " +
+                              std::to_string(uncovered[0][2]) + ") in the chart of input triangle " +
+                              std::to_string(uncovered[0][0]);
+    for (Violation* v : global) {
+        v->places.push_back(place);
+        v->message += first;
+    }
 }
 
 } // namespace qex::verify_detail

@@ -177,11 +177,14 @@ struct LocatedMap {
     std::vector<char> fold_over; ///< per input triangle (fold_overs)
 };
 
+/// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v); triangle -1: none.
+using FaceCell = std::array<std::int64_t, 3>;
+
 /// Faces: every quad's corners, carried into one chart along the input's transitions, must be
 /// the corners of one grid cell in counter-clockwise order (face_cells.cpp). Appends violations
 /// to `out`, and failures that paths across fold-overs or singular fans leave undecided to
-/// `r.undecided`.
+/// `r.undecided`. With `cells`, per face the cell it showed (-1 where it showed none).
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
-                      std::vector<Violation>& out);
+                      std::vector<Violation>& out, std::vector<FaceCell>* cells = nullptr);
 
 } // namespace qex::verify_detail

@@ -27,6 +27,13 @@ bool unit_step(const GridPoint& a, const GridPoint& b) {
 
 using Quad = std::array<GridPoint, 4>;
 
+/// The cell with corners q in the chart of triangle t: (t, lower-left u, v).
+FaceCell cell_of(std::uint32_t t, const Quad& q) {
+    FaceCell c{static_cast<std::int64_t>(t), q[0][0], q[0][1]};
+    for (const GridPoint& p : q) c[1] = std::min(c[1], p[0]), c[2] = std::min(c[2], p[1]);
+    return c;
+}
+
 /// The four grid points are a counter-clockwise unit cell: unit steps and area 1.
 bool is_cell(const Quad& q) {
     for (std::size_t i = 0; i < 4; ++i)
@@ -50,6 +57,7 @@ struct Anchors {
     bool cell = false, reached_all = false;
     Quad first{};
     std::uint32_t first_anchor = 0;
+    FaceCell shown{}; ///< where an anchor showed the cell (when `cell`)
     std::array<bool, 4> edge_ok{false, false, false, false}, edge_seen{false, false, false, false};
 };
 
@@ -183,6 +191,10 @@ private:
     /// A fold-over shares a vertex with triangle t.
     bool near_fold(std::uint32_t t) const;
 
+public:
+    std::vector<FaceCell>* cells_ = nullptr; ///< where to record each passing face's cell
+
+private:
     const LocatedMap& map_;
     const Input& in_;
     const QuadMesh& mesh_;
@@ -425,6 +437,7 @@ Anchors FaceJudge::try_anchors(const std::vector<int>& face, const std::array<do
         if (!a.reached_all) a.first = g_, a.first_anchor = tc;
         a.reached_all = true;
         a.cell = is_cell(g_);
+        if (a.cell) a.shown = cell_of(tc, g_);
         if (attempt < 4) {
             for (std::size_t e : {i, (i + 3) % 4}) { // edges (i, i+1) and (i-1, i)
                 a.edge_seen[e] = true;
@@ -464,7 +477,10 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
     }
     through_fold_ = through_singular_ = false;
     const Anchors a = try_anchors(face, centre);
-    if (a.cell) return;
+    if (a.cell) {
+        if (cells_) (*cells_)[f] = a.shown;
+        return;
+    }
     corner_near_fold_ = false;
     for (int v : face) corner_near_fold_ = corner_near_fold_ || near_fold(loc_[static_cast<std::size_t>(v)].triangle);
     if (!a.reached_all) {
@@ -504,7 +520,10 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
         cell_certified = cell_certified && compose(around, along[e].m, around);
     }
     cell_certified = cell_certified && same(around, Transition{});
-    if (cell_certified && is_cell(q)) return; // the corridors show one unit cell
+    if (cell_certified && is_cell(q)) { // the corridors show one unit cell
+        if (cells_) (*cells_)[f] = cell_of(loc_[static_cast<std::size_t>(face[0])].triangle, q);
+        return;
+    }
     report(f,
            "face " + std::to_string(f) + ": its corners are the grid points " + point(a.first[0]) + " " +
                point(a.first[1]) + " " + point(a.first[2]) + " " + point(a.first[3]) +
@@ -516,8 +535,10 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
 } // namespace
 
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
-                      std::vector<Violation>& out) {
+                      std::vector<Violation>& out, std::vector<FaceCell>* cells) {
     FaceJudge judge(map, mesh, loc);
+    if (cells) cells->assign(mesh.faces.size(), FaceCell{-1, 0, 0});
+    judge.cells_ = cells;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) judge.judge(f, r, out);
 }
 
