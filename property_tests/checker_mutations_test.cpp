@@ -3,6 +3,7 @@
 // at their average, glue a quad to its reverse, pinch two boundary vertices, split a quad into
 // triangles, rotate an edge between two quads. Each must be rejected with the right kind of
 // violation naming the right place (Violation::places), and every violation must name one.
+#include "mutations.h"
 #include "test_support.h"
 
 #include <map>
@@ -12,56 +13,6 @@ namespace qex::testing {
 namespace {
 
 using Index = std::int64_t;
-
-/// The mesh as another extractor would write it: positions and faces only.
-QuadMesh bare(const QuadMesh& m) {
-    QuadMesh b;
-    b.positions = m.positions;
-    b.faces = m.faces;
-    return b;
-}
-
-/// Whether a violation of kind `k` has a place of kind `pk` whose indices include all of `want`.
-bool names(const VerifyResult& v, ViolationKind k, PlaceKind pk, const std::vector<Index>& want) {
-    for (const Violation& x : v.violations) {
-        if (x.kind != k) continue;
-        for (const Place& p : x.places) {
-            if (p.kind != pk) continue;
-            const std::set<Index> have(p.indices.begin(), p.indices.end());
-            if (std::all_of(want.begin(), want.end(), [&](Index i) { return have.count(i) > 0; })) return true;
-        }
-    }
-    return false;
-}
-
-/// Every violation names at least one place.
-std::string unplaced(const VerifyResult& v) {
-    for (const Violation& x : v.violations)
-        if (x.places.empty())
-            return std::string(to_string(x.kind)) + ": " + x.message;
-        else if (x.places.front().indices.empty())
-            return std::string("empty place: ") + x.message;
-    return {};
-}
-
-std::string first_message(const VerifyResult& v) { return v.violations.empty() ? "" : v.violations[0].message; }
-
-/// Two faces sharing an edge (a, b): a -> b in f (the first from face `start` on), b -> a in g.
-struct SharedEdge {
-    std::size_t f = 0, g = 0;
-    int a = -1, b = -1;
-};
-SharedEdge shared_edge(const QuadMesh& m, std::size_t start) {
-    for (std::size_t f = start; f < m.faces.size(); ++f)
-        for (std::size_t g = 0; g < m.faces.size(); ++g) {
-            if (g == f) continue;
-            for (std::size_t i = 0; i < 4; ++i)
-                for (std::size_t j = 0; j < 4; ++j)
-                    if (m.faces[f][i] == m.faces[g][(j + 1) % 4] && m.faces[f][(i + 1) % 4] == m.faces[g][j])
-                        return {f, g, m.faces[f][i], m.faces[f][(i + 1) % 4]};
-        }
-    return {};
-}
 
 /// The maps: a torus (no singularities: every face failure is decided), a cube (cones) and an
 /// annulus (boundary).
@@ -125,9 +76,7 @@ TEST(CheckerMutations, MergedVerticesAveragedAreOffTheGrid) {
     for (int k = 0; k < 3; ++k)
         m.positions[static_cast<std::size_t>(e.a)][k] =
             0.5 * (m.positions[static_cast<std::size_t>(e.a)][k] + m.positions[static_cast<std::size_t>(e.b)][k]);
-    for (auto& face : m.faces)
-        for (int& x : face)
-            if (x == e.b) x = e.a;
+    merge_into(m, e.b, e.a);
     const VerifyResult v = verify(c.in, m);
     EXPECT_FALSE(v.valid);
     const bool off = names(v, ViolationKind::NotOnGridPoint, PlaceKind::Vertex, {e.a}) ||
@@ -190,9 +139,7 @@ TEST(CheckerMutations, PinchedBoundaryVerticesAreNonManifold) {
     ASSERT_GE(loop.size(), 4u);
     const int a = loop[0], b = loop[loop.size() / 2];
     QuadMesh m = c.good;
-    for (auto& face : m.faces)
-        for (int& x : face)
-            if (x == b) x = a;
+    merge_into(m, b, a);
     const VerifyResult v = verify(c.in, m);
     EXPECT_FALSE(v.valid);
     EXPECT_TRUE(names(v, ViolationKind::NonManifoldVertex, PlaceKind::Vertex, {a})) << first_message(v);
@@ -218,17 +165,8 @@ TEST(CheckerMutations, RotatedEdgeBetweenTwoQuadsIsNoGridCell) {
     const Case c = make_case("torus", make_map(torus_layout(), 3, 2));
     const SharedEdge e = shared_edge(c.good, 3);
     ASSERT_GE(e.a, 0);
-    // The hexagon around the shared edge (a, b): f = (a, b, x, y) rotated, g = (b, a, z, w).
-    auto from = [](std::vector<int> face, int v) {
-        std::rotate(face.begin(), std::find(face.begin(), face.end(), v), face.end());
-        return face;
-    };
-    const std::vector<int> f = from(c.good.faces[e.f], e.a), g = from(c.good.faces[e.g], e.b);
-    // Hexagon a, z?: f = a b x y, g = b a z w; around: a -> z -> w -> b -> x -> y -> a.
-    const std::vector<int> hex{f[0], g[2], g[3], f[1], f[2], f[3]};
     QuadMesh m = c.good;
-    m.faces[e.f] = {hex[1], hex[2], hex[3], hex[4]};
-    m.faces[e.g] = {hex[4], hex[5], hex[0], hex[1]};
+    rotate_edge(m, e);
     const VerifyResult v = verify(c.in, m);
     EXPECT_FALSE(v.valid);
     EXPECT_TRUE(names(v, ViolationKind::FaceNotGridCell, PlaceKind::Face, {static_cast<Index>(e.f)}));
