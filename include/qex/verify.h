@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace qex {
@@ -50,12 +51,41 @@ enum class ViolationElement {
 /// What a violation of kind `kind` names in Violation::element.
 ViolationElement element_kind(ViolationKind kind);
 
+/// What one place of a violation lists (Place::indices).
+enum class PlaceKind {
+    Vertex,        ///< output vertices
+    Edge,          ///< output edges, each as its two vertices (indices in pairs)
+    Face,          ///< output faces
+    Loop,          ///< one closed loop of output vertices, in order (a boundary loop: a hole)
+    InputVertex,   ///< input vertices
+    InputTriangle, ///< input triangles
+    /// Unit grid cells the map covers and no face does: per cell the input triangle whose
+    /// chart holds it, then the cell's lower-left grid point (u, v) there (indices in triples)
+    GridCell,
+};
+const char* to_string(PlaceKind kind);
+
+/// A place of a violation: elements of one kind.
+struct Place {
+    PlaceKind kind = PlaceKind::Face;
+    std::vector<std::int64_t> indices;
+};
+
 struct Violation {
-    ViolationKind kind;
+    Violation() = default;
+    Violation(ViolationKind k, std::string m, std::int64_t e = -1, std::vector<Place> p = {})
+        : kind(k), message(std::move(m)), element(e), places(std::move(p)) {}
+
+    ViolationKind kind = ViolationKind::NotQuad;
     std::string message;
     /// The element at fault, of the kind element_kind(kind) says; -1 when the violation has no
     /// single place (always for ViolationElement::None).
     std::int64_t element = -1;
+    /// Where it is, as lists of elements (more than `element` says): a non-manifold edge's
+    /// vertices and faces; for a violation of the whole mesh the candidates (a hole's boundary
+    /// loop and the faces around it, an extra component's faces, the uncovered grid cells).
+    /// verify() gives every violation at least the place `element` names, when it names one.
+    std::vector<Place> places;
 };
 
 struct VerifyResult {
@@ -79,6 +109,14 @@ struct VerifyResult {
     bool located = false;
     double max_grid_distance = 0.0;    ///< largest UV distance (inf-norm) of a vertex to its grid point
     double max_surface_distance = 0.0; ///< largest distance to the surface / bounding-box diagonal
+    /// Located mode: the precision the judged positions carry: the most significant decimal
+    /// digits a coordinate needs to be read back exactly (1..17; 0 without finite coordinates),
+    /// and whether every coordinate is a float32 value.
+    int position_digits = 0;
+    bool positions_float32 = false;
+    /// Located mode: the distance tolerance in model units: distance_tolerance times the
+    /// diagonal, and the largest per-vertex allowance for rounding (VerifyOptions::position_digits).
+    double surface_tolerance = 0.0, max_rounding_tolerance = 0.0;
     /// Located mode: input triangles of negative UV area (exact; degenerate ones not counted).
     /// Any of them lifts the coverage check (CoverageMismatch).
     std::int64_t map_flipped_triangles = 0;
@@ -99,10 +137,20 @@ struct VerifyOptions {
     /// Meshes without provenance are located on the input surface (see below); off: topology only.
     bool locate = true;
     /// Located mode: a vertex must map within this UV distance (inf-norm) of an integer grid point
-    /// (the map is the raw input, with its solver noise; qex's own output is within 1e-6).
+    /// (the map is the raw input, with its solver noise; qex's own output is within 1e-6), plus
+    /// what rounding its position may move it in UV (see position_digits).
     double uv_tolerance = 1e-3;
-    /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface.
+    /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface,
+    /// plus what rounding its position may move it (see position_digits).
     double distance_tolerance = 1e-6;
+    /// Located mode: the positions may be rounded to this many significant decimal digits (6:
+    /// single precision, as written with %.6g or as float32). A coordinate x rounded so is off
+    /// by at most 0.5 * 10^(1 - position_digits) * |x|, so a vertex at x may lie up to
+    /// 0.5 * 10^(1 - position_digits) * |x| (Euclidean norm, model units) farther from the
+    /// surface, and its UV may move by that times twice the map's largest stretch on the
+    /// triangles around it (where that exceeds 0.25 UV, a vertex off its grid point is
+    /// undecided, not a violation). 0: strict, the positions are taken as exact (doubles).
+    int position_digits = 6;
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;

@@ -31,6 +31,11 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
             std::printf(" (the map has %lld flipped triangles, so full coverage may be impossible)",
                         static_cast<long long>(v.map_flipped_triangles));
         std::printf("\n");
+        std::printf(
+            "positions carry up to %d significant digits%s; distance tolerance %.3g + up to %.3g for rounding "
+            "(model units)\n",
+            v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,
+            v.max_rounding_tolerance);
     }
     print_violations(v);
     std::printf("%s\n", v.valid ? "VALID" : "INVALID");
@@ -82,6 +87,13 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
         ->add_option("--distance-tolerance", a.options.distance_tolerance,
                      "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
         ->check(CLI::NonNegativeNumber);
+    check
+        ->add_option("--digits", a.options.position_digits,
+                     "the positions may be rounded to this many significant digits (default 6: float precision)")
+        ->check(CLI::Range(0, 17));
+    check->add_flag(
+        "--strict", [&a](std::int64_t) { a.options.position_digits = 0; },
+        "double-precision output: no allowance for rounded positions (--digits 0)");
     check->add_flag(
         "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
     return check;

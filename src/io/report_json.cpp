@@ -7,10 +7,19 @@
 namespace qex {
 namespace {
 
+/// Each violation: its kind, the element it names and that element's kind, its places.
 nlohmann::json violations_json(const std::vector<Violation>& list) {
+    static const char* const element_names[] = {"none", "face", "vertex", "input_vertex", "input_triangle"};
     nlohmann::json j = nlohmann::json::array();
-    for (const auto& x : list)
-        j.push_back({{"kind", to_string(x.kind)}, {"element", x.element}, {"message", x.message}});
+    for (const auto& x : list) {
+        nlohmann::json places = nlohmann::json::array();
+        for (const auto& p : x.places) places.push_back({{"kind", to_string(p.kind)}, {"indices", p.indices}});
+        j.push_back({{"kind", to_string(x.kind)},
+                     {"element", x.element},
+                     {"element_kind", element_names[static_cast<int>(element_kind(x.kind))]},
+                     {"places", places},
+                     {"message", x.message}});
+    }
     return j;
 }
 
@@ -29,7 +38,12 @@ nlohmann::json verify_object(const VerifyResult& v) {
         j["located"] = {{"max_grid_distance", v.max_grid_distance},
                         {"max_surface_distance", v.max_surface_distance},
                         {"map_flipped_triangles", v.map_flipped_triangles},
-                        {"coverage_difference", v.coverage_difference}};
+                        {"coverage_difference", v.coverage_difference},
+                        {"precision",
+                         {{"position_digits", v.position_digits},
+                          {"positions_float32", v.positions_float32},
+                          {"surface_tolerance", v.surface_tolerance},
+                          {"max_rounding_tolerance", v.max_rounding_tolerance}}}};
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},

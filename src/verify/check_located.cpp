@@ -8,25 +8,113 @@
 // bounding-box diagonal), and the input's transitions are rounded with the UV tolerance too
 // (transitions.cpp); the grid points are then compared as integers.
 #include "checker.h"
+#include "grid.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
 #include <string>
 
 namespace qex::verify_detail {
 namespace {
 
+/// Where a rounded UV tolerance stops identifying a grid point: beyond it, a vertex off its grid
+/// point is undecided (the file's precision cannot place it), not a violation.
+constexpr double kMaxUvTolerance = 0.25;
+
+std::string num(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
+
+/// The fewest significant decimal digits (1..17) that read back as x exactly.
+int digits_of(double x) {
+    char buf[40];
+    auto exact = [&](int d) {
+        std::snprintf(buf, sizeof buf, "%.*g", d, x);
+        return std::strtod(buf, nullptr) == x;
+    };
+    int lo = 1, hi = 17; // exact(hi) holds for every finite double
+    if (exact(6))
+        hi = 6;
+    else
+        lo = 7;
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (exact(mid))
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
+/// The precision the positions carry (VerifyResult::position_digits, positions_float32).
+void position_precision(const QuadMesh& mesh, VerifyResult& r) {
+    int digits = 0;
+    bool float32 = true;
+    for (const auto& p : mesh.positions)
+        for (double x : p) {
+            if (!std::isfinite(x)) continue;
+            if (digits < 17) digits = std::max(digits, digits_of(x));
+            // Through a volatile float: with -frounding-math (CGAL's flag) GCC 12 drops the
+            // double -> float -> double round trip.
+            volatile float narrow = static_cast<float>(x);
+            float32 = float32 && static_cast<double>(narrow) == x;
+        }
+    r.position_digits = digits;
+    r.positions_float32 = float32 && digits > 0;
+}
+
+/// Per input triangle: the largest stretch of the map, i.e. the largest singular value of the
+/// linear map from the triangle's plane to UV (0 for a triangle degenerate in 3D).
+std::vector<double> triangle_stretch(const Input& in) {
+    std::vector<double> s(in.triangles.size(), 0.0);
+    for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+        const auto& p0 = in.positions[static_cast<std::size_t>(in.triangles[t][0])];
+        const auto& p1 = in.positions[static_cast<std::size_t>(in.triangles[t][1])];
+        const auto& p2 = in.positions[static_cast<std::size_t>(in.triangles[t][2])];
+        double e1[3], e2[3];
+        for (int d = 0; d < 3; ++d) e1[d] = p1[d] - p0[d], e2[d] = p2[d] - p0[d];
+        const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                     cz = e1[0] * e2[1] - e1[1] * e2[0];
+        const double area2 = std::sqrt(cx * cx + cy * cy + cz * cz);
+        if (!(l1 > 0) || !(area2 > 0)) continue;
+        // The edges in an orthonormal frame of the plane: e1 = (a, 0), e2 = (b, c).
+        const double a = l1, b = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1, c = area2 / l1;
+        const auto &u0 = in.uvs[3 * t], &u1 = in.uvs[3 * t + 1], &u2 = in.uvs[3 * t + 2];
+        const double f1x = u1[0] - u0[0], f1y = u1[1] - u0[1], f2x = u2[0] - u0[0], f2y = u2[1] - u0[1];
+        // M = F E^-1 with E = [[a, b], [0, c]]: E^-1 = [[1/a, -b/(a c)], [0, 1/c]].
+        const double m00 = f1x / a, m10 = f1y / a;
+        const double m01 = (f2x - b * m00) / c, m11 = (f2y - b * m10) / c;
+        const double frob = m00 * m00 + m01 * m01 + m10 * m10 + m11 * m11, det = m00 * m11 - m01 * m10;
+        s[t] = std::sqrt(0.5 * (frob + std::sqrt(std::max(0.0, frob * frob - 4 * det * det))));
+    }
+    return s;
+}
+
 /// Vertices: the closest surface point, its UV in that triangle's chart (on an input vertex:
 /// the vertex's UV there), the nearest grid point. A vertex off the surface or off the grid is
-/// reported (and not `ok`).
+/// reported (and not `ok`). Each vertex's tolerances grow with what rounding its coordinates to
+/// opt.position_digits may move it (VerifyOptions).
 std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh, const VerifyOptions& opt,
                                      VerifyResult& r, std::vector<Violation>& out) {
     const double diag = map.surface.diagonal(), max_dist = map.surface.max_distance();
+    const double rounding = opt.position_digits > 0 ? 0.5 * std::pow(10.0, 1 - opt.position_digits) : 0.0;
+    const std::vector<double> stretch = rounding > 0 ? triangle_stretch(map.in) : std::vector<double>{};
+    r.surface_tolerance = max_dist;
     std::vector<Located> loc(mesh.positions.size());
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         const auto& x = mesh.positions[v];
         if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) continue;
-        const SurfacePoint hit = map.surface.locate(x);
+        const double round_v = rounding * std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        r.max_rounding_tolerance = std::max(r.max_rounding_tolerance, round_v);
+        const SurfacePoint hit = map.surface.locate(x, max_dist + round_v);
         std::array<double, 2> uv = hit.uv;
         loc[v].triangle = hit.triangle;
         if (hit.corner >= 0) {
@@ -34,23 +122,44 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
             uv = map.in.uvs[3 * loc[v].triangle + static_cast<std::size_t>(hit.corner)];
         }
         r.max_surface_distance = std::max(r.max_surface_distance, diag > 0 ? hit.distance / diag : 0.0);
-        if (hit.distance > max_dist) {
+        if (hit.distance > max_dist + round_v) {
             add_capped(out, ViolationKind::OffSurface,
-                       "vertex " + std::to_string(v) + " is " + std::to_string(hit.distance) +
-                           " from the input surface (tolerance " + std::to_string(max_dist) + ")",
+                       "vertex " + std::to_string(v) + " is " + num(hit.distance) +
+                           " (model units) from the input surface; tolerance " + num(max_dist + round_v) + " (" +
+                           num(opt.distance_tolerance) + " of the diagonal" +
+                           (round_v > 0 ? " + " + num(rounding) + " of |x| = " + num(round_v / rounding) + " for " +
+                                              std::to_string(opt.position_digits) + " significant digits"
+                                        : std::string()) +
+                           ")",
                        static_cast<std::int64_t>(v));
             continue;
         }
+        // Rounding moves the closest point by up to round_v (twice, across a crease), and its UV
+        // by that times the map's stretch there (the located triangle and its neighbours).
+        double uv_round = 0.0;
+        if (rounding > 0 && hit.corner < 0) {
+            double s = stretch[loc[v].triangle];
+            for (int k = 0; k < 3; ++k) {
+                const std::int64_t o = map.edges.opposite[3 * loc[v].triangle + static_cast<std::size_t>(k)];
+                if (o >= 0) s = std::max(s, stretch[static_cast<std::size_t>(o / 3)]);
+            }
+            uv_round = 2 * s * round_v;
+        }
+        const double uv_tol = opt.uv_tolerance + uv_round;
         const double gx = std::nearbyint(uv[0]), gy = std::nearbyint(uv[1]);
         const double off = std::max(std::abs(uv[0] - gx), std::abs(uv[1] - gy));
         r.max_grid_distance = std::max(r.max_grid_distance, off);
-        if (!(off <= opt.uv_tolerance) || !(std::abs(gx) < 9e15 && std::abs(gy) < 9e15)) {
-            add_capped(out, ViolationKind::NotOnGridPoint,
-                       "vertex " + std::to_string(v) + " maps to (" + std::to_string(uv[0]) + ", " +
-                           std::to_string(uv[1]) + ") in the chart of input triangle " +
-                           std::to_string(loc[v].triangle) + ", not within " + std::to_string(opt.uv_tolerance) +
-                           " of an integer grid point",
-                       static_cast<std::int64_t>(v));
+        if (!(off <= std::min(uv_tol, kMaxUvTolerance)) || !(std::abs(gx) < 9e15 && std::abs(gy) < 9e15)) {
+            const std::string msg = "vertex " + std::to_string(v) + " maps to (" + num(uv[0]) + ", " + num(uv[1]) +
+                                    ") in the chart of input triangle " + std::to_string(loc[v].triangle) + ", " +
+                                    num(off) + " from the nearest integer grid point; tolerance " + num(uv_tol) +
+                                    " (UV)";
+            if (uv_tol > kMaxUvTolerance && off <= uv_tol)
+                add_capped(r.undecided, ViolationKind::NotOnGridPoint,
+                           msg + " (the positions' precision cannot place it on one grid point)",
+                           static_cast<std::int64_t>(v));
+            else
+                add_capped(out, ViolationKind::NotOnGridPoint, msg, static_cast<std::int64_t>(v));
             continue;
         }
         loc[v].grid = {static_cast<std::int64_t>(gx), static_cast<std::int64_t>(gy)};
@@ -59,14 +168,94 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
     return loc;
 }
 
+/// The unit cells that no face covers, where the map is a plain grid: per cell (triangle, u, v),
+/// its lower-left grid point (u, v) in the chart of a positive triangle none of whose vertices
+/// is a fold-over's or a cone, which holds a point near the cell's centre. A face covers the
+/// cell its corners showed (`cells`, check_face_cells), carried from its anchor's chart into
+/// every triangle reached across triangles whose UV boxes meet it. Names places only: it decides
+/// nothing (at most `most` cells).
+std::vector<std::array<std::int64_t, 3>> uncovered_cells(const LocatedMap& map, const std::vector<FaceCell>& cells,
+                                                         std::size_t most) {
+    const Input& in = map.in;
+    std::set<std::array<std::int64_t, 3>> covered;
+    std::vector<std::pair<std::uint32_t, GridPoint>> queue;
+    std::set<std::uint32_t> seen;
+    auto meets = [&](std::size_t t, const GridPoint& c) {
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &d = in.uvs[3 * t + 2];
+        const double x = static_cast<double>(c[0]), y = static_cast<double>(c[1]);
+        return std::max({a[0], b[0], d[0]}) >= x && std::min({a[0], b[0], d[0]}) <= x + 1 &&
+               std::max({a[1], b[1], d[1]}) >= y && std::min({a[1], b[1], d[1]}) <= y + 1;
+    };
+    for (const FaceCell& fc : cells) {
+        if (fc[0] < 0) continue;
+        queue.assign(1, {static_cast<std::uint32_t>(fc[0]), GridPoint{fc[1], fc[2]}});
+        seen = {static_cast<std::uint32_t>(fc[0])};
+        for (std::size_t head = 0; head < queue.size() && queue.size() < 300; ++head) {
+            const auto [t, c] = queue[head];
+            covered.insert({static_cast<std::int64_t>(t), c[0], c[1]});
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::int64_t o = map.edges.opposite[3 * t + k];
+                if (o < 0) continue;
+                const auto n = static_cast<std::uint32_t>(o / 3);
+                if (seen.count(n)) continue;
+                // The cell in n's chart: its corners carried across, the lowest of each coordinate.
+                const Transition& T = map.edges.across[3 * t + k];
+                GridPoint lo{INT64_MAX, INT64_MAX};
+                for (const GridPoint& corner :
+                     {c, GridPoint{c[0] + 1, c[1]}, GridPoint{c[0], c[1] + 1}, GridPoint{c[0] + 1, c[1] + 1}}) {
+                    const GridPoint q = rotate_quarter(corner, T.r);
+                    lo = {std::min(lo[0], q[0] + T.tx), std::min(lo[1], q[1] + T.ty)};
+                }
+                if (!meets(n, lo)) continue;
+                seen.insert(n);
+                queue.push_back({n, lo});
+            }
+        }
+    }
+    std::vector<char> fold_vertex(in.positions.size(), 0);
+    for (std::size_t t = 0; t < in.triangles.size(); ++t)
+        if (map.fold_over[t])
+            for (int v : in.triangles[t]) fold_vertex[static_cast<std::size_t>(v)] = 1;
+    std::vector<std::array<std::int64_t, 3>> out;
+    double budget = 1e7; // cells looked at, at most (a broken map can span huge UV boxes)
+    for (std::size_t t = 0; t < in.triangles.size() && out.size() < most && budget > 0; ++t) {
+        if (map.fold_over[t]) continue;
+        bool near_fold = false;
+        for (int v : in.triangles[t])
+            near_fold =
+                near_fold || fold_vertex[static_cast<std::size_t>(v)] || map.singular[static_cast<std::size_t>(v)];
+        if (near_fold) continue;
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+        const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        const double u0 = std::floor(std::min({a[0], b[0], c[0]})), u1 = std::max({a[0], b[0], c[0]});
+        const double v0 = std::floor(std::min({a[1], b[1], c[1]})), v1 = std::max({a[1], b[1], c[1]});
+        budget -= (u1 - u0 + 1) * (v1 - v0 + 1);
+        if (!(area > 0) || budget < 0) continue;
+        for (double u = u0; u < u1 && out.size() < most; ++u)
+            for (double v = v0; v < v1 && out.size() < most; ++v) {
+                // A point of the cell near its centre, off the lines generated maps put triangle
+                // edges on (the centre itself lies on diagonals).
+                const double x = u + 0.5137, y = v + 0.4729;
+                const double l1 = ((x - a[0]) * (c[1] - a[1]) - (y - a[1]) * (c[0] - a[0])) / area;
+                const double l2 = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
+                if (!(l1 > 0 && l2 > 0 && l1 + l2 < 1)) continue;
+                const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(t), static_cast<std::int64_t>(u),
+                                                      static_cast<std::int64_t>(v)};
+                if (!covered.count(key)) out.push_back(key);
+            }
+    }
+    return out;
+}
+
 } // namespace
 
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
-                   std::vector<Violation>& out) {
+                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle) {
     if (mesh.positions.empty()) return; // nothing to locate
     const std::unique_ptr<Surface> surface = Surface::build(in, opt.distance_tolerance);
     if (!surface) return;
     r.located = true;
+    position_precision(mesh, r);
     // The input's half-edges and transitions, its singular vertices, and its fold-overs
     // (triangles flipped or degenerate in UV: there the map is not locally injective, and a path
     // across them does not fix the chart it arrives in).
@@ -74,7 +263,13 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     map.singular = singular_vertices(in, map.edges);
     map.fold_over = fold_overs(in, r);
     const std::vector<Located> loc = locate_vertices(map, mesh, opt, r, out);
-    check_face_cells(map, mesh, loc, r, out);
+    if (located_triangle) {
+        located_triangle->assign(loc.size(), -1);
+        for (std::size_t v = 0; v < loc.size(); ++v)
+            if (loc[v].ok) (*located_triangle)[v] = loc[v].triangle;
+    }
+    std::vector<FaceCell> cells;
+    check_face_cells(map, mesh, loc, r, out, &cells);
     // Coverage: a closed, consistently oriented mesh of positive unit cells covers the map once
     // exactly when it has as many faces as the map has area. Flipped triangles (UV area < 0) can
     // make that impossible: with any, the difference is reported but not a violation (degenerate
@@ -85,6 +280,26 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                    std::to_string(mesh.faces.size()) + " faces, but the map (without fold-overs) has area " +
                        std::to_string(r.input_signed_uv_area_rounded),
                    -1);
+    // The whole mesh's violations name the unit cells no face covers (where the map is a plain
+    // grid: away from fold-overs), with the triangle whose chart holds each.
+    std::vector<Violation*> global;
+    for (Violation& v : out)
+        if (v.kind == ViolationKind::BoundaryMismatch || v.kind == ViolationKind::EulerMismatch ||
+            v.kind == ViolationKind::CoverageMismatch)
+            global.push_back(&v);
+    if (global.empty()) return;
+    const auto uncovered = uncovered_cells(map, cells, 100);
+    if (uncovered.empty()) return;
+    Place place{PlaceKind::GridCell, {}};
+    for (const auto& c : uncovered) place.indices.insert(place.indices.end(), c.begin(), c.end());
+    const std::string first = "; " + std::to_string(uncovered.size()) + (uncovered.size() == 100 ? " or more" : "") +
+                              " grid cells no face covers, the first (" + std::to_string(uncovered[0][1]) + ", " +
+                              std::to_string(uncovered[0][2]) + ") in the chart of input triangle " +
+                              std::to_string(uncovered[0][0]);
+    for (Violation* v : global) {
+        v->places.push_back(place);
+        v->message += first;
+    }
 }
 
 } // namespace qex::verify_detail

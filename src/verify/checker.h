@@ -70,9 +70,25 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
 
 /// Located mode (meshes without provenance): locates every output vertex on the input surface
 /// and checks faces and coverage against the map; appends violations to `out` and undecided
-/// checks to `r.undecided`.
+/// checks to `r.undecided`. With `located_triangle`, per output vertex the input triangle it
+/// was located in (-1 where it was not).
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
-                   std::vector<Violation>& out);
+                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr);
+
+// ============================================================================ places (places.cpp)
+
+/// What place_violations needs besides the mesh and the input.
+struct PlaceContext {
+    bool indices_ok = false; ///< every face's vertex indices are in range
+    /// A mesh vertex within this distance (model units) of the input's boundary edges is on it.
+    double boundary_tolerance = 0;
+    /// Located mode: per output vertex the input triangle it lies on (-1: not located); empty otherwise.
+    std::vector<std::int64_t> located_triangle;
+};
+
+/// Gives every violation (and undecided check) the place its element names, and the violations
+/// of the whole mesh their candidates (Violation::places); decides nothing.
+void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r);
 
 /// An integer grid point (or translation).
 using GridPoint = std::array<std::int64_t, 2>;
@@ -121,8 +137,9 @@ public:
     /// Points count as on it within `distance_tolerance` times the bounding-box diagonal.
     static std::unique_ptr<Surface> build(const Input& in, double distance_tolerance);
     ~Surface();
-    /// The closest point of the surface to `x`.
-    SurfacePoint locate(const std::array<double, 3>& x) const;
+    /// The closest point of the surface to `x`; its `corner` within `snap` (default: the
+    /// distance tolerance) of the closest point.
+    SurfacePoint locate(const std::array<double, 3>& x, double snap = -1) const;
     /// The bounding-box diagonal of the input's triangles.
     double diagonal() const;
     /// The distance tolerance: distance_tolerance times the diagonal.
@@ -160,11 +177,14 @@ struct LocatedMap {
     std::vector<char> fold_over; ///< per input triangle (fold_overs)
 };
 
+/// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v); triangle -1: none.
+using FaceCell = std::array<std::int64_t, 3>;
+
 /// Faces: every quad's corners, carried into one chart along the input's transitions, must be
 /// the corners of one grid cell in counter-clockwise order (face_cells.cpp). Appends violations
 /// to `out`, and failures that paths across fold-overs or singular fans leave undecided to
-/// `r.undecided`.
+/// `r.undecided`. With `cells`, per face the cell it showed (-1 where it showed none).
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
-                      std::vector<Violation>& out);
+                      std::vector<Violation>& out, std::vector<FaceCell>* cells = nullptr);
 
 } // namespace qex::verify_detail

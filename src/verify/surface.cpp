@@ -80,7 +80,7 @@ std::unique_ptr<Surface> Surface::build(const Input& in, double distance_toleran
     return std::unique_ptr<Surface>(new Surface(std::move(s)));
 }
 
-SurfacePoint Surface::locate(const std::array<double, 3>& x) const {
+SurfacePoint Surface::locate(const std::array<double, 3>& x, double snap) const {
     const Tree& s = *tree_;
     const K::Point_3 p(x[0], x[1], x[2]);
     const auto hit = s.aabb->closest_point_and_primitive(p);
@@ -97,7 +97,7 @@ SurfacePoint Surface::locate(const std::array<double, 3>& x) const {
     const double b2 = den != 0 ? (d00 * d21 - d01 * d20) / den : 0.0;
     const double b0 = 1.0 - b1 - b2;
     for (int q = 0; q < 3 && out.corner < 0; ++q)
-        if (std::sqrt(CGAL::squared_distance(hit.first, tri[q])) <= s.max_dist) out.corner = q;
+        if (std::sqrt(CGAL::squared_distance(hit.first, tri[q])) <= (snap < 0 ? s.max_dist : snap)) out.corner = q;
     const std::uint32_t t = out.triangle;
     const auto &u0 = s.in.uvs[3 * t], &u1 = s.in.uvs[3 * t + 1], &u2 = s.in.uvs[3 * t + 2];
     out.uv = {b0 * u0[0] + b1 * u1[0] + b2 * u2[0], b0 * u0[1] + b1 * u1[1] + b2 * u2[1]};

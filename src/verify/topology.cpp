@@ -11,8 +11,9 @@ namespace qex::verify_detail {
 namespace {
 
 /// Appends a violation when `out` is given (and not full).
-void violate(std::vector<Violation>* out, ViolationKind kind, std::string message, std::int64_t element) {
-    if (out) add_capped(*out, kind, std::move(message), element);
+void violate(std::vector<Violation>* out, ViolationKind kind, std::string message, std::int64_t element,
+             std::vector<Place> places = {}) {
+    if (out && out->size() < kMaxListed) out->push_back({kind, std::move(message), element, std::move(places)});
 }
 
 /// The faces as flat corner arrays: each corner's face, and the next and previous corner of it.
@@ -129,11 +130,19 @@ void EdgeMatch::pair_edge(std::size_t v, std::uint64_t h, std::size_t i, std::si
     const auto& entry = buckets.entry;
     const auto c0 = static_cast<std::uint32_t>(entry[i]) >> 1;
     auto name = [&] { return "(" + std::to_string(v) + ", " + std::to_string(h) + ")"; };
+    // The edge and its faces, as the violation's places.
+    auto places = [&] {
+        std::vector<std::int64_t> faces;
+        for (std::size_t k = i; k < j; ++k) faces.push_back(fc.face_of(static_cast<std::uint32_t>(entry[k]) >> 1));
+        return std::vector<Place>{{PlaceKind::Edge, {static_cast<std::int64_t>(v), static_cast<std::int64_t>(h)}},
+                                  {PlaceKind::Face, std::move(faces)}};
+    };
     if (j - i > 2) {
         troubled[v] = 1;
         if (report)
             violate(out, ViolationKind::NonManifoldEdge,
-                    "edge " + name() + " has " + std::to_string(j - i) + " incident face sides", fc.face_of(c0));
+                    "edge " + name() + " has " + std::to_string(j - i) + " incident face sides", fc.face_of(c0),
+                    places());
     } else if (j - i == 2) {
         const auto c1 = static_cast<std::uint32_t>(entry[i + 1]) >> 1;
         if (want_pairs) pair[c0] = static_cast<std::int32_t>(c1), pair[c1] = static_cast<std::int32_t>(c0);
@@ -141,7 +150,7 @@ void EdgeMatch::pair_edge(std::size_t v, std::uint64_t h, std::size_t i, std::si
             troubled[v] = 1;
             if (report)
                 violate(out, ViolationKind::InconsistentOrientation,
-                        "edge " + name() + " is traversed twice in the same direction", fc.face_of(c1));
+                        "edge " + name() + " is traversed twice in the same direction", fc.face_of(c1), places());
         } else {
             twin[c0] = static_cast<std::int32_t>(c1), twin[c1] = static_cast<std::int32_t>(c0);
         }

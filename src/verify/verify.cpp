@@ -8,6 +8,7 @@
 #include "checker.h"
 #include "parallel.h"
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <string>
@@ -110,10 +111,30 @@ void check_mesh_topology(const QuadMesh& mesh, int threads, VerifyResult& r, std
     r.boundary_loops = t.boundary_loops;
     r.components = t.components;
     r.euler = t.euler();
-    if (static_cast<std::int64_t>(nv) != t.vertices)
-        out.push_back({ViolationKind::UnreferencedVertex,
-                       std::to_string(static_cast<std::int64_t>(nv) - t.vertices) + " vertices are used by no face",
-                       -1});
+    if (static_cast<std::int64_t>(nv) == t.vertices) return;
+    // Each vertex no face uses, by name.
+    std::vector<char> used(nv, 0);
+    for (int v : corners) used[static_cast<std::size_t>(v)] = 1;
+    const std::string count = std::to_string(static_cast<std::int64_t>(nv) - t.vertices);
+    for (std::size_t v = 0; v < nv; ++v)
+        if (!used[v])
+            add_capped(out, ViolationKind::UnreferencedVertex,
+                       "vertex " + std::to_string(v) + " is used by no face (" + count + " such vertices)",
+                       static_cast<std::int64_t>(v));
+}
+
+/// The distance (model units) within which a mesh vertex counts as on the input's boundary,
+/// for naming holes: the located mode's tolerances, or the same computed here.
+double boundary_tolerance(const Input& input, const QuadMesh& mesh, const VerifyOptions& opt, const VerifyResult& r) {
+    if (r.located) return r.surface_tolerance + r.max_rounding_tolerance;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, norm = 0;
+    for (const auto& x : input.positions)
+        for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+    for (const auto& x : mesh.positions) norm = std::max(norm, std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]));
+    double diag2 = 0;
+    for (int d = 0; d < 3; ++d) diag2 += hi[d] > lo[d] ? (hi[d] - lo[d]) * (hi[d] - lo[d]) : 0;
+    const double rounding = opt.position_digits > 0 ? 0.5 * std::pow(10.0, 1 - opt.position_digits) : 0.0;
+    return opt.distance_tolerance * std::sqrt(diag2) + rounding * norm;
 }
 
 /// The input's topology, for the comparison and the map check: valid when its UVs are 3 per
@@ -215,9 +236,15 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     }
     if (mesh.map_uvs.empty() && !mesh.map_repaired.empty())
         out.push_back({ViolationKind::RepairNotCertified, "the mesh lists repaired triangles but carries no map", -1});
+    PlaceContext places;
+    places.indices_ok = indices_ok;
     if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
-        check_located(input, mesh, options, r, out);
+        check_located(input, mesh, options, r, out, &places.located_triangle);
     r.valid = out.empty();
+    if (it.ok) {
+        places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
+        place_violations(input, mesh, places, r);
+    }
     return r;
 }
 

@@ -31,6 +31,19 @@ const char* to_string(ViolationKind k) {
     return "Unknown";
 }
 
+const char* to_string(PlaceKind k) {
+    switch (k) {
+        case PlaceKind::Vertex: return "vertex";
+        case PlaceKind::Edge: return "edge";
+        case PlaceKind::Face: return "face";
+        case PlaceKind::Loop: return "loop";
+        case PlaceKind::InputVertex: return "input_vertex";
+        case PlaceKind::InputTriangle: return "input_triangle";
+        case PlaceKind::GridCell: return "grid_cell";
+    }
+    return "unknown";
+}
+
 ViolationElement element_kind(ViolationKind k) {
     switch (k) {
         case ViolationKind::NotQuad:

@@ -1,0 +1,281 @@
+// Where the violations are: every violation that names an element gets it as a place, and the
+// violations of the whole mesh (boundary loops, components, Euler characteristic, coverage) get
+// their candidates: each hole's boundary loop and the faces around it, each extra component's
+// faces, the input components no vertex lies on, and for the Euler characteristic and the
+// coverage the places of the local violations that change them. Only violations already found
+// get places: nothing here decides a verdict.
+#include "checker.h"
+#include "union_find.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace qex::verify_detail {
+namespace {
+
+/// Candidates listed per violation at most (each a place).
+constexpr std::size_t kMaxPlaces = 100;
+
+using Index = std::int64_t;
+
+/// The place that `element` names, by element_kind.
+bool element_place(const Violation& v, Place& p) {
+    if (v.element < 0) return false;
+    switch (element_kind(v.kind)) {
+        case ViolationElement::OutputFace: p.kind = PlaceKind::Face; break;
+        case ViolationElement::OutputVertex: p.kind = PlaceKind::Vertex; break;
+        case ViolationElement::InputVertex: p.kind = PlaceKind::InputVertex; break;
+        case ViolationElement::InputTriangle: p.kind = PlaceKind::InputTriangle; break;
+        case ViolationElement::None: return false;
+    }
+    p.indices = {v.element};
+    return true;
+}
+
+/// The mesh's boundary loops (sides without a twin: the reverse side, the edge's only other), each
+/// with the faces whose sides it follows. A vertex with several boundary sides continues along
+/// the first unused one.
+struct Boundary {
+    std::vector<std::vector<Index>> loops, faces;
+};
+
+Boundary boundary_loops(const QuadMesh& mesh) {
+    // The sides, keyed by their undirected edge: a side alone in its key is a boundary side.
+    struct Side {
+        std::uint64_t key;
+        int from, to;
+        Index face;
+    };
+    std::vector<Side> sides;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const auto& face = mesh.faces[f];
+        for (std::size_t i = 0; i < face.size(); ++i) {
+            const auto a = static_cast<std::uint32_t>(face[i]),
+                       b = static_cast<std::uint32_t>(face[(i + 1) % face.size()]);
+            sides.push_back({static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), face[i],
+                             face[(i + 1) % face.size()], static_cast<Index>(f)});
+        }
+    }
+    std::sort(sides.begin(), sides.end(),
+              [](const Side& x, const Side& y) { return x.key != y.key ? x.key < y.key : x.face < y.face; });
+    std::vector<Side> open;
+    for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
+        j = i;
+        while (j < sides.size() && sides[j].key == sides[i].key) ++j;
+        // As the topology counts them: a side has a twin only when its edge has exactly two
+        // sides, in opposite directions.
+        const bool twins = j - i == 2 && sides[i].from == sides[i + 1].to && sides[i].to == sides[i + 1].from &&
+                           sides[i].from != sides[i].to;
+        if (!twins)
+            for (std::size_t k = i; k < j; ++k) open.push_back(sides[k]);
+    }
+    std::sort(open.begin(), open.end(),
+              [](const Side& x, const Side& y) { return x.from != y.from ? x.from < y.from : x.face < y.face; });
+    std::vector<char> used(open.size(), 0);
+    auto first_from = [&](int v) -> std::size_t {
+        auto it = std::lower_bound(open.begin(), open.end(), v, [](const Side& s, int x) { return s.from < x; });
+        for (; it != open.end() && it->from == v; ++it)
+            if (!used[static_cast<std::size_t>(it - open.begin())]) return static_cast<std::size_t>(it - open.begin());
+        return open.size();
+    };
+    Boundary b;
+    for (std::size_t s0 = 0; s0 < open.size(); ++s0) {
+        if (used[s0]) continue;
+        std::vector<Index> loop, faces;
+        for (std::size_t s = s0; s < open.size(); s = first_from(open[s].to)) {
+            used[s] = 1;
+            loop.push_back(open[s].from);
+            faces.push_back(open[s].face);
+            if (open[s].to == open[s0].from) break;
+        }
+        std::sort(faces.begin(), faces.end());
+        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        b.loops.push_back(std::move(loop));
+        b.faces.push_back(std::move(faces));
+    }
+    return b;
+}
+
+/// The squared distance from x to the segment ab.
+double segment_distance2(const std::array<double, 3>& x, const std::array<double, 3>& a,
+                         const std::array<double, 3>& b) {
+    double ab[3], ax[3], len2 = 0, dot = 0;
+    for (int d = 0; d < 3; ++d) ab[d] = b[d] - a[d], ax[d] = x[d] - a[d], len2 += ab[d] * ab[d], dot += ab[d] * ax[d];
+    const double t = len2 > 0 ? std::clamp(dot / len2, 0.0, 1.0) : 0.0;
+    double d2 = 0;
+    for (int d = 0; d < 3; ++d) d2 += (ax[d] - t * ab[d]) * (ax[d] - t * ab[d]);
+    return d2;
+}
+
+/// Whether every vertex of the loop lies within `tol` of the input's boundary edges (decided by
+/// brute force; true, i.e. not a hole, when that would take too long).
+bool on_input_boundary(const Input& in, const std::vector<std::array<int, 2>>& input_boundary, const QuadMesh& mesh,
+                       const std::vector<Index>& loop, double tol) {
+    if (static_cast<double>(loop.size()) * static_cast<double>(input_boundary.size()) > 5e7) return true;
+    for (const Index v : loop) {
+        const auto& x = mesh.positions[static_cast<std::size_t>(v)];
+        bool near = false;
+        for (const auto& e : input_boundary) {
+            near = segment_distance2(x, in.positions[static_cast<std::size_t>(e[0])],
+                                     in.positions[static_cast<std::size_t>(e[1])]) <= tol * tol;
+            if (near) break;
+        }
+        if (!near) return false;
+    }
+    return true;
+}
+
+/// The input's boundary edges (edges of one triangle side).
+std::vector<std::array<int, 2>> input_boundary_edges(const Input& in) {
+    std::vector<std::pair<std::uint64_t, std::array<int, 2>>> sides;
+    for (const auto& t : in.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const auto a = static_cast<std::uint32_t>(t[k]), b = static_cast<std::uint32_t>(t[(k + 1) % 3]);
+            sides.push_back(
+                {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), {t[k], t[(k + 1) % 3]}});
+        }
+    std::sort(sides.begin(), sides.end());
+    std::vector<std::array<int, 2>> out;
+    for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
+        j = i;
+        while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+        if (j - i == 1) out.push_back(sides[i].second);
+    }
+    return out;
+}
+
+/// The mesh's components as lists of faces, smallest first (ties: by first face).
+std::vector<std::vector<Index>> components_by_size(const QuadMesh& mesh) {
+    UnionFind uf(mesh.positions.size());
+    for (const auto& face : mesh.faces)
+        for (std::size_t i = 1; i < face.size(); ++i) uf.unite(face[i], face[0]);
+    std::vector<Index> slot(mesh.positions.size(), -1);
+    std::vector<std::vector<Index>> comps;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        if (mesh.faces[f].empty()) continue;
+        const auto root = static_cast<std::size_t>(uf.find(mesh.faces[f][0]));
+        if (slot[root] < 0) slot[root] = static_cast<Index>(comps.size()), comps.emplace_back();
+        comps[static_cast<std::size_t>(slot[root])].push_back(static_cast<Index>(f));
+    }
+    std::stable_sort(comps.begin(), comps.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    return comps;
+}
+
+/// Per input component (by triangles sharing vertices) with no located vertex: its first triangle.
+std::vector<Index> empty_input_components(const Input& in, const std::vector<std::int64_t>& located_triangle) {
+    UnionFind uf(in.positions.size());
+    for (const auto& t : in.triangles) uf.unite(t[1], t[0]), uf.unite(t[2], t[0]);
+    std::vector<char> hosts(in.positions.size(), 0), listed(in.positions.size(), 0);
+    for (const std::int64_t t : located_triangle)
+        if (t >= 0) hosts[static_cast<std::size_t>(uf.find(in.triangles[static_cast<std::size_t>(t)][0]))] = 1;
+    std::vector<Index> out;
+    for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+        const auto root = static_cast<std::size_t>(uf.find(in.triangles[t][0]));
+        if (!hosts[root] && !listed[root]) listed[root] = 1, out.push_back(static_cast<Index>(t));
+    }
+    return out;
+}
+
+void add_place(Violation& v, PlaceKind kind, std::vector<Index> indices) {
+    if (v.places.size() < kMaxPlaces && !indices.empty()) v.places.push_back({kind, std::move(indices)});
+}
+
+std::string list(const std::vector<Index>& xs, std::size_t most = 12) {
+    std::string s;
+    for (std::size_t i = 0; i < xs.size() && i < most; ++i) s += (i ? " " : "") + std::to_string(xs[i]);
+    if (xs.size() > most) s += " ...";
+    return s;
+}
+
+} // namespace
+
+void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r) {
+    auto& out = r.violations;
+    for (auto* list_of : {&r.violations, &r.undecided})
+        for (Violation& v : *list_of) {
+            Place p;
+            if (v.places.empty() && element_place(v, p)) v.places.push_back(std::move(p));
+        }
+    bool boundary = false, components = false, global = false;
+    for (const Violation& v : out) {
+        boundary = boundary || v.kind == ViolationKind::BoundaryMismatch || v.kind == ViolationKind::EulerMismatch ||
+                   v.kind == ViolationKind::CoverageMismatch;
+        components = components || v.kind == ViolationKind::ComponentMismatch || v.kind == ViolationKind::EulerMismatch;
+        global = global || element_kind(v.kind) == ViolationElement::None;
+    }
+    if (!global || !ctx.indices_ok) return;
+    // Holes: the mesh's boundary loops that leave the input's boundary (all of them when the
+    // input has none).
+    std::vector<std::size_t> holes;
+    Boundary b;
+    if (boundary) {
+        b = boundary_loops(mesh);
+        const auto input_boundary = input_boundary_edges(in);
+        for (std::size_t l = 0; l < b.loops.size(); ++l)
+            if (input_boundary.empty() ||
+                !on_input_boundary(in, input_boundary, mesh, b.loops[l], ctx.boundary_tolerance))
+                holes.push_back(l);
+        // Every loop lies on the input's boundary, yet they are too many (or too few): name them all.
+        if (holes.empty())
+            for (std::size_t l = 0; l < b.loops.size(); ++l) holes.push_back(l);
+    }
+    // Components beyond the input's count, smallest first; input components no vertex lies on.
+    std::vector<std::vector<Index>> extra;
+    std::vector<Index> missing;
+    if (components) {
+        auto comps = components_by_size(mesh);
+        const auto surplus = static_cast<Index>(comps.size()) - r.input_components;
+        for (Index c = 0; c < surplus; ++c) extra.push_back(std::move(comps[static_cast<std::size_t>(c)]));
+        if (!ctx.located_triangle.empty()) missing = empty_input_components(in, ctx.located_triangle);
+    }
+    auto add_holes = [&](Violation& v) {
+        for (const std::size_t l : holes) {
+            add_place(v, PlaceKind::Loop, b.loops[l]);
+            add_place(v, PlaceKind::Face, b.faces[l]);
+        }
+    };
+    auto add_components = [&](Violation& v) {
+        for (const auto& faces : extra) add_place(v, PlaceKind::Face, faces);
+        if (!missing.empty()) add_place(v, PlaceKind::InputTriangle, missing);
+    };
+    // The local violations that change the Euler characteristic or the coverage.
+    std::vector<Place> local;
+    for (const Violation& v : out)
+        if (v.kind == ViolationKind::NonManifoldEdge || v.kind == ViolationKind::NonManifoldVertex ||
+            v.kind == ViolationKind::InconsistentOrientation || v.kind == ViolationKind::NotQuad ||
+            v.kind == ViolationKind::FaceNotGridCell || v.kind == ViolationKind::RepeatedVertex)
+            for (const Place& p : v.places)
+                if (local.size() < kMaxPlaces) local.push_back(p);
+    for (Violation& v : out) {
+        std::string found;
+        switch (v.kind) {
+            case ViolationKind::BoundaryMismatch:
+                add_holes(v);
+                if (!holes.empty()) found = std::to_string(holes.size()) + " off the input's boundary";
+                break;
+            case ViolationKind::ComponentMismatch:
+                add_components(v);
+                if (!extra.empty())
+                    found = "extra: " + std::to_string(extra.size()) + " of " + std::to_string(extra.front().size()) +
+                            " faces or more";
+                if (!missing.empty())
+                    found += (found.empty() ? "" : "; ") +
+                             std::string("input components with no vertex at triangles ") + list(missing);
+                break;
+            case ViolationKind::EulerMismatch:
+            case ViolationKind::CoverageMismatch:
+                add_holes(v);
+                add_components(v);
+                for (const Place& p : local) add_place(v, p.kind, p.indices);
+                if (!v.places.empty()) found = std::to_string(v.places.size()) + " candidate places";
+                break;
+            default: break;
+        }
+        if (v.kind == ViolationKind::BoundaryMismatch && !holes.empty())
+            found += ": the first through vertices " + list(b.loops[holes.front()]);
+        if (!found.empty()) v.message += " (" + found + ")";
+    }
+}
+
+} // namespace qex::verify_detail
