@@ -44,6 +44,12 @@ void grow_rings(const TriMesh& m, int rings, std::vector<char>& active) {
 void relax_vertex(TriMesh& m, int v, std::vector<int>& fan, std::vector<GridAutomorphism>& to_c) {
     fan.clear();
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
+    // Start at the corner whose next vertex comes first in 3D: the sums below then do not depend
+    // on the input's order.
+    std::rotate(fan.begin(),
+                std::min_element(fan.begin(), fan.end(),
+                                 [&](int a, int b) { return m.pos(TriMesh::next(a)) < m.pos(TriMesh::next(b)); }),
+                fan.end());
     const std::size_t n = fan.size();
     // to_c[i]: chart of fan[0] -> chart of fan[i].
     to_c.assign(n, GridAutomorphism{});
@@ -70,9 +76,18 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations) {
     grow_rings(m, rings, active);
     std::vector<int> fan;
     std::vector<GridAutomorphism> to_c;
+    // Gauss-Seidel sweeps in 3D order of the vertices, not the input's.
+    std::vector<int> order;
+    for (int v = 0; v < nv; ++v)
+        if (active[v] && !m.on_boundary[v] && m.fan_start[v] >= 0) order.push_back(v);
+    const auto& positions = *m.positions;
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const auto &pa = positions[static_cast<std::size_t>(m.input_vertex[a])],
+                   &pb = positions[static_cast<std::size_t>(m.input_vertex[b])];
+        return pa != pb ? pa < pb : a < b;
+    });
     for (int it = 0; it < iterations; ++it)
-        for (int v = 0; v < nv; ++v)
-            if (active[v] && !m.on_boundary[v] && m.fan_start[v] >= 0) relax_vertex(m, v, fan, to_c);
+        for (const int v : order) relax_vertex(m, v, fan, to_c);
     // The triangles still flipped or degenerate.
     std::int64_t remaining = 0;
     for (int f = 0; f < nf; ++f) remaining += flipped_or_degenerate(m, f);

@@ -293,11 +293,29 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
     }
     std::sort(later.begin(), later.end(), [&](int a, int b) { return port_less(m, q, a, b); });
     later.erase(std::unique(later.begin(), later.end()), later.end());
-    for (const int p : later) {
+    // First the pairs whose iso-lines arrive at each other (both ends agree), then the rest in
+    // canonical order, the first to arrive at a port winning it.
+    std::vector<TraceEnd> ends(later.size());
+    std::vector<int> target(later.size(), -1);
+    std::vector<int> slot(static_cast<std::size_t>(np), -1);
+    for (std::size_t i = 0; i < later.size(); ++i) {
+        const int p = later[i];
+        slot[static_cast<std::size_t>(p)] = static_cast<int>(i);
         if (q.connections[p].to >= 0 || q.into_boundary[p]) continue;
         ++report.traces;
-        settle(p, follow_iso_line(m, opt, q.ports[p], report));
+        ends[i] = follow_iso_line(m, opt, q.ports[p], report);
+        GridAutomorphism to_port;
+        if (ends[i].arrived && !ends[i].boundary) target[i] = arrival_port(m, q, ends[i], to_port);
     }
+    auto free_port = [&](int p) { return q.connections[p].to < 0 && !q.into_boundary[p]; };
+    for (std::size_t i = 0; i < later.size(); ++i) {
+        const int p = later[i], p2 = target[i];
+        if (p2 < 0 || p2 == p || !free_port(p) || !free_port(p2)) continue;
+        const int j = slot[static_cast<std::size_t>(p2)];
+        if (j >= 0 && target[static_cast<std::size_t>(j)] == p) settle(p, ends[i]);
+    }
+    for (std::size_t i = 0; i < later.size(); ++i)
+        if (free_port(later[i])) settle(later[i], ends[i]);
 }
 
 } // namespace qex::detail

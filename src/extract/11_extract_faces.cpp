@@ -39,12 +39,20 @@ bool qvertex_less(const QState& q, int a, int b) {
 }
 
 std::size_t canonical_start(const QState& q, const int* qv, std::size_t n) {
+    // Q-vertices on input vertices first (then on edges, then in faces), then qvertex_less: a walk
+    // around a singularity starts there, so its local UVs jump at the singularity, where the
+    // recovery of lost edges looks for corners that share them.
+    auto less = [&](int a, int b) {
+        const QVertexKind ka = q.qvertices[static_cast<std::size_t>(a)].kind,
+                          kb = q.qvertices[static_cast<std::size_t>(b)].kind;
+        return ka != kb ? ka < kb : qvertex_less(q, a, b);
+    };
     std::size_t best = 0;
     for (std::size_t start = 1; start < n; ++start)
         for (std::size_t k = 0; k < n; ++k) {
             const int a = qv[(start + k) % n], b = qv[(best + k) % n];
             if (a != b) {
-                if (qvertex_less(q, a, b)) best = start;
+                if (less(a, b)) best = start;
                 break;
             }
         }
