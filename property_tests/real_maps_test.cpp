@@ -1,5 +1,6 @@
 // Real parametrizations from ../shared (skipped with a message where absent): the paper's six
 // maps must extract to valid quad meshes; the 25 MIQ maps must end valid or with located defects.
+#include "map_transforms.h"
 #include "result_checks.h"
 #include "test_support.h"
 
@@ -87,6 +88,61 @@ TEST(RealMaps, SubdividedDuckGivesTheSameQuadMesh) {
     if (ra.report.flipped_after_repair == 0 && rb.report.flipped_after_repair == 0) {
         EXPECT_EQ(ra.mesh.faces.size(), rb.mesh.faces.size());
     }
+}
+
+// The same map in another vertex, face and corner order gives the identical mesh: byte for byte,
+// repaired maps and the paper's handling of what the repair leaves included.
+TEST(RealMaps, ShuffledPaperMapsGiveTheIdenticalMesh) {
+    const auto files = maps("paper");
+    if (files.empty()) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes/paper";
+    for (const auto& path : files) {
+        Input in;
+        ASSERT_TRUE(read_obj(path.string(), in).ok()) << path;
+        Input shuffled = in;
+        transforms::shuffle(shuffled, 7); // vertices, triangles and each triangle's corners
+        const Result a = extract(in), b = extract(shuffled);
+        ASSERT_TRUE(a.check.valid && b.check.valid) << path;
+        EXPECT_EQ(a.mesh.positions, b.mesh.positions) << path;
+        EXPECT_EQ(a.mesh.faces, b.mesh.faces) << path;
+        EXPECT_EQ(a.mesh.face_uvs, b.mesh.face_uvs) << path;
+        EXPECT_EQ(a.report.rung, b.report.rung) << path;
+    }
+}
+
+// A map too coarse for its surface (kitten_miq_10: its handle is about a quad around, and at
+// its own scale the mesh loses it) is extracted refined: valid against the map scaled by 2, said
+// so in the report, and rejected at its own scale.
+TEST(RealMaps, CoarseMapIsRefined) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "kitten_miq_10_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    Options own_scale;
+    own_scale.max_refinement = 1;
+    const Result at_one = extract(in, own_scale);
+    ASSERT_TRUE(at_one.ok());
+    EXPECT_FALSE(at_one.check.valid);
+    EXPECT_EQ(at_one.mesh.grid_scale, 1);
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(r.check.valid);
+    EXPECT_EQ(r.mesh.grid_scale, 2);
+    EXPECT_EQ(r.report.grid_scale, 2);
+    EXPECT_EQ(r.report.refinements_tried, 1);
+    ASSERT_FALSE(r.report.explanations.empty());
+    EXPECT_EQ(r.report.explanations.front().kind, DefectKind::MapRefined);
+    EXPECT_EQ(result_inconsistency(in, r), "");
+    // The checker judges it against the map scaled by 2, and rejects it against the map itself.
+    const VerifyResult v = verify(in, r.mesh);
+    EXPECT_TRUE(v.valid) << (v.violations.empty() ? "" : v.violations.front().message);
+    QuadMesh unscaled = r.mesh;
+    unscaled.grid_scale = 1;
+    EXPECT_FALSE(verify(in, unscaled).valid);
+    unscaled.grid_scale = 3; // not a power of two
+    EXPECT_FALSE(verify(in, unscaled).valid);
+    // The scaled map's area is four times the map's, and bounds the quads.
+    const VerifyResult v1 = verify(in, at_one.mesh);
+    EXPECT_EQ(v.input_signed_uv_area_rounded, 4 * v1.input_signed_uv_area_rounded);
+    EXPECT_LE(static_cast<std::int64_t>(r.mesh.faces.size()), v.input_signed_uv_area_rounded);
 }
 
 TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {

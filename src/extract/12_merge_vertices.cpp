@@ -368,6 +368,25 @@ Provenance provenance_of(const TriMesh& m, const QVertex& v, int merged) {
     pr.barycentric = v.barycentric;
     if (v.kind == QVertexKind::Vertex) {
         pr.element = m.input_vertex[v.element];
+        // The chart: its fan's first triangle in 3D order (triangle_less), not the fan's start in
+        // the input's order; the grid point carried there through the fan's transitions.
+        const int vx = v.element;
+        int best = m.fan_start[vx];
+        GridAutomorphism to_h, to_best;
+        for (int h = m.fan_start[vx], n = 0; h >= 0 && n < m.fan_size[vx]; ++n) {
+            if (triangle_less(m, TriMesh::face(h), TriMesh::face(best))) best = h, to_best = to_h;
+            const int next = m.cw(h);
+            if (next < 0) break;
+            to_h = m.map.transition[h].after(to_h);
+            h = next;
+        }
+        if (best != m.fan_start[vx]) {
+            const IPoint g = to_best(v.grid);
+            pr.chart_triangle = m.input_triangle[TriMesh::face(best)];
+            pr.grid = {g[0], g[1]};
+            pr.barycentric = {0.0, 0.0, 0.0};
+            pr.barycentric[static_cast<std::size_t>(best % 3)] = 1.0;
+        }
     } else if (v.kind == QVertexKind::Edge) {
         pr.element = m.input_triangle[TriMesh::face(v.element)];
         pr.local_edge = v.element % 3;

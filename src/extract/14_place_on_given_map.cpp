@@ -50,7 +50,17 @@ int PreimageSearch::holding_sign(int t, const IPoint& grid) const {
 }
 
 void PreimageSearch::list_neighbours(int t) {
-    for (int k = 0; k < 3; ++k) {
+    // In canonical order (triangle_less), so that which path reaches a triangle first (and so its
+    // transition past a singularity), and which preimage is found first, do not depend on the
+    // input's order.
+    std::array<int, 3> ks{0, 1, 2};
+    auto neighbour = [&](int k) { return g_.opp[3 * t + k] < 0 ? -1 : TriMesh::face(g_.opp[3 * t + k]); };
+    std::sort(ks.begin(), ks.end(), [&](int a, int b) {
+        const int na = neighbour(a), nb = neighbour(b);
+        if (na < 0 || nb < 0) return na > nb;
+        return triangle_less(g_, na, nb);
+    });
+    for (const int k : ks) {
         const int o = g_.opp[3 * t + k];
         if (o < 0) continue;
         const int n = TriMesh::face(o);
@@ -119,8 +129,12 @@ Provenance located(const Input& input, const TriMesh& g, int found, const IPoint
 std::array<double, 3> position_of(const Input& input, const Provenance& p) {
     if (p.kind == QVertexKind::Vertex) return input.positions[static_cast<std::size_t>(p.element)];
     const auto& tri = input.triangles[static_cast<std::size_t>(p.chart_triangle)];
+    std::array<std::size_t, 3> ks{0, 1, 2}; // summed in 3D order of the corners, not the input's
+    std::sort(ks.begin(), ks.end(), [&](std::size_t a, std::size_t b) {
+        return input.positions[static_cast<std::size_t>(tri[a])] < input.positions[static_cast<std::size_t>(tri[b])];
+    });
     std::array<double, 3> pos{0, 0, 0};
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (const std::size_t k : ks) {
         const std::array<double, 3>& corner = input.positions[static_cast<std::size_t>(tri[k])];
         for (std::size_t d = 0; d < 3; ++d) pos[d] += p.barycentric[k] * corner[d];
     }

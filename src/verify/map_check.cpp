@@ -30,6 +30,9 @@ bool sums_exactly(double x, double y, double z) {
     return s == z && err == 0.0;
 }
 
+/// The largest move of an input UV (inf-norm) by which a carried map is still the input's.
+constexpr double kMaxMapDisplacement = 1.0;
+
 /// Largest and summed |map_uvs - input uvs| (inf-norm per corner) over the triangles still in
 /// the map and not repaired, summed in fixed blocks of corners and then block by block in order: the sum is the
 /// same whatever the thread count.
@@ -254,6 +257,14 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
     const UVs& U = mesh.map_uvs;
     const std::vector<char> repaired = check_repair(mesh, input.triangles.size(), input, r, out);
     map_displacement(input, U, repaired, threads, r);
+    // Sanitization rounds, and snaps singularities and features to the grid: it moves a UV by
+    // half a cell at most. A map moved by more than a cell (outside the repair's certificate) is
+    // another map than the input's, and the mesh is not judged against it.
+    if (r.max_map_displacement > kMaxMapDisplacement)
+        out.push_back({ViolationKind::MapNotIntegerGrid,
+                       "the mesh's map moves an input UV by " + std::to_string(r.max_map_displacement) +
+                           ", more than a cell: it is not the input's map",
+                       -1});
     const ChartMatch m = match_charts(U, pairs, threads);
     for (std::size_t c = 0; c < U.size(); ++c)
         if (m.rotation[c] < 0)
