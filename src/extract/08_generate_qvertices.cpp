@@ -95,9 +95,10 @@ void add_vertex_qvertices(const TriMesh& m, QState& q) {
     }
 }
 
-/// The edge-q-vertices of half-edge h's edge, if h is its smaller half-edge, in h's chart.
+/// The edge-q-vertices of half-edge h's edge, if h is its canonical half-edge (canonical_half_edge),
+/// in h's chart.
 void edge_qvertices(const TriMesh& m, int h, std::vector<QVertex>& list) {
-    if (m.opp[h] >= 0 && m.opp[h] < h) return;
+    if (canonical_half_edge(m, h) != h) return;
     const Point2& a = m.uv[h];
     const Point2& b = m.uv[TriMesh::next(h)];
     // Possible: a zero-length edge survives where the link condition forbids its collapse

@@ -51,8 +51,7 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
     for (int k = 0; k < 3; ++k) {
         const int h = 3 * f + k;
         if (!on_segment(pb, m.uv[h], m.uv[TriMesh::next(h)])) continue;
-        const int o = m.opp[h];
-        const int canon = (o >= 0 && o < h) ? o : h;
+        const int canon = canonical_half_edge(m, h);
         const IPoint bc = canon == h ? b : m.map.transition[h](b);
         for (int i = q.edge_first[canon]; i < q.edge_first[canon + 1]; ++i)
             if (q.qvertices[i].grid == bc) return i;
@@ -236,6 +235,15 @@ bool triangle_less(const TriMesh& m, int f, int g) {
                                                     m.pos(TriMesh::prev(base))};
     };
     return key(f) < key(g);
+}
+
+int canonical_half_edge(const TriMesh& m, int h) {
+    const int o = m.opp[h];
+    if (o < 0) return h;
+    const int f = TriMesh::face(h), g = TriMesh::face(o);
+    if (triangle_less(m, g, f)) return o;
+    if (triangle_less(m, f, g)) return h;
+    return std::min(h, o); // one triangle's key twice: a degenerate mesh, index order
 }
 
 bool port_less(const TriMesh& m, const QState& q, int a, int b) {

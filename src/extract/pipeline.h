@@ -183,7 +183,7 @@ struct QState {
     std::vector<QVertex> qvertices;
     std::vector<int> vertex_qvertex; ///< per mesh vertex: its vertex-q-vertex or -1
     /// Edge-q-vertices of half-edge h: [edge_first[h], edge_first[h + 1]) (empty unless h is its
-    /// edge's smaller half-edge); size 3F + 1.
+    /// edge's canonical half-edge, canonical_half_edge); size 3F + 1.
     std::vector<int> edge_first;
     /// Face-q-vertices of triangle f: [face_first[f], face_first[f + 1]); size F + 1.
     std::vector<int> face_first;
@@ -220,6 +220,11 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 /// Whether triangle f comes before triangle g in an order that does not depend on the input's:
 /// their corners' 3D positions, each read from its smallest corner on.
 bool triangle_less(const TriMesh& m, int f, int g);
+
+/// The half-edge of h's edge that carries its edge-q-vertices: the one whose triangle comes first
+/// in triangle_less order (h itself on a boundary), so their positions and charts do not depend
+/// on the input's order.
+int canonical_half_edge(const TriMesh& m, int h);
 
 /// Ports in an order that does not depend on the input's: by q-vertex (qvertex_less), then the
 /// triangle the port points into, then its direction there.
