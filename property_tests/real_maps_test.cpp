@@ -158,9 +158,10 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
     EXPECT_GE(valid, 24); // the tally recorded in the README; a regression fails here
 }
 
-/// fandisk's repaired output without provenance: a quad dropped, or a vertex pinched, where the
-/// repair moved the map (in a fold-over region, where vertices are judged on the surface only)
-/// is still rejected, and a vertex moved off the surface there too.
+/// fandisk's repaired output without provenance: a quad dropped, a vertex pinched or a face
+/// flipped where the repair moved the map (in a fold-over region, where vertices are judged on
+/// the surface only) is still rejected, and a vertex moved off the surface there too; outside
+/// the regions a vertex off its grid point still is.
 TEST(RealMaps, BrokenMeshInAFoldRegionIsRejected) {
     const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "fandisk_param.obj";
     Input in;
@@ -220,6 +221,42 @@ TEST(RealMaps, BrokenMeshInAFoldRegionIsRejected) {
             flipped =
                 flipped || y.kind == ViolationKind::InconsistentOrientation || y.kind == ViolationKind::NonManifoldEdge;
         EXPECT_TRUE(flipped) << (v.violations.empty() ? "" : v.violations[0].message);
+    }
+    { // Outside the regions a vertex off its grid point is still a violation: the vertex farthest
+        // (in 3D) from every flipped triangle, slid half way to a neighbour.
+        std::vector<std::array<double, 3>> folds;
+        for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+            const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+            if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) >= 0) continue;
+            folds.push_back(in.positions[static_cast<std::size_t>(in.triangles[t][0])]);
+        }
+        ASSERT_FALSE(folds.empty());
+        int far = -1;
+        double best = -1;
+        for (std::size_t v = 0; v < good.positions.size(); ++v) {
+            double d = HUGE_VAL;
+            for (const auto& p : folds) {
+                const auto& x = good.positions[v];
+                d = std::min(
+                    d, (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]));
+            }
+            if (d > best) best = d, far = static_cast<int>(v);
+        }
+        std::size_t g = 0;
+        while (std::find(good.faces[g].begin(), good.faces[g].end(), far) == good.faces[g].end()) ++g;
+        const auto& q = good.faces[g];
+        const int next = q[(static_cast<std::size_t>(std::find(q.begin(), q.end(), far) - q.begin()) + 1) % 4];
+        QuadMesh m = good;
+        for (int k = 0; k < 3; ++k)
+            m.positions[static_cast<std::size_t>(far)][k] = 0.5 * (good.positions[static_cast<std::size_t>(far)][k] +
+                                                                   good.positions[static_cast<std::size_t>(next)][k]);
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool named = false;
+        for (const Violation& y : v.violations)
+            named = named || ((y.kind == ViolationKind::NotOnGridPoint || y.kind == ViolationKind::OffSurface) &&
+                              y.element == far);
+        EXPECT_TRUE(named) << "vertex " << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
     }
     { // Off the surface: moved by 0.1% of the diagonal along the face's normal direction.
         QuadMesh m = good;
