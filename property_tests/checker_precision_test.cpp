@@ -159,6 +159,24 @@ TEST(CheckerPrecision, RoundedPositionsOfCorrectMeshesPass) {
         ASSERT_TRUE(read_obj(path.string(), in).ok()) << path;
         const Result r = extract(in);
         if (!r.ok() || !r.check.valid) continue;
+        if (path.parent_path().filename() == "miq-more") {
+            // As `qex check --param RAW --grid-scale K OUT` judges it: vertices in the raw map's
+            // fold-over regions, where the repair moved the map, on the surface only (the paper's
+            // and the MIQ maps: real_maps_test.cpp).
+            QuadMesh at_scale = bare(r.mesh);
+            at_scale.grid_scale = r.mesh.grid_scale;
+            VerifyOptions regions;
+            regions.fold_regions = true;
+            const VerifyResult g = verify(in, at_scale, regions);
+            if (path.filename() == "face_miq_20_param.obj") {
+                // Known: one face at a cone outside the fold-over regions fails its certified edge
+                // corridor (with and without the regions): the located mode and the extractor
+                // disagree there. Every violation is that kind.
+                for (const Violation& x : g.violations) EXPECT_EQ(x.kind, ViolationKind::FaceNotGridCell) << x.message;
+            } else {
+                EXPECT_TRUE(g.valid) << path << " (fold-over regions): " << first_message(g);
+            }
+        }
         const QuadMesh exact = bare(r.mesh);
         // Only meshes the located mode accepts in double precision (not those whose repaired
         // map moved vertices off the given map's grid points).

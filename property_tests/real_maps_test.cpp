@@ -4,6 +4,8 @@
 #include "result_checks.h"
 #include "test_support.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 
@@ -22,6 +24,36 @@ std::vector<fs::path> maps(const std::string& sub) {
     return out;
 }
 
+/// The located mode as `qex check` runs it: fold-over regions judged on the surface only.
+VerifyOptions with_fold_regions() {
+    VerifyOptions o;
+    o.fold_regions = true;
+    return o;
+}
+
+/// qex's mesh with positions and faces only (as `qex check --param RAW --grid-scale K OUT` reads
+/// it) passes the located mode against the raw map. Where the repair moved the map, the vertices
+/// lie in the raw map's fold-over regions (kFoldRegionRings around its flipped or degenerate
+/// triangles).
+void expect_bare_valid(const Input& in, const QuadMesh& mesh, const fs::path& path) {
+    QuadMesh bare;
+    bare.positions = mesh.positions;
+    bare.faces = mesh.faces;
+    bare.grid_scale = mesh.grid_scale; // a refined mesh is judged against the map at its scale
+    const VerifyResult located = verify(in, bare, with_fold_regions());
+    EXPECT_TRUE(located.located) << path;
+    EXPECT_TRUE(located.valid) << path << ": " << (located.violations.empty() ? "" : located.violations[0].message);
+    if (!mesh.map_repaired.empty()) { EXPECT_FALSE(located.fold_regions.empty()) << path; }
+    std::int64_t vertices = 0;
+    for (const FoldRegion& g : located.fold_regions) {
+        EXPECT_GT(g.fold_triangles, 0) << path;
+        EXPECT_GE(g.triangles, g.fold_triangles) << path;
+        EXPECT_GE(g.first_triangle, 0) << path;
+        vertices += g.vertices;
+    }
+    EXPECT_EQ(vertices, located.surface_only_vertices) << path;
+}
+
 TEST(RealMaps, PaperMapsGiveValidQuadMeshes) {
     const auto files = maps("paper");
     if (files.empty()) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes/paper";
@@ -34,22 +66,12 @@ TEST(RealMaps, PaperMapsGiveValidQuadMeshes) {
         const VerifyResult v = verify(in, r.mesh);
         EXPECT_TRUE(v.valid) << path << ": " << (v.violations.empty() ? "" : v.violations[0].message);
         EXPECT_EQ(result_inconsistency(in, r, &v), "") << path;
-        // The oracle for other extractors accepts it too: positions only, located on the raw map.
-        // (Not where the repair moved the map: located on the raw map, vertices there are off
-        // its grid points. The checker judges them against the repaired map above.)
-        if (r.mesh.map_repaired.empty()) {
-            QuadMesh bare = r.mesh;
-            bare.provenance.clear();
-            bare.map_uvs.clear();
-            bare.face_uvs.clear();
-            const VerifyResult located = verify(in, bare);
-            EXPECT_TRUE(located.located);
-            EXPECT_TRUE(located.valid) << path << ": "
-                                       << (located.violations.empty() ? "" : located.violations[0].message);
-        } else {
-            // The certificate was checked: every repaired triangle positive in the carried map.
-            EXPECT_EQ(v.repaired_triangles, r.report.repaired_triangles) << path;
-        }
+        // The oracle for other extractors accepts it too: positions only, located on the raw map
+        // (where the repair moved the map, in the raw map's fold-over regions, judged on the
+        // surface only).
+        expect_bare_valid(in, r.mesh, path);
+        // The certificate was checked: every repaired triangle positive in the carried map.
+        if (!r.mesh.map_repaired.empty()) { EXPECT_EQ(v.repaired_triangles, r.report.repaired_triangles) << path; }
         // Quad count equals the signed UV area, or the report explains every missing quad.
         const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
         const auto area = v.input_signed_uv_area_rounded;
@@ -164,6 +186,7 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
         EXPECT_EQ(result_inconsistency(in, r, &v), "") << path;
         if (v.valid) {
             ++valid;
+            expect_bare_valid(in, r.mesh, path);
             continue;
         }
         // Invalid: every violation names an element, and the report locates defects on the input.
@@ -189,6 +212,132 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
     }
     std::cout << "MIQ maps: " << valid << "/" << files.size() << " valid\n";
     EXPECT_GE(valid, 24); // the tally recorded in the README; a regression fails here
+}
+
+/// fandisk's repaired output without provenance: a quad dropped, a vertex pinched or a face
+/// flipped where the repair moved the map (in a fold-over region, where vertices are judged on
+/// the surface only) is still rejected, and a vertex moved off the surface there too; outside
+/// the regions a vertex off its grid point still is.
+TEST(RealMaps, BrokenMeshInAFoldRegionIsRejected) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "fandisk_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    const Result r = extract(in);
+    ASSERT_TRUE(r.check.valid);
+    ASSERT_FALSE(r.mesh.map_repaired.empty()) << "fandisk's map is no longer repaired: pick another map";
+    QuadMesh good;
+    good.positions = r.mesh.positions;
+    good.faces = r.mesh.faces;
+    const VerifyResult ok = verify(in, good, with_fold_regions());
+    ASSERT_TRUE(ok.valid) << (ok.violations.empty() ? "" : ok.violations[0].message);
+    ASSERT_GT(ok.surface_only_vertices, 0);
+    // Without the fold-over regions the raw map judges the repaired vertices: off its grid points.
+    EXPECT_FALSE(verify(in, good).valid);
+    // A vertex inside a triangle the repair changed (its provenance), and a face at it.
+    int x = -1;
+    for (std::size_t v = 0; v < r.mesh.provenance.size() && x < 0; ++v) {
+        const Provenance& p = r.mesh.provenance[v];
+        if (p.kind == QVertexKind::Face &&
+            std::binary_search(r.mesh.map_repaired.begin(), r.mesh.map_repaired.end(), p.element))
+            x = static_cast<int>(v);
+    }
+    ASSERT_GE(x, 0);
+    std::size_t f = 0;
+    while (f < good.faces.size() && std::find(good.faces[f].begin(), good.faces[f].end(), x) == good.faces[f].end())
+        ++f;
+    ASSERT_LT(f, good.faces.size());
+    { // Dropped: a hole.
+        QuadMesh m = good;
+        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool hole = false;
+        for (const Violation& y : v.violations) hole = hole || y.kind == ViolationKind::BoundaryMismatch;
+        EXPECT_TRUE(hole);
+    }
+    { // Pinched: x glued to the corner opposite it in its face (whose other faces it keeps).
+        QuadMesh m = good;
+        const auto& q = good.faces[f];
+        const std::size_t i = static_cast<std::size_t>(std::find(q.begin(), q.end(), x) - q.begin());
+        const int y = q[(i + 2) % 4];
+        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        for (auto& face : m.faces)
+            for (int& c : face)
+                if (c == y) c = x;
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+    }
+    { // Flipped: the face reversed (inconsistent orientation with its neighbours).
+        QuadMesh m = good;
+        std::reverse(m.faces[f].begin(), m.faces[f].end());
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool flipped = false;
+        for (const Violation& y : v.violations)
+            flipped =
+                flipped || y.kind == ViolationKind::InconsistentOrientation || y.kind == ViolationKind::NonManifoldEdge;
+        EXPECT_TRUE(flipped) << (v.violations.empty() ? "" : v.violations[0].message);
+    }
+    { // Outside the regions a vertex off its grid point is still a violation: the vertex farthest
+        // (in 3D) from every flipped triangle, slid half way to a neighbour.
+        std::vector<std::array<double, 3>> folds;
+        for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+            const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+            if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) >= 0) continue;
+            folds.push_back(in.positions[static_cast<std::size_t>(in.triangles[t][0])]);
+        }
+        ASSERT_FALSE(folds.empty());
+        int far = -1;
+        double best = -1;
+        for (std::size_t v = 0; v < good.positions.size(); ++v) {
+            double d = HUGE_VAL;
+            for (const auto& p : folds) {
+                const auto& x = good.positions[v];
+                d = std::min(
+                    d, (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]));
+            }
+            if (d > best) best = d, far = static_cast<int>(v);
+        }
+        std::size_t g = 0;
+        while (std::find(good.faces[g].begin(), good.faces[g].end(), far) == good.faces[g].end()) ++g;
+        const auto& q = good.faces[g];
+        const int next = q[(static_cast<std::size_t>(std::find(q.begin(), q.end(), far) - q.begin()) + 1) % 4];
+        QuadMesh m = good;
+        for (int k = 0; k < 3; ++k)
+            m.positions[static_cast<std::size_t>(far)][k] = 0.5 * (good.positions[static_cast<std::size_t>(far)][k] +
+                                                                   good.positions[static_cast<std::size_t>(next)][k]);
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool named = false;
+        for (const Violation& y : v.violations)
+            named = named || ((y.kind == ViolationKind::NotOnGridPoint || y.kind == ViolationKind::OffSurface) &&
+                              y.element == far);
+        EXPECT_TRUE(named) << "vertex " << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+    }
+    { // Off the surface: moved by 0.1% of the diagonal along the face's normal direction.
+        QuadMesh m = good;
+        std::array<double, 3> lo = good.positions[0], hi = lo;
+        for (const auto& p : good.positions)
+            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+        const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        const auto& q = good.faces[f];
+        const auto& a = good.positions[static_cast<std::size_t>(q[0])];
+        const auto& b = good.positions[static_cast<std::size_t>(q[1])];
+        const auto& c = good.positions[static_cast<std::size_t>(q[2])];
+        const std::array<double, 3> e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+            e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        std::array<double, 3> n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                e1[0] * e2[1] - e1[1] * e2[0]};
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        ASSERT_GT(len, 0);
+        for (int k = 0; k < 3; ++k) m.positions[static_cast<std::size_t>(x)][k] += 1e-3 * diag * n[k] / len;
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool off = false;
+        for (const Violation& y : v.violations) off = off || (y.kind == ViolationKind::OffSurface && y.element == x);
+        EXPECT_TRUE(off) << (v.violations.empty() ? "" : v.violations[0].message);
+    }
 }
 
 } // namespace

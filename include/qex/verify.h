@@ -88,6 +88,27 @@ struct Violation {
     std::vector<Place> places;
 };
 
+/// Located mode: how far around the map's fold-overs the checker allows the map a correct mesh
+/// follows to differ from the raw map, in rings of input vertices: a repair (qex's stage repair
+/// re-embeds free vertices up to 8 rings around flipped or degenerate triangles) moves the grid
+/// points there. Nine rings: the repair's eight and one for its sanitized map's collapsed edges.
+inline constexpr int kFoldRegionRings = 9;
+
+/// Located mode: a fold-over region of the raw map: its flipped or degenerate triangles (exact),
+/// connected through shared vertices, and the input triangles with a corner within
+/// kFoldRegionRings edges of them. A mesh's vertex located on one of its triangles is judged on
+/// the surface only (not for being on a grid point of the raw map), and faces with such a
+/// corner are not judged as grid cells of it. Information, not a violation.
+struct FoldRegion {
+    std::int64_t triangles = 0;         ///< input triangles in the region
+    std::int64_t fold_triangles = 0;    ///< of which flipped or degenerate in UV
+    std::int64_t first_triangle = -1;   ///< the smallest index of a flipped or degenerate triangle in it
+    double uv_area = 0.0;               ///< signed UV area of its triangles in the raw map (a double sum)
+    double fold_uv_area = 0.0;          ///< signed UV area of its flipped or degenerate triangles
+    std::int64_t vertices = 0;          ///< the mesh's vertices located in it
+    std::int64_t off_grid_vertices = 0; ///< of which off the raw map's grid points (beyond the UV tolerance)
+};
+
 struct VerifyResult {
     bool valid = false;
     std::vector<Violation> violations;
@@ -125,6 +146,16 @@ struct VerifyResult {
     /// face's corners carried across flipped or degenerate triangles, or next to them) or
     /// through the fan of a singular vertex; not violations, listed for review.
     std::vector<Violation> undecided;
+    /// Located mode: the raw map's fold-over regions (FoldRegion), ordered by first_triangle, and
+    /// the mesh's vertices located in them and faces with such a corner: judged on the surface
+    /// only (as far as the topology checks do not judge them).
+    std::vector<FoldRegion> fold_regions;
+    std::int64_t surface_only_vertices = 0, surface_only_faces = 0;
+    /// Located mode: of those vertices, how many are off the raw map's grid points (beyond the UV
+    /// tolerance: a violation outside the regions), and the largest UV distance (inf-norm) of one
+    /// to its nearest grid point of the raw map (max_grid_distance leaves them out).
+    std::int64_t off_grid_region_vertices = 0;
+    double max_region_grid_distance = 0.0;
     /// Signed UV area of the input map for display, printed with six decimals: the double sum,
     /// or the exact area rounded to a double where the sum's error bound left the rounding open.
     std::string input_signed_uv_area;
@@ -151,6 +182,12 @@ struct VerifyOptions {
     /// triangles around it (where that exceeds 0.25 UV, a vertex off its grid point is
     /// undecided, not a violation). 0: strict, the positions are taken as exact (doubles).
     int position_digits = 6;
+    /// Located mode: find the raw map's fold-over regions (FoldRegion: kFoldRegionRings rings
+    /// around its flipped or degenerate triangles, where a repair such as qex's may have moved
+    /// the map) and judge the vertices located there on the surface only, their faces' failures
+    /// as undecided. Off (the default): the raw map is judged everywhere, as the extractor's own
+    /// gate for relaxed rungs needs. `qex check` turns it on (--no-fold-regions: off).
+    bool fold_regions = false;
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;

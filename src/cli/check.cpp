@@ -5,6 +5,7 @@
 #include "violations.h"
 #include "qex/report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -36,6 +37,28 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
             "(model units)\n",
             v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,
             v.max_rounding_tolerance);
+        if (!v.fold_regions.empty()) {
+            std::int64_t triangles = 0;
+            for (const auto& g : v.fold_regions) triangles += g.triangles;
+            std::printf(
+                "%zu fold-over regions of the map (%lld triangles, within %d rings of its flipped or "
+                "degenerate triangles), where a repaired map may differ: %lld vertices and %lld faces "
+                "there judged on the surface only (%lld vertices off the map's grid points, by up to %.3g UV)\n",
+                v.fold_regions.size(), static_cast<long long>(triangles), qex::kFoldRegionRings,
+                static_cast<long long>(v.surface_only_vertices), static_cast<long long>(v.surface_only_faces),
+                static_cast<long long>(v.off_grid_region_vertices), v.max_region_grid_distance);
+            const std::size_t shown = std::min<std::size_t>(v.fold_regions.size(), 10);
+            for (std::size_t i = 0; i < shown; ++i) {
+                const auto& g = v.fold_regions[i];
+                std::printf(
+                    "  F%zu: %lld triangles (%lld flipped or degenerate, the first input triangle %lld), "
+                    "UV area %.4g (folds %.4g), %lld vertices (%lld off the grid)\n",
+                    i + 1, static_cast<long long>(g.triangles), static_cast<long long>(g.fold_triangles),
+                    static_cast<long long>(g.first_triangle), g.uv_area, g.fold_uv_area,
+                    static_cast<long long>(g.vertices), static_cast<long long>(g.off_grid_vertices));
+            }
+            if (shown < v.fold_regions.size()) std::printf("  ... and %zu more\n", v.fold_regions.size() - shown);
+        }
     }
     print_violations(v);
     std::printf("%s\n", v.valid ? "VALID" : "INVALID");
@@ -71,6 +94,7 @@ int run_check(const CheckArgs& a) {
 
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     auto* check = app.add_subcommand("check", "Judge a quad mesh (from any extractor) against an integer-grid map");
+    a.options.fold_regions = true; // a repaired map's mesh is judged on the surface in its fold-over regions
     check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");
@@ -94,6 +118,10 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check->add_flag(
         "--strict", [&a](std::int64_t) { a.options.position_digits = 0; },
         "double-precision output: no allowance for rounded positions (--digits 0)");
+    check->add_flag(
+        "--no-fold-regions", [&a](std::int64_t) { a.options.fold_regions = false; },
+        "judge vertices in the raw map's fold-over regions against its grid points too (a repaired map's mesh "
+        "fails there)");
     check->add_flag(
         "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
     return check;

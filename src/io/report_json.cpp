@@ -44,6 +44,23 @@ nlohmann::json verify_object(const VerifyResult& v) {
                           {"positions_float32", v.positions_float32},
                           {"surface_tolerance", v.surface_tolerance},
                           {"max_rounding_tolerance", v.max_rounding_tolerance}}}};
+    if (v.located) {
+        nlohmann::json regions = nlohmann::json::array();
+        for (const auto& g : v.fold_regions)
+            regions.push_back({{"triangles", g.triangles},
+                               {"fold_triangles", g.fold_triangles},
+                               {"first_triangle", g.first_triangle},
+                               {"uv_area", g.uv_area},
+                               {"fold_uv_area", g.fold_uv_area},
+                               {"vertices", g.vertices},
+                               {"off_grid_vertices", g.off_grid_vertices}});
+        j["located"]["fold_regions"] = regions;
+        j["located"]["fold_region_rings"] = kFoldRegionRings;
+        j["located"]["surface_only_vertices"] = v.surface_only_vertices;
+        j["located"]["surface_only_faces"] = v.surface_only_faces;
+        j["located"]["off_grid_region_vertices"] = v.off_grid_region_vertices;
+        j["located"]["max_region_grid_distance"] = v.max_region_grid_distance;
+    }
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},

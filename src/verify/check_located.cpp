@@ -3,12 +3,16 @@
 // surface.cpp) and must be the image of an integer grid point; every face's corners, carried
 // into one chart along the input's transitions, must be the corners of one grid cell in
 // counter-clockwise order (face_cells.cpp); and the faces must cover the map (their number
-// equals the map's signed area) unless the map has flipped triangles. Positions from other
+// equals the map's signed area) unless the map has flipped triangles. Around the map's
+// fold-overs (fold_regions: kFoldRegionRings rings of input vertices around its flipped or
+// degenerate triangles), where a repair may have moved the map a correct mesh follows, vertices
+// are judged on the surface only, and their faces' failures are undecided. Positions from other
 // tools are rounded, so locating needs two tolerances (UV units and a fraction of the
 // bounding-box diagonal), and the input's transitions are rounded with the UV tolerance too
 // (transitions.cpp); the grid points are then compared as integers.
 #include "checker.h"
 #include "grid.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <climits>
@@ -148,6 +152,23 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
         const double uv_tol = opt.uv_tolerance + uv_round;
         const double gx = std::nearbyint(uv[0]), gy = std::nearbyint(uv[1]);
         const double off = std::max(std::abs(uv[0] - gx), std::abs(uv[1] - gy));
+        // In a fold-over region the map a correct mesh follows may be a repaired one (moved within
+        // the region, not the raw map given here): the vertex is judged on the surface only. Its
+        // nearest grid point of the raw map stands for it in the face checks, which list a
+        // failure of a face with such a corner as undecided.
+        if (map.region_of[loc[v].triangle] >= 0) {
+            FoldRegion& g = r.fold_regions[static_cast<std::size_t>(map.region_of[loc[v].triangle])];
+            loc[v].surface_only = true;
+            ++r.surface_only_vertices;
+            ++g.vertices;
+            if (!(off <= std::min(uv_tol, kMaxUvTolerance))) ++g.off_grid_vertices, ++r.off_grid_region_vertices;
+            r.max_region_grid_distance = std::max(r.max_region_grid_distance, off);
+            if (std::abs(gx) < 9e15 && std::abs(gy) < 9e15) {
+                loc[v].grid = {static_cast<std::int64_t>(gx), static_cast<std::int64_t>(gy)};
+                loc[v].ok = true;
+            }
+            continue;
+        }
         r.max_grid_distance = std::max(r.max_grid_distance, off);
         if (!(off <= std::min(uv_tol, kMaxUvTolerance)) || !(std::abs(gx) < 9e15 && std::abs(gy) < 9e15)) {
             const std::string msg = "vertex " + std::to_string(v) + " maps to (" + num(uv[0]) + ", " + num(uv[1]) +
@@ -219,7 +240,7 @@ std::vector<std::array<std::int64_t, 3>> uncovered_cells(const LocatedMap& map, 
     std::vector<std::array<std::int64_t, 3>> out;
     double budget = 1e7; // cells looked at, at most (a broken map can span huge UV boxes)
     for (std::size_t t = 0; t < in.triangles.size() && out.size() < most && budget > 0; ++t) {
-        if (map.fold_over[t]) continue;
+        if (map.fold_over[t] || map.region_of[t] >= 0) continue;
         bool near_fold = false;
         for (int v : in.triangles[t])
             near_fold =
@@ -249,6 +270,67 @@ std::vector<std::array<std::int64_t, 3>> uncovered_cells(const LocatedMap& map, 
 
 } // namespace
 
+std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r) {
+    const std::size_t nt = in.triangles.size(), nv = in.positions.size();
+    std::vector<std::int32_t> region_of(nt, -1);
+    // Rings: breadth first over the input's edges from every corner of a fold-over.
+    std::vector<int> dist(nv, -1), queue;
+    for (std::size_t t = 0; t < nt; ++t)
+        if (fold_over[t])
+            for (int v : in.triangles[t])
+                if (dist[static_cast<std::size_t>(v)] < 0) dist[static_cast<std::size_t>(v)] = 0, queue.push_back(v);
+    if (queue.empty()) return region_of;
+    // Per vertex its triangles (counting sort), to walk the rings.
+    std::vector<std::size_t> start(nv + 1, 0);
+    for (const auto& tri : in.triangles)
+        for (int v : tri) ++start[static_cast<std::size_t>(v) + 1];
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::uint32_t> fan(start[nv]);
+    {
+        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t t = 0; t < nt; ++t)
+            for (int v : in.triangles[t]) fan[fill[static_cast<std::size_t>(v)]++] = static_cast<std::uint32_t>(t);
+    }
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+        const auto v = static_cast<std::size_t>(queue[head]);
+        if (dist[v] >= kFoldRegionRings) continue;
+        for (std::size_t i = start[v]; i < start[v + 1]; ++i)
+            for (int w : in.triangles[fan[i]])
+                if (dist[static_cast<std::size_t>(w)] < 0)
+                    dist[static_cast<std::size_t>(w)] = dist[v] + 1, queue.push_back(w);
+    }
+    // The region's triangles: a corner within the rings; grouped through shared vertices.
+    UnionFind groups(nv);
+    std::vector<char> in_region(nt, 0);
+    for (std::size_t t = 0; t < nt; ++t) {
+        const auto& tri = in.triangles[t];
+        for (int v : tri) in_region[t] = in_region[t] || dist[static_cast<std::size_t>(v)] >= 0;
+        if (in_region[t]) groups.unite(tri[0], tri[1]), groups.unite(tri[1], tri[2]);
+    }
+    // Regions numbered by their first fold-over triangle (the smallest index).
+    std::vector<std::int32_t> index_of_root(nv, -1);
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!fold_over[t]) continue;
+        const auto root = static_cast<std::size_t>(groups.find(in.triangles[t][0]));
+        if (index_of_root[root] >= 0) continue;
+        index_of_root[root] = static_cast<std::int32_t>(r.fold_regions.size());
+        r.fold_regions.push_back({});
+        r.fold_regions.back().first_triangle = static_cast<std::int64_t>(t);
+    }
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!in_region[t]) continue;
+        const std::int32_t k = index_of_root[static_cast<std::size_t>(groups.find(in.triangles[t][0]))];
+        region_of[t] = k; // every group holds a fold-over: its rings grew from one
+        FoldRegion& g = r.fold_regions[static_cast<std::size_t>(k)];
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+        const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        ++g.triangles;
+        g.uv_area += area;
+        if (fold_over[t]) ++g.fold_triangles, g.fold_uv_area += area;
+    }
+    return region_of;
+}
+
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
                    std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle) {
     if (mesh.positions.empty()) return; // nothing to locate
@@ -262,11 +344,23 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     LocatedMap map{in, *surface, input_edges(in, opt.uv_tolerance), {}, {}};
     map.singular = singular_vertices(in, map.edges);
     map.fold_over = fold_overs(in, r);
+    // Where a repair may have moved the map: around the fold-overs (VerifyResult::fold_regions).
+    map.region_of =
+        opt.fold_regions ? fold_regions(in, map.fold_over, r) : std::vector<std::int32_t>(in.triangles.size(), -1);
     const std::vector<Located> loc = locate_vertices(map, mesh, opt, r, out);
     if (located_triangle) {
         located_triangle->assign(loc.size(), -1);
         for (std::size_t v = 0; v < loc.size(); ++v)
-            if (loc[v].ok) (*located_triangle)[v] = loc[v].triangle;
+            if (loc[v].ok || loc[v].surface_only) (*located_triangle)[v] = loc[v].triangle;
+    }
+    // Faces with a corner in a fold-over region are judged on the surface only: check_face_cells
+    // lists their failures as undecided.
+    for (const auto& face : mesh.faces) {
+        bool surface_only = false;
+        for (int v : face)
+            surface_only = surface_only || (v >= 0 && static_cast<std::size_t>(v) < loc.size() &&
+                                            loc[static_cast<std::size_t>(v)].surface_only);
+        r.surface_only_faces += surface_only;
     }
     std::vector<FaceCell> cells;
     check_face_cells(map, mesh, loc, r, out, &cells);

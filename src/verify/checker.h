@@ -166,6 +166,10 @@ struct Located {
     std::int64_t on_vertex = -1; ///< the input vertex it sits on (within the distance tolerance)
     GridPoint grid{0, 0};        ///< its grid point in the chart of `triangle`
     bool ok = false; ///< located, on the surface and on a grid point (else reported, here or as NonFinitePosition)
+    /// On the surface, in a fold-over region of the map (LocatedMap::region_of): judged on the
+    /// surface only, not for being on a grid point; `grid` is the raw map's nearest one, and a
+    /// face with such a corner that is no grid cell there is undecided, not a violation.
+    bool surface_only = false;
 };
 
 /// What the located mode knows of the input map, shared by its steps.
@@ -175,15 +179,25 @@ struct LocatedMap {
     InputEdges edges;
     std::vector<char> singular;  ///< per input vertex (singular_vertices)
     std::vector<char> fold_over; ///< per input triangle (fold_overs)
+    /// Per input triangle: the index of its fold-over region in VerifyResult::fold_regions, or
+    /// -1 (fold_regions below).
+    std::vector<std::int32_t> region_of;
 };
+
+/// The map's fold-over regions: the triangles with a corner within kFoldRegionRings edges
+/// (rings of input vertices, through any vertex) of a corner of a fold-over, grouped where they
+/// share a vertex. Fills `r.fold_regions` (ordered by their first fold-over triangle) and returns
+/// per triangle its region or -1 (check_located.cpp).
+std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r);
 
 /// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v); triangle -1: none.
 using FaceCell = std::array<std::int64_t, 3>;
 
 /// Faces: every quad's corners, carried into one chart along the input's transitions, must be
 /// the corners of one grid cell in counter-clockwise order (face_cells.cpp). Appends violations
-/// to `out`, and failures that paths across fold-overs or singular fans leave undecided to
-/// `r.undecided`. With `cells`, per face the cell it showed (-1 where it showed none).
+/// to `out`, and failures that paths across fold-overs or singular fans, or a corner in a
+/// fold-over region (Located::surface_only), leave undecided to `r.undecided`. With `cells`,
+/// per face the cell it showed (-1 where it showed none).
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
                       std::vector<Violation>& out, std::vector<FaceCell>* cells = nullptr);
 

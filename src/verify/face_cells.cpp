@@ -220,6 +220,7 @@ private:
     // paths (or a corner) touched a fold-over or a singular fan.
     Quad g_{};
     bool corner_near_fold_ = false, through_fold_ = false, through_singular_ = false;
+    bool corner_in_region_ = false; ///< a corner lies in a fold-over region (judged on the surface only)
 };
 
 FaceJudge::FaceJudge(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc)
@@ -455,11 +456,14 @@ void FaceJudge::report(std::size_t f, const std::string& msg, bool certified, Ve
     // arrives in, nor does a corner next to a fold-over; nor does a shortest path that no
     // corridor of the face's edges certifies (it may pass a cone on the other side): a failure
     // there is undecided, not a violation.
-    if (!through_fold_ && !through_singular_ && !corner_near_fold_ && certified)
+    // A corner in a fold-over region, where a repaired map may differ from the given one, is on
+    // no grid point the given map decides: the face is judged on the surface only.
+    if (!through_fold_ && !through_singular_ && !corner_near_fold_ && !corner_in_region_ && certified)
         add_capped(out, ViolationKind::FaceNotGridCell, msg, static_cast<std::int64_t>(f));
     else
         add_capped(r.undecided, ViolationKind::FaceNotGridCell,
-                   msg + (through_fold_       ? " (the paths cross fold-overs of the map)"
+                   msg + (corner_in_region_   ? " (a corner lies in a fold-over region of the map)"
+                          : through_fold_     ? " (the paths cross fold-overs of the map)"
                           : corner_near_fold_ ? " (a corner lies next to a fold-over of the map)"
                           : through_singular_ ? " (the paths pass through the fan of a singularity)"
                                               : " (no path along the face's edges certifies it)"),
@@ -475,7 +479,8 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
         if (v < 0 || vi >= loc_.size() || !loc_[vi].ok) return; // its vertices are reported already
         for (int d = 0; d < 3; ++d) centre[d] += 0.25 * mesh_.positions[vi][d];
     }
-    through_fold_ = through_singular_ = false;
+    through_fold_ = through_singular_ = corner_in_region_ = false;
+    for (int v : face) corner_in_region_ = corner_in_region_ || loc_[static_cast<std::size_t>(v)].surface_only;
     const Anchors a = try_anchors(face, centre);
     if (a.cell) {
         if (cells_) (*cells_)[f] = a.shown;
