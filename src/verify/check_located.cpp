@@ -341,7 +341,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     // The input's half-edges and transitions, its singular vertices, and its fold-overs
     // (triangles flipped or degenerate in UV: there the map is not locally injective, and a path
     // across them does not fix the chart it arrives in).
-    LocatedMap map{in, *surface, input_edges(in, opt.uv_tolerance), {}, {}};
+    LocatedMap map{in, *surface, input_edges(in, opt.uv_tolerance), {}, {}, {}};
     map.singular = singular_vertices(in, map.edges);
     map.fold_over = fold_overs(in, r);
     // Where a repair may have moved the map: around the fold-overs (VerifyResult::fold_regions).
