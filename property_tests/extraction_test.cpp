@@ -8,6 +8,8 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <string>
+#include <vector>
 
 namespace qex::testing {
 namespace {
@@ -252,6 +254,34 @@ TEST(Extraction, SolverNoise) {
 }
 
 // --- degeneracies -------------------------------------------------------------------------------
+
+// Options::on_stage hears every stage as it finishes, in pipeline order, at the map's own scale.
+TEST(Extraction, StageHookHearsEveryStage) {
+    std::vector<std::string> heard;
+    std::vector<int> scales;
+    Options options;
+    options.on_stage = [&](const char* stage, int grid_scale) {
+        heard.emplace_back(stage);
+        scales.push_back(grid_scale);
+    };
+    const Result r = extract(make_map(cube_layout(), 3, 4), options);
+    ASSERT_TRUE(r.check.valid);
+    ASSERT_FALSE(heard.empty());
+    EXPECT_EQ(heard.front(), "validate");
+    EXPECT_EQ(heard.back(), "check");
+    for (const char* stage : {"sanitize", "generate_qvertices", "trace_ports", "extract_faces", "merge_vertices"})
+        EXPECT_NE(std::find(heard.begin(), heard.end(), stage), heard.end()) << stage;
+    EXPECT_LT(std::find(heard.begin(), heard.end(), "trace_ports") - heard.begin(),
+              std::find(heard.begin(), heard.end(), "extract_faces") - heard.begin());
+    EXPECT_TRUE(std::all_of(scales.begin(), scales.end(), [](int s) { return s == 1; }));
+    // Every stage the report times was heard.
+    for (const auto& [name, seconds] : r.report.stage_seconds)
+        EXPECT_NE(std::find(heard.begin(), heard.end(), name), heard.end()) << name;
+    // And the hook is the caller's only while extract() runs: a later call without one is silent.
+    heard.clear();
+    (void)extract(make_map(cube_layout(), 3, 4));
+    EXPECT_TRUE(heard.empty());
+}
 
 TEST(Extraction, CollapsedEdges) {
     const auto layout = torus_layout();

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -74,6 +75,10 @@ struct Options {
     /// report says so (Report::grid_scale, and an explanation naming what failed at scale 1), and
     /// the checker judges it against the map scaled by K. Needs fallback_ladder.
     int max_refinement = 4;
+    /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
+    /// (the README's stage table) and the refinement factor being tried (1 at the map's own
+    /// scale). For progress display; it must not throw. Empty: not called.
+    std::function<void(const char* stage, int grid_scale)> on_stage;
     /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
     /// serially. The output is identical for every value.
     int threads = 0;

@@ -67,6 +67,10 @@ int run_extract(const ExtractArgs& a) {
     options.threads = a.threads;
     options.snap_boundary = a.snap_boundary;
     options.max_refinement = a.max_refinement;
+    options.on_stage = [&progress](const char* stage, int grid_scale) {
+        progress.detail(std::string("stage ") + stage + " done" +
+                        (grid_scale > 1 ? " (map refined x" + std::to_string(grid_scale) + ")" : ""));
+    };
     progress.step("extracting and checking " + std::to_string(input.triangles.size()) + " triangles");
     const qex::Result result = qex::extract(input, options);
     progress.step("writing " + a.out_path);

@@ -1,7 +1,6 @@
 // A progress line for runs longer than about two seconds: on stderr, and only when stderr is a
 // terminal (never in logs or pipes). It names the program's current step ("step 2/3: extracting
-// and checking") and the time so far; the library reports no progress of its own stages, so the
-// steps are the CLI's (reading, extracting, writing).
+// and checking") with the library's last finished stage (Options::on_stage), and the time so far.
 #pragma once
 
 #include <chrono>
@@ -46,6 +45,12 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         ++step_;
         name_ = name;
+        detail_.clear();
+    }
+    /// What the current step is doing now (the library's last finished stage, say).
+    void detail(const std::string& text) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        detail_ = text;
     }
 
 private:
@@ -58,8 +63,8 @@ private:
         while (!done_) {
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const int percent = steps_ > 0 ? 100 * (step_ - 1) / steps_ : 0;
-            std::fprintf(stderr, "\r\033[Kqex: %d%% step %d/%d: %s (%.0f s)", percent, step_, steps_, name_.c_str(),
-                         seconds);
+            std::fprintf(stderr, "\r\033[Kqex: %d%% step %d/%d: %s%s%s (%.0f s)", percent, step_, steps_, name_.c_str(),
+                         detail_.empty() ? "" : ", ", detail_.c_str(), seconds);
             std::fflush(stderr);
             shown = true;
             wake_.wait_for(lock, std::chrono::milliseconds(500), [this] { return done_; });
@@ -69,7 +74,7 @@ private:
 
     const int steps_;
     int step_ = 0;
-    std::string name_;
+    std::string name_, detail_;
     bool done_ = false;
     std::mutex mutex_;
     std::condition_variable wake_;

@@ -13,6 +13,9 @@ namespace qex::detail {
 
 // ============================================================================ timing
 
+thread_local const std::function<void(const char*, int)>* StageTimer::hook = nullptr;
+thread_local int StageTimer::hook_scale = 1;
+
 StageTimer::StageTimer(Report& report) : report_(report), last_(std::chrono::steady_clock::now()) {}
 
 void StageTimer::done(Stage stage) {
@@ -20,6 +23,7 @@ void StageTimer::done(Stage stage) {
     const double seconds = std::chrono::duration<double>(now - last_).count();
     last_ = now;
     const char* name = stage_name(stage);
+    if (hook) (*hook)(name, hook_scale);
     for (auto& [label, total] : report_.stage_seconds)
         if (label == name) {
             total += seconds;
@@ -364,6 +368,14 @@ namespace qex {
 
 Result extract(const Input& input, const Options& options) {
     using namespace detail;
+    // The progress hook, for this thread and this call only.
+    struct Hook {
+        explicit Hook(const Options& o) {
+            StageTimer::hook = o.on_stage ? &o.on_stage : nullptr;
+            StageTimer::hook_scale = 1;
+        }
+        ~Hook() { StageTimer::hook = nullptr; }
+    } hook(options);
     Result result = extract_at_scale(input, options);
     if (!result.ok() || result.check.valid || !options.fallback_ladder || options.max_refinement < 2) return result;
     // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
@@ -372,6 +384,7 @@ Result extract(const Input& input, const Options& options) {
     Input scaled = input;
     for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
+        StageTimer::hook_scale = scale;
         Result refined = extract_at_scale(scaled, options);
         ++result.report.refinements_tried;
         add_stage_seconds(refined.report, result.report);

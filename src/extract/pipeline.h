@@ -11,6 +11,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -54,7 +55,12 @@ inline const char* stage_name(Stage s) { return kStageNames[static_cast<int>(s)]
 class StageTimer {
 public:
     explicit StageTimer(Report& report);
+    /// Adds the time since the last call (or construction) to `stage`, and tells the progress hook.
     void done(Stage stage);
+    /// The hook extract() sets for its own thread while it runs (Options::on_stage), and the
+    /// refinement factor being tried.
+    static thread_local const std::function<void(const char*, int)>* hook;
+    static thread_local int hook_scale;
 
 private:
     Report& report_;
