@@ -3,6 +3,8 @@
 // is ever left at the path.
 #include "qex/io.h"
 
+#include "io/file_io.h"
+
 #include <charconv>
 #include <cstdio>
 #include <string>
@@ -97,7 +99,10 @@ private:
     char* p_; ///< where the next character goes
 };
 
-/// Closes the finished temporary file `tmp` and renames it to `path`; removes it on a problem.
+} // namespace
+
+namespace io_detail {
+
 IoError close_and_rename(std::FILE* f, const std::string& tmp, const std::string& path) {
     const bool ok = std::ferror(f) == 0;
     if (std::fclose(f) != 0 || !ok) {
@@ -111,7 +116,7 @@ IoError close_and_rename(std::FILE* f, const std::string& tmp, const std::string
     return {};
 }
 
-} // namespace
+} // namespace io_detail
 
 IoError write_obj(const std::string& path, const QuadMesh& mesh) {
     const std::string tmp = path + ".tmp";
@@ -123,7 +128,7 @@ IoError write_obj(const std::string& path, const QuadMesh& mesh) {
     w.corner_uvs(mesh);
     w.faces(mesh);
     w.finish();
-    return close_and_rename(f, tmp, path);
+    return io_detail::close_and_rename(f, tmp, path);
 }
 
 } // namespace qex

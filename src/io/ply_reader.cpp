@@ -4,6 +4,7 @@
 // or the byte offset and the element (and instance) being read.
 #include "qex/io.h"
 
+#include "io/file_io.h"
 #include "io/text_cursor.h"
 
 #include <fast_float/fast_float.h>
@@ -89,7 +90,7 @@ public:
         unsigned char b[8];
         std::memcpy(b, p_, n);
         p_ += n;
-        if (big_endian_host() != (f_ == Format::BinaryBig)) std::reverse(b, b + n);
+        if (io_detail::big_endian_host() != (f_ == Format::BinaryBig)) std::reverse(b, b + n);
         switch (t) {
             case Type::Int8: x = static_cast<std::int8_t>(b[0]); break;
             case Type::Uint8: x = b[0]; break;
@@ -112,12 +113,6 @@ public:
     }
 
 private:
-    static bool big_endian_host() {
-        const std::uint16_t one = 1;
-        unsigned char c;
-        std::memcpy(&c, &one, 1);
-        return c == 0;
-    }
     template <class T>
     static T load(const unsigned char* b) {
         T v;

@@ -3,6 +3,8 @@
 // renamed into place (removed on a problem), so no partial file is ever left.
 #include "qex/io.h"
 
+#include "io/file_io.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -22,7 +24,7 @@ public:
         if (binary_) {
             unsigned char b[sizeof(T)];
             std::memcpy(b, &x, sizeof x);
-            if (big_endian_host()) std::reverse(b, b + sizeof b);
+            if (io_detail::big_endian_host()) std::reverse(b, b + sizeof b);
             buf_.append(reinterpret_cast<const char*>(b), sizeof b);
         } else {
             char t[64];
@@ -38,12 +40,6 @@ public:
     std::string& text() { return buf_; }
 
 private:
-    static bool big_endian_host() {
-        const std::uint16_t one = 1;
-        unsigned char c;
-        std::memcpy(&c, &one, 1);
-        return c == 0;
-    }
     bool binary_;
     bool at_line_start_ = true;
     std::string buf_;
@@ -93,16 +89,8 @@ IoError write_ply(const std::string& path, const QuadMesh& mesh, bool binary) {
     std::FILE* file = std::fopen(tmp.c_str(), "wb");
     if (!file) return {IoError::Code::CannotWrite, "cannot write '" + tmp + "'", 0};
     const std::string& bytes = out.text();
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-    if (std::fclose(file) != 0 || !written) {
-        std::remove(tmp.c_str());
-        return {IoError::Code::CannotWrite, "error while writing '" + tmp + "'", 0};
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        return {IoError::Code::CannotWrite, "cannot rename '" + tmp + "' to '" + path + "'", 0};
-    }
-    return {};
+    (void)std::fwrite(bytes.data(), 1, bytes.size(), file); // a short write sets the error flag
+    return io_detail::close_and_rename(file, tmp, path);
 }
 
 } // namespace qex
