@@ -73,7 +73,8 @@ struct Options {
     /// singularities within a quad) induce no valid quad mesh at their own scale, but they do
     /// once every quad is split into K x K. The mesh then carries QuadMesh::grid_scale = K, the
     /// report says so (Report::grid_scale, and an explanation naming what failed at scale 1), and
-    /// the checker judges it against the map scaled by K. Needs fallback_ladder.
+    /// the checker judges it against the map scaled by K. Needs fallback_ladder. Not tried past
+    /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse.
     int max_refinement = 4;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <iterator>
 #include <limits>
@@ -381,8 +382,11 @@ Result extract(const Input& input, const Options& options) {
     // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
     // that would leave the range integer transitions need comes back as an input error, and ends
     // the refinement with the scale-1 result.
+    // A map with many quads is not too coarse: refining it would only multiply the cost.
+    constexpr double kMaxRefinedQuads = 200'000;
     Input scaled = input;
     for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
+        if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
         StageTimer::hook_scale = scale;
         Result refined = extract_at_scale(scaled, options);
