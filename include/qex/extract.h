@@ -194,4 +194,9 @@ Result extract(const Input& input, const Options& options = {});
 /// still be rejected there (InconsistentMap, MapTooLarge, CollapseFailed).
 Error validate(const Input& input);
 
+/// The exact orientation of each triangle in the map as given (its three corner UVs): +1,
+/// 0 (degenerate) or -1 (flipped), by the core's exact predicate. Input::uvs must hold three
+/// UVs per triangle.
+std::vector<std::int8_t> uv_orientations(const Input& input);
+
 } // namespace qex

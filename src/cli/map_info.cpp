@@ -9,33 +9,6 @@
 namespace qex::cli {
 namespace {
 
-// === exact orientation: Shewchuk's filter, then an exact sum of the six products
-
-/// a + b = s + e exactly.
-void two_sum(double a, double b, double& s, double& e) {
-    s = a + b;
-    const double bv = s - a;
-    e = (a - (s - bv)) + (b - bv);
-}
-
-/// The exact sign of the sum of the products x[i] * y[i] (i < 6): each product is split into
-/// two doubles (fma), and the twelve are summed into a non-overlapping expansion.
-int exact_sign_of_products(const double* x, const double* y) {
-    double e[13];
-    int n = 0;
-    for (int i = 0; i < 6; ++i) {
-        const double p = x[i] * y[i];
-        const double parts[2] = {std::fma(x[i], y[i], -p), p};
-        for (double q : parts) { // grow the expansion by q
-            for (int k = 0; k < n; ++k) two_sum(q, e[k], q, e[k]);
-            e[n++] = q;
-        }
-    }
-    for (int k = n - 1; k >= 0; --k)
-        if (e[k] != 0.0) return e[k] > 0.0 ? 1 : -1;
-    return 0;
-}
-
 /// Union-find over `n` elements.
 struct Components {
     std::vector<int> parent;
@@ -64,17 +37,6 @@ double uv_area(const std::array<double, 2>& a, const std::array<double, 2>& b, c
 }
 
 } // namespace
-
-int orientation(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
-    const double l = (b[0] - a[0]) * (c[1] - a[1]), r = (b[1] - a[1]) * (c[0] - a[0]);
-    const double det = l - r, bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r));
-    if (det > bound) return 1;
-    if (-det > bound) return -1;
-    // a0 b1 - a0 c1 - a1 b0 + a1 c0 + b0 c1 - b1 c0
-    const double x[6] = {a[0], -a[0], -a[1], a[1], b[0], -b[1]};
-    const double y[6] = {b[1], c[1], b[0], c[0], c[1], c[0]};
-    return exact_sign_of_products(x, y);
-}
 
 MapInfo analyse_map(const Input& in) {
     MapInfo info;
@@ -122,13 +84,12 @@ MapInfo analyse_map(const Input& in) {
             info.genus += (2 - euler_of[v] - loops_of[v]) / 2;
 
     // Orientation and area of every triangle; fold-over regions across shared edges.
-    info.orientation.resize(nt);
+    info.orientation = uv_orientations(in);
     std::vector<double> area(nt);
     for (std::size_t t = 0; t < nt; ++t) {
         const auto* uv = &in.uvs[3 * t];
         area[t] = uv_area(uv[0], uv[1], uv[2]);
         info.signed_uv_area += area[t];
-        info.orientation[t] = static_cast<std::int8_t>(orientation(uv[0], uv[1], uv[2]));
         if (info.orientation[t] < 0) ++info.flipped;
         if (info.orientation[t] == 0) ++info.degenerate;
     }

@@ -35,7 +35,8 @@ struct MapInfo {
     std::int64_t genus = 0; ///< sum over components of (2 - euler - boundary loops) / 2
     double signed_uv_area = 0.0;
     std::int64_t flipped = 0, degenerate = 0;
-    std::vector<std::int8_t> orientation; ///< per triangle: +1, 0 (degenerate) or -1 (flipped), exactly
+    std::vector<std::int8_t>
+        orientation; ///< per triangle: +1, 0 (degenerate) or -1 (flipped), exactly (qex::uv_orientations)
     std::vector<FoldRegion> fold_regions;
     std::vector<int> region_of; ///< per triangle: its fold region, or -1
     std::vector<Singularity> singularities;
@@ -45,9 +46,6 @@ struct MapInfo {
     double max_sanitization_displacement = 0.0;
     std::int64_t sanitized_singularities = 0;
 };
-
-/// The exact sign of the UV orientation of the triangle (a, b, c): +1, 0 or -1.
-int orientation(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c);
 
 /// Everything but the sanitized part; the input must have passed qex::validate().
 MapInfo analyse_map(const Input& input);

@@ -160,13 +160,9 @@ int canonical_base(const TriMesh& m, int f) {
 /// Triangles in an order that does not depend on the input's: by their corners' 3D positions
 /// from the canonical base on.
 void sort_canonically(const TriMesh& m, std::vector<int>& faces) {
-    using Key = std::array<std::array<double, 3>, 3>;
-    std::vector<std::pair<Key, int>> keyed;
+    std::vector<std::pair<TriangleKey, int>> keyed;
     keyed.reserve(faces.size());
-    for (const int f : faces) {
-        const int b = canonical_base(m, f);
-        keyed.push_back({Key{m.pos(b), m.pos(TriMesh::next(b)), m.pos(TriMesh::prev(b))}, f});
-    }
+    for (const int f : faces) keyed.push_back({triangle_key(m, f), f});
     std::sort(keyed.begin(), keyed.end());
     for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = keyed[i].second;
 }

@@ -226,24 +226,29 @@ void connect(const TriMesh& m, QState& q, int p, const TraceEnd& end, Report& re
 
 } // namespace
 
-bool triangle_less(const TriMesh& m, int f, int g) {
-    auto key = [&](int t) {
-        int base = 3 * t;
-        for (int c = 3 * t + 1; c < 3 * t + 3; ++c)
-            if (m.pos(c) < m.pos(base)) base = c;
-        return std::array<std::array<double, 3>, 3>{m.pos(base), m.pos(TriMesh::next(base)),
-                                                    m.pos(TriMesh::prev(base))};
-    };
-    return key(f) < key(g);
+TriangleKey triangle_key(const TriMesh& m, int f) {
+    // The smallest of the three rotations (two corners at one point tie on the first position).
+    TriangleKey best{};
+    for (int c = 3 * f; c < 3 * f + 3; ++c) {
+        const TriangleKey key{m.pos(c), m.pos(TriMesh::next(c)), m.pos(TriMesh::prev(c))};
+        if (c == 3 * f || key < best) best = key;
+    }
+    return best;
 }
+
+bool triangle_less(const TriMesh& m, int f, int g) { return triangle_key(m, f) < triangle_key(m, g); }
 
 int canonical_half_edge(const TriMesh& m, int h) {
     const int o = m.opp[h];
     if (o < 0) return h;
-    const int f = TriMesh::face(h), g = TriMesh::face(o);
-    if (triangle_less(m, g, f)) return o;
-    if (triangle_less(m, f, g)) return h;
-    return std::min(h, o); // one triangle's key twice: a degenerate mesh, index order
+    // The half-edge that runs from the end with the smaller position; a vertex glued by collapses
+    // is at its own input vertex on both sides. (Two vertices at one point: index order.)
+    const auto& at = [&](int v) -> const std::array<double, 3>& {
+        return (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])];
+    };
+    const auto &from = at(m.origin(h)), &to = at(m.target(h));
+    if (from != to) return from < to ? h : o;
+    return std::min(h, o);
 }
 
 bool port_less(const TriMesh& m, const QState& q, int a, int b) {

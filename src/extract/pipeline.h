@@ -223,13 +223,17 @@ struct FaceWalks {
 /// UVs depend on where the accumulation starts, and so would every choice made on them later.
 FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 
-/// Whether triangle f comes before triangle g in an order that does not depend on the input's:
-/// their corners' 3D positions, each read from its smallest corner on.
+/// A triangle's key in an order that does not depend on the input's: its corners' 3D positions,
+/// read from its smallest corner on.
+using TriangleKey = std::array<std::array<double, 3>, 3>;
+TriangleKey triangle_key(const TriMesh& m, int f);
+
+/// Whether triangle f comes before triangle g in that order.
 bool triangle_less(const TriMesh& m, int f, int g);
 
-/// The half-edge of h's edge that carries its edge-q-vertices: the one whose triangle comes first
-/// in triangle_less order (h itself on a boundary), so their positions and charts do not depend
-/// on the input's order.
+/// The half-edge of h's edge that carries its edge-q-vertices: the one running from the end with
+/// the smaller 3D position (h itself on a boundary), so their positions and charts do not depend
+/// on the input's order. O(1): it is asked for every half-edge.
 int canonical_half_edge(const TriMesh& m, int h);
 
 /// Ports in an order that does not depend on the input's: by q-vertex (qvertex_less), then the

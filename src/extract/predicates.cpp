@@ -1,6 +1,8 @@
 // Exact predicates, the only translation unit of the core that includes CGAL.
 #include "predicates.h"
 
+#include "qex/extract.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
 
@@ -68,3 +70,15 @@ std::array<double, 3> barycentric_exact(const Point2& x, const Point2& a, const 
 }
 
 } // namespace qex::detail
+
+namespace qex {
+
+std::vector<std::int8_t> uv_orientations(const Input& input) {
+    std::vector<std::int8_t> out(input.triangles.size(), 0);
+    for (std::size_t t = 0; t < out.size() && 3 * t + 2 < input.uvs.size(); ++t)
+        out[t] = static_cast<std::int8_t>(
+            detail::sign(detail::orient2d(input.uvs[3 * t], input.uvs[3 * t + 1], input.uvs[3 * t + 2])));
+    return out;
+}
+
+} // namespace qex
