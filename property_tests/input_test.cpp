@@ -101,6 +101,40 @@ TEST(BadInput, ValencesAndFeatures) {
     EXPECT_EQ(extract_error(in), ErrorCode::BadFeatureEdge);
 }
 
+// A seam whose two UV copies no grid transition relates (one triangle's chart moved off the grid
+// by a fraction of a cell) is an input error naming the seam; solver noise and integer moves are
+// not.
+TEST(BadInput, SeamNoTransitionExplains) {
+    std::mt19937 rng(5);
+    Input base = make_map(cube_layout(), 2, 3);
+    rechart(base, rng); // every edge a seam
+    auto moved = [&](double dx) {
+        Input in = base;
+        for (int c = 0; c < 3; ++c) in.uvs[c][0] += dx;
+        return in;
+    };
+    for (const double dx : {0.3, -0.02, 0.5}) {
+        const Result r = extract(moved(dx));
+        ASSERT_EQ(r.error.code, ErrorCode::InconsistentMap) << dx;
+        EXPECT_NE(r.error.message.find("seam edge between input vertices"), std::string::npos) << r.error.message;
+        // The seam named is one of triangle 0's edges.
+        const auto t = static_cast<std::int64_t>(r.error.element);
+        ASSERT_GE(t, 0);
+        ASSERT_LT(t, static_cast<std::int64_t>(base.triangles.size()));
+        int shared = 0;
+        for (const int a : base.triangles[static_cast<std::size_t>(t)])
+            for (const int b : base.triangles[0]) shared += a == b;
+        EXPECT_GE(shared, 2) << r.error.message;
+    }
+    const std::int64_t quads = expected_quads(cube_layout(), 2);
+    for (const double dx : {1e-6, 1.0, -3.0}) {
+        const Result r = extract(moved(dx));
+        ASSERT_TRUE(r.ok()) << dx << ": " << r.error.message;
+        EXPECT_TRUE(r.check.valid) << dx;
+        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), quads) << dx;
+    }
+}
+
 TEST(BadInput, AbsurdlyLargeMap) {
     Input in = small_map();
     for (auto& uv : in.uvs) uv = {uv[0] * 1e6, uv[1] * 1e6};

@@ -167,6 +167,26 @@ TEST(RealMaps, CoarseMapIsRefined) {
     EXPECT_LE(static_cast<std::int64_t>(r.mesh.faces.size()), v.input_signed_uv_area_rounded);
 }
 
+// A map whose boundary has holes much smaller than a quad (beetle_miq_20: 11 boundary loops,
+// some a fraction of a quad across) gives no valid mesh at its own scale, where the paper's
+// discarded boundary faces pinch vertices and merge loops; refined, the mesh keeps every loop.
+TEST(RealMaps, SmallHolesAreKeptByRefinement) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "beetle_miq_20_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(r.check.valid) << (r.check.violations.empty() ? "" : r.check.violations.front().message);
+    EXPECT_GT(r.mesh.grid_scale, 4); // x2 and x4 still lose holes
+    EXPECT_EQ(r.report.grid_scale, r.mesh.grid_scale);
+    EXPECT_EQ(result_inconsistency(in, r), "");
+    const VerifyResult v = verify(in, r.mesh);
+    ASSERT_TRUE(v.valid) << (v.violations.empty() ? "" : v.violations.front().message);
+    EXPECT_EQ(v.boundary_loops, v.input_boundary_loops);
+    EXPECT_EQ(v.input_boundary_loops, 11);
+    EXPECT_EQ(v.euler, v.input_euler);
+}
+
 TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
     const auto files = maps("miq");
     if (files.empty()) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes/miq";

@@ -63,6 +63,12 @@ struct Options {
     /// keeping transitions, singularities, boundaries and everything outside them; the mesh
     /// carries the repaired map and which triangles changed (QuadMesh::map_repaired).
     bool repair_fold_overs = true;
+    /// A seam whose two UV copies no grid transition relates (more than 1/1024 of a cell apart
+    /// after the nearest one) is an input error (ErrorCode::InconsistentMap, naming the seam).
+    /// With this set, such seams are instead rounded to the nearest transition, as the paper's
+    /// sanitization does with noise, and each is reported (DefectKind::SeamRounded): the map
+    /// moves by up to half a cell there.
+    bool round_inconsistent_seams = false;
     /// When the checker rejects the mesh of the repaired map, retry on the map as given with the
     /// paper's local handling of fold-overs alone, then (last resorts, uncertified) on maps whose
     /// folded regions are relaxed, with the mesh moved back onto the given map; see Report::rung.
@@ -70,12 +76,13 @@ struct Options {
     /// When no rung gives a valid mesh at the map's own scale, retry with the map's UVs
     /// multiplied by 2, then 4, ... up to this factor (a power of two; 1 disables). Maps too
     /// coarse for their surface (a handle or neck less than a quad or two around, clusters of
-    /// singularities within a quad) induce no valid quad mesh at their own scale, but they do
+    /// singularities within a quad, boundary holes a fraction of a quad across) induce no valid
+    /// quad mesh at their own scale, but they do
     /// once every quad is split into K x K. The mesh then carries QuadMesh::grid_scale = K, the
     /// report says so (Report::grid_scale, and an explanation naming what failed at scale 1), and
     /// the checker judges it against the map scaled by K. Needs fallback_ladder. Not tried past
     /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse.
-    int max_refinement = 4;
+    int max_refinement = 16;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own
     /// scale). For progress display; it must not throw. Empty: not called.
@@ -104,6 +111,9 @@ enum class DefectKind {
     /// No valid mesh at the map's own scale: the mesh is extracted on the map with its UVs
     /// multiplied by Report::grid_scale (Options::max_refinement); names the first failure at scale 1.
     MapRefined,
+    /// A seam no grid transition relates was rounded to the nearest one
+    /// (Options::round_inconsistent_seams); names the seam and how far off it was.
+    SeamRounded,
 };
 const char* to_string(DefectKind kind);
 

@@ -47,7 +47,7 @@ std::uintmax_t size_of(const std::string& path);
 // The subcommands, each in its own file: its options (add_*), then its run (run_*).
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
-    bool poly = false, quiet = false, snap_boundary = false;
+    bool poly = false, quiet = false, snap_boundary = false, round_seams = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
 };

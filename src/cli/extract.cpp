@@ -6,6 +6,7 @@
 #include "violations.h"
 #include "qex/report.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -66,6 +67,7 @@ int run_extract(const ExtractArgs& a) {
     qex::Options options;
     options.threads = a.threads;
     options.snap_boundary = a.snap_boundary;
+    options.round_inconsistent_seams = a.round_seams;
     options.max_refinement = a.max_refinement;
     options.on_stage = [&progress](const char* stage, int grid_scale) {
         progress.detail(std::string("stage ") + stage + " done" +
@@ -99,6 +101,15 @@ int run_extract(const ExtractArgs& a) {
     if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
         std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
                   << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
+    const auto rounded = std::count_if(r.explanations.begin(), r.explanations.end(),
+                                       [](const Defect& d) { return d.kind == DefectKind::SeamRounded; });
+    if (rounded > 0) { // said even with -q: the map moved by up to half a cell there
+        const auto first = std::find_if(r.explanations.begin(), r.explanations.end(),
+                                        [](const Defect& d) { return d.kind == DefectKind::SeamRounded; });
+        std::cerr << "qex: " << a.in_path << ": " << rounded
+                  << " seams no grid transition relates were rounded (--round-seams); the first: " << first->message
+                  << "\n";
+    }
     if (!a.quiet)
         std::printf(
             "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
@@ -119,6 +130,8 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract->add_option("--features", a.features_path,
                         "feature edges to snap onto iso-lines: one 'i j' per line (0-based vertices), # comments");
     extract->add_flag("--snap-boundary", a.snap_boundary, "snap every boundary edge onto its closest iso-line");
+    extract->add_flag("--round-seams", a.round_seams,
+                      "round seams no grid transition relates to the nearest one and report each (default: exit 4)");
     extract->add_flag("--poly", a.poly, "write the mesh even if faces are not quads (exit code stays 5)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
@@ -126,7 +139,7 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract
         ->add_option("--max-refinement", a.max_refinement,
                      "when the map gives no valid mesh at its own scale, retry with its UVs x2, x4, ... up to this "
-                     "power of two (1: never; default 4)")
+                     "power of two (1: never; default 16)")
         ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;

@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 #if defined(_OPENMP)
@@ -231,6 +234,49 @@ void compute_transitions(TriMesh& m) {
     settle_undetermined(m, determined, listed.undetermined);
     if (listed.short_edges.empty()) return;
     fix_dipoles(m, listed.short_edges);
+}
+
+Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report) {
+    if (policy == SeamPolicy::Trusted) return {};
+    // Solver noise and float storage leave seams off by about 1e-6 cells on real maps (the worst
+    // of the shared MIQ and paper maps: 9.5e-7); an offset this large is not noise.
+    constexpr double kSeamTolerance = 1.0 / 1024;
+    const int nh = 3 * m.num_faces();
+    for (int h = 0; h < nh; ++h) {
+        const int o = m.opp[h];
+        if (o < h) continue; // boundary, or checked from the other side
+        const GridAutomorphism& g = m.map.transition[static_cast<std::size_t>(h)];
+        const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
+        const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
+        const Point2 ga = g(a), gb = g(b);
+        const double off = std::max(norm_inf({ga[0] - a2[0], ga[1] - a2[1]}), norm_inf({gb[0] - b2[0], gb[1] - b2[1]}));
+        // Far from the origin the coordinates themselves carry less: allow a few of their ulps.
+        const double magnitude = std::max({norm_inf(a), norm_inf(b), norm_inf(a2), norm_inf(b2)});
+        const double tolerance = std::max(kSeamTolerance, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
+        if (off <= tolerance) continue;
+        char what[160];
+        std::snprintf(what, sizeof what, "%.3g cells off (rotation %d quarter turns, translation (%lld, %lld))", off,
+                      g.r, static_cast<long long>(g.tx), static_cast<long long>(g.ty));
+        const std::string seam = "the seam edge between input vertices " + std::to_string(m.input_vertex[m.origin(h)]) +
+                                 " and " + std::to_string(m.input_vertex[m.target(h)]) + " (input triangles " +
+                                 std::to_string(m.input_triangle[TriMesh::face(h)]) + " and " +
+                                 std::to_string(m.input_triangle[TriMesh::face(o)]) + ")";
+        if (policy == SeamPolicy::Rounded) {
+            report.explanations.push_back({DefectKind::SeamRounded,
+                                           seam + " was rounded to the nearest grid transition, " + what,
+                                           m.input_triangle[TriMesh::face(h)],
+                                           -1,
+                                           {0, 0},
+                                           std::nullopt});
+            continue;
+        }
+        return {ErrorCode::InconsistentMap,
+                seam + " has UV copies that no grid transition relates: the nearest is " + what +
+                    "; an integer-grid map's charts differ by a rotation by quarter turns and an integer "
+                    "translation (Options::round_inconsistent_seams, --round-seams, rounds them instead)",
+                m.input_triangle[TriMesh::face(h)]};
+    }
+    return {};
 }
 
 } // namespace qex::detail

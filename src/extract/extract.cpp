@@ -36,13 +36,15 @@ void StageTimer::done(Stage stage) {
 // ============================================================================ sanitization rounds
 
 Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<std::array<int, 2>>& features,
-                            Report& report, StageTimer& timer, int max_rounds) {
+                            Report& report, StageTimer& timer, int max_rounds, SeamPolicy seams) {
     // Branch points (r = 0 singularities) are decided by angles. Without given valences they are
     // snapped only once the truncated map's degenerate edges are collapsed: before, a noisy
     // sliver next to a vertex can add a full turn to its angle sum.
     bool branch_points = !input.valences.empty();
     for (int round = 0;; ++round) {
         compute_transitions(m);
+        if (round == 0)
+            if (Error e = check_seams(m, seams, report); e.code != ErrorCode::None) return e;
         timer.done(Stage::compute_transitions);
         count_valences(m);
         timer.done(Stage::count_valences);
@@ -119,7 +121,12 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         timer.done(Stage::untangle);
     }
     const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
-    if (Error e = sanitize_until_stable(m, input, features, report, timer); e.code != ErrorCode::None) return e;
+    const SeamPolicy seams = rung.untangle_rings > 0            ? SeamPolicy::Trusted
+                             : options.round_inconsistent_seams ? SeamPolicy::Rounded
+                                                                : SeamPolicy::Checked;
+    if (Error e = sanitize_until_stable(m, input, features, report, timer, kMaxSanitizeRounds, seams);
+        e.code != ErrorCode::None)
+        return e;
     count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())
         for (int v = 0; v < m.num_vertices; ++v) m.map.valence[v] = input.valences[m.input_vertex[v]];

@@ -91,6 +91,19 @@ Error collapse(TriMesh& m, std::int64_t& collapsed);
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
 
+/// How the first sanitize round treats seams whose two UV copies the computed transition maps
+/// onto each other only up to more than solver noise (1/1024 of a cell, or a few ulps of the
+/// coordinates): such a seam is not an integer-grid transition, and sanitizing moves the map by
+/// up to half a cell there.
+enum class SeamPolicy {
+    Trusted, ///< not checked (a map a rung has moved)
+    Checked, ///< the first such seam (in half-edge order) is an input error naming it
+    Rounded, ///< each is rounded, as sanitizing does, and named in the report's explanations
+};
+
+/// Applies `policy` to the map's seams (after compute_transitions).
+Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report);
+
 /// The angle atan2(y, x) for y >= 0, within kApproximateAngleError of it (a polynomial, no
 /// libm call); NaN when x and y are both 0 or not finite.
 double approximate_angle(double y, double x);
@@ -151,9 +164,11 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.
-/// Ends with a map state that describes the mesh's connectivity.
+/// Ends with a map state that describes the mesh's connectivity. The first round's seams are
+/// treated by `seams` (check_seams).
 Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<std::array<int, 2>>& features,
-                            Report& report, StageTimer& timer, int max_rounds = kMaxSanitizeRounds);
+                            Report& report, StageTimer& timer, int max_rounds = kMaxSanitizeRounds,
+                            SeamPolicy seams = SeamPolicy::Checked);
 
 // ============================================================================ q-vertices and q-ports
 
