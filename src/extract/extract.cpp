@@ -343,8 +343,9 @@ Result extract_at_scale(const Input& input, const Options& options) {
 /// Adds `from`'s stage times to `to`'s, stage by stage.
 void add_stage_seconds(const Report& from, Report& to) {
     for (const auto& [name, seconds] : from.stage_seconds) {
+        const std::string& stage = name; // clang before 16 cannot capture a structured binding
         auto it = std::find_if(to.stage_seconds.begin(), to.stage_seconds.end(),
-                               [&](const auto& entry) { return entry.first == name; });
+                               [&](const auto& entry) { return entry.first == stage; });
         if (it == to.stage_seconds.end())
             to.stage_seconds.emplace_back(name, seconds);
         else
