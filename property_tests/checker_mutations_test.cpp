@@ -6,6 +6,7 @@
 #include "mutations.h"
 #include "test_support.h"
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -34,6 +35,10 @@ TEST(CheckerMutations, CorrectMeshesPass) {
           make_case("annulus", make_map(annulus_layout(), 3, 3))}) {
         const VerifyResult v = verify(c.in, c.good);
         EXPECT_TRUE(v.valid) << c.name << ": " << first_message(v);
+        // No fold-overs, no cone inside a cell, boundaries on iso-lines: every cell is required,
+        // and covered.
+        EXPECT_EQ(v.coverage_cells, static_cast<std::int64_t>(c.good.faces.size())) << c.name;
+        EXPECT_EQ(v.uncovered_cells + v.uncovered_grid_points, 0) << c.name;
     }
 }
 
@@ -63,6 +68,10 @@ TEST(CheckerMutations, DroppedQuadIsAHoleWithItsLoop) {
             if (x.kind == ViolationKind::BoundaryMismatch)
                 for (const Place& p : x.places) cells += p.kind == PlaceKind::GridCell ? p.indices.size() / 3 : 0;
         EXPECT_EQ(cells, 1u) << c.name;
+        // The coverage check names the hole itself: the cell, its corner vertices, its chart.
+        EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, loop)) << c.name;
+        EXPECT_EQ(v.uncovered_cells, 1) << c.name;
+        EXPECT_EQ(v.uncovered_grid_points, 0) << c.name;
         EXPECT_EQ(unplaced(v), "") << c.name;
     }
 }
@@ -85,6 +94,10 @@ TEST(CheckerMutations, MergedVerticesAveragedAreOffTheGrid) {
     EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.f)}));
     EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.g)}));
     EXPECT_TRUE(names(v, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {e.b}));
+    // The grid point a left has no vertex now, and b's cells (b still on its grid point, its
+    // faces on a) no face.
+    EXPECT_GE(v.uncovered_grid_points, 1);
+    EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, {e.b}));
     EXPECT_EQ(unplaced(v), "");
 }
 
@@ -144,6 +157,8 @@ TEST(CheckerMutations, PinchedBoundaryVerticesAreNonManifold) {
     EXPECT_FALSE(v.valid);
     EXPECT_TRUE(names(v, ViolationKind::NonManifoldVertex, PlaceKind::Vertex, {a})) << first_message(v);
     EXPECT_TRUE(names(v, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {b}));
+    // The boundary lies on iso-lines: the cells at b are required, and their faces now use a.
+    EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, {b}));
     EXPECT_EQ(unplaced(v), "");
 }
 
@@ -158,6 +173,11 @@ TEST(CheckerMutations, QuadSplitIntoTrianglesIsNamed) {
     EXPECT_FALSE(v.valid);
     EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(f)}));
     EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(m.faces.size() - 1)}));
+    // Its cell has no face: named with its corners and the two triangles in its place.
+    const std::vector<Index> corners(q.begin(), q.end());
+    EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, corners));
+    EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Face,
+                      {static_cast<Index>(f), static_cast<Index>(m.faces.size() - 1)}));
     EXPECT_EQ(unplaced(v), "");
 }
 
@@ -172,6 +192,66 @@ TEST(CheckerMutations, RotatedEdgeBetweenTwoQuadsIsNoGridCell) {
     EXPECT_TRUE(names(v, ViolationKind::FaceNotGridCell, PlaceKind::Face, {static_cast<Index>(e.f)}));
     EXPECT_TRUE(names(v, ViolationKind::FaceNotGridCell, PlaceKind::Face, {static_cast<Index>(e.g)}));
     EXPECT_EQ(v.euler, v.input_euler); // the topology is intact: only the map sees it
+    EXPECT_EQ(unplaced(v), "");
+}
+
+TEST(CheckerMutations, CoverageLocatesARotatedEdgeNextToCones) {
+    // On the cube every face has a cone within a cell: a face's own check may be undecided there,
+    // the coverage check is not. Both cells of the rotated edge are named, with their corners and
+    // the two faces in their place, at every edge tried.
+    const Case c = make_case("cube", make_map(cube_layout(), 3, 3));
+    int tried = 0;
+    for (std::size_t start = 0; start < c.good.faces.size(); start += 5) {
+        const SharedEdge e = shared_edge(c.good, start);
+        if (e.a < 0) continue;
+        ++tried;
+        QuadMesh m = c.good;
+        rotate_edge(m, e);
+        const VerifyResult v = verify(c.in, m);
+        EXPECT_FALSE(v.valid);
+        for (const std::size_t f : {e.f, e.g}) {
+            const std::vector<Index> cell(c.good.faces[f].begin(), c.good.faces[f].end());
+            EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, cell)) << "face " << f;
+        }
+        EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Face,
+                          {static_cast<Index>(e.f), static_cast<Index>(e.g)}));
+        EXPECT_EQ(v.uncovered_cells, 2);
+        EXPECT_EQ(unplaced(v), "");
+    }
+    EXPECT_GT(tried, 5);
+}
+
+TEST(CheckerMutations, CoverageNamesAVertexMissingFromItsGridPoint) {
+    // A vertex removed with its four faces (the rest renumbered): its grid point is named, with
+    // its chart triangle and the four cells around it; the hole's loop is there too.
+    const Case c = make_case("torus", make_map(torus_layout(), 3, 2));
+    const int gone = c.good.faces[7][2];
+    QuadMesh m;
+    std::vector<int> index(c.good.positions.size(), -1);
+    for (std::size_t i = 0; i < c.good.positions.size(); ++i)
+        if (static_cast<int>(i) != gone)
+            index[i] = static_cast<int>(m.positions.size()), m.positions.push_back(c.good.positions[i]);
+    for (const auto& f : c.good.faces) {
+        if (std::find(f.begin(), f.end(), gone) != f.end()) continue;
+        std::vector<int> g;
+        for (int x : f) g.push_back(index[static_cast<std::size_t>(x)]);
+        m.faces.push_back(g);
+    }
+    ASSERT_EQ(m.faces.size() + 4, c.good.faces.size());
+    const VerifyResult v = verify(c.in, m);
+    EXPECT_FALSE(v.valid);
+    EXPECT_EQ(v.uncovered_grid_points, 1);
+    EXPECT_EQ(v.uncovered_cells, 0); // the cells are named at their grid point
+    const Violation* point = nullptr;
+    for (const Violation& x : v.violations)
+        if (x.kind == ViolationKind::GridPointNotCovered) point = &x;
+    ASSERT_NE(point, nullptr);
+    EXPECT_EQ(element_kind(point->kind), ViolationElement::InputTriangle);
+    ASSERT_GE(point->places.size(), 2u);
+    EXPECT_EQ(point->places[0].kind, PlaceKind::GridPoint);
+    EXPECT_EQ(point->places[0].indices[0], point->element);
+    EXPECT_EQ(point->places[1].kind, PlaceKind::GridCell);
+    EXPECT_EQ(point->places[1].indices.size(), 4u * 3u);
     EXPECT_EQ(unplaced(v), "");
 }
 

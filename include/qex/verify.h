@@ -37,6 +37,14 @@ enum class ViolationKind {
     FaceNotGridCell,  ///< a face's corners, carried into one chart, are not a ccw unit grid cell
     CoverageMismatch, ///< the faces do not cover the map once (map without flipped triangles)
     TooLarge,         ///< more face corners (mesh or input) than the checker's 32-bit tables hold
+    /// Located mode: a grid point that the map covers once (a corner of a required cell, see
+    /// VerifyResult::coverage_cells) on which no vertex lies; Violation::element is the input
+    /// triangle whose chart holds it
+    GridPointNotCovered,
+    /// Located mode: a unit grid cell that the map covers once whose corners are vertices, but no
+    /// face joins them in counter-clockwise order (a hole, a rotated edge, a reversed face);
+    /// Violation::element is the input triangle whose chart holds it
+    GridCellNotCovered,
 };
 const char* to_string(ViolationKind kind);
 
@@ -62,6 +70,9 @@ enum class PlaceKind {
     /// Unit grid cells the map covers and no face does: per cell the input triangle whose
     /// chart holds it, then the cell's lower-left grid point (u, v) there (indices in triples)
     GridCell,
+    /// Grid points: per point the input triangle whose chart holds it, then the point (u, v)
+    /// there (indices in triples)
+    GridPoint,
 };
 const char* to_string(PlaceKind kind);
 
@@ -142,6 +153,13 @@ struct VerifyResult {
     /// Any of them lifts the coverage check (CoverageMismatch).
     std::int64_t map_flipped_triangles = 0;
     std::int64_t coverage_difference = 0; ///< faces - input_signed_uv_area_rounded
+    /// Located mode, the coverage check: the unit grid cells the map covers once (required: away
+    /// from fold-overs by kFoldRegionRings rings, not cut by the boundary, no cone inside), each
+    /// of which must be a face with its corners vertices; of those, the grid points no vertex
+    /// lies on (GridPointNotCovered) and the cells no face joins (GridCellNotCovered); and the
+    /// input triangles whose UV boxes were too large to enumerate (not checked).
+    std::int64_t coverage_cells = 0, uncovered_grid_points = 0, uncovered_cells = 0;
+    std::int64_t coverage_skipped_triangles = 0;
     /// Located mode: checks that could not be decided because the map folds over there (a
     /// face's corners carried across flipped or degenerate triangles, or next to them) or
     /// through the fan of a singular vertex; not violations, listed for review.
@@ -199,7 +217,8 @@ struct VerifyOptions {
 /// own output): the sanitized map is an exact integer-grid map and every vertex is on its grid
 /// point, exactly. Without provenance (any other extractor's mesh, or an OBJ read back), the
 /// vertices are located on the surface: each must be the image of an integer grid point, each
-/// face's corners one counter-clockwise grid cell, and the faces must cover the map.
+/// face's corners one counter-clockwise grid cell, and the faces must cover the map: as many as
+/// its area, and every cell it covers once (away from fold-overs and the boundary) a face.
 /// Does not throw on malformed meshes.
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options = {});
 

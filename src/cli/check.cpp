@@ -33,6 +33,15 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
                         static_cast<long long>(v.map_flipped_triangles));
         std::printf("\n");
         std::printf(
+            "coverage: %lld grid cells the map covers once away from fold-overs and the boundary; %lld grid "
+            "points of them without a vertex, %lld cells without a face",
+            static_cast<long long>(v.coverage_cells), static_cast<long long>(v.uncovered_grid_points),
+            static_cast<long long>(v.uncovered_cells));
+        if (v.coverage_skipped_triangles > 0)
+            std::printf(" (%lld triangles too large in UV to enumerate, not checked)",
+                        static_cast<long long>(v.coverage_skipped_triangles));
+        std::printf("\n");
+        std::printf(
             "positions carry up to %d significant digits%s; distance tolerance %.3g + up to %.3g for rounding "
             "(model units)\n",
             v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,

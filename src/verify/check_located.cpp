@@ -175,11 +175,16 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
                                     ") in the chart of input triangle " + std::to_string(loc[v].triangle) + ", " +
                                     num(off) + " from the nearest integer grid point; tolerance " + num(uv_tol) +
                                     " (UV)";
-            if (uv_tol > kMaxUvTolerance && off <= uv_tol)
+            if (uv_tol > kMaxUvTolerance && off <= uv_tol) {
                 add_capped(r.undecided, ViolationKind::NotOnGridPoint,
                            msg + " (the positions' precision cannot place it on one grid point)",
                            static_cast<std::int64_t>(v));
-            else
+                if (std::abs(gx) < 9e15 && std::abs(gy) < 9e15) {
+                    loc[v].grid = {static_cast<std::int64_t>(gx), static_cast<std::int64_t>(gy)};
+                    loc[v].undecided = true;
+                    loc[v].spread = static_cast<int>(std::ceil(std::min(uv_tol, 2.0) + 0.5));
+                }
+            } else
                 add_capped(out, ViolationKind::NotOnGridPoint, msg, static_cast<std::int64_t>(v));
             continue;
         }
@@ -189,97 +194,18 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
     return loc;
 }
 
-/// The unit cells that no face covers, where the map is a plain grid: per cell (triangle, u, v),
-/// its lower-left grid point (u, v) in the chart of a positive triangle none of whose vertices
-/// is a fold-over's or a cone, which holds a point near the cell's centre. A face covers the
-/// cell its corners showed (`cells`, check_face_cells), carried from its anchor's chart into
-/// every triangle reached across triangles whose UV boxes meet it. Names places only: it decides
-/// nothing (at most `most` cells).
-std::vector<std::array<std::int64_t, 3>> uncovered_cells(const LocatedMap& map, const std::vector<FaceCell>& cells,
-                                                         std::size_t most) {
-    const Input& in = map.in;
-    std::set<std::array<std::int64_t, 3>> covered;
-    std::vector<std::pair<std::uint32_t, GridPoint>> queue;
-    std::set<std::uint32_t> seen;
-    auto meets = [&](std::size_t t, const GridPoint& c) {
-        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &d = in.uvs[3 * t + 2];
-        const double x = static_cast<double>(c[0]), y = static_cast<double>(c[1]);
-        return std::max({a[0], b[0], d[0]}) >= x && std::min({a[0], b[0], d[0]}) <= x + 1 &&
-               std::max({a[1], b[1], d[1]}) >= y && std::min({a[1], b[1], d[1]}) <= y + 1;
-    };
-    for (const FaceCell& fc : cells) {
-        if (fc[0] < 0) continue;
-        queue.assign(1, {static_cast<std::uint32_t>(fc[0]), GridPoint{fc[1], fc[2]}});
-        seen = {static_cast<std::uint32_t>(fc[0])};
-        for (std::size_t head = 0; head < queue.size() && queue.size() < 300; ++head) {
-            const auto [t, c] = queue[head];
-            covered.insert({static_cast<std::int64_t>(t), c[0], c[1]});
-            for (std::size_t k = 0; k < 3; ++k) {
-                const std::int64_t o = map.edges.opposite[3 * t + k];
-                if (o < 0) continue;
-                const auto n = static_cast<std::uint32_t>(o / 3);
-                if (seen.count(n)) continue;
-                // The cell in n's chart: its corners carried across, the lowest of each coordinate.
-                const Transition& T = map.edges.across[3 * t + k];
-                GridPoint lo{INT64_MAX, INT64_MAX};
-                for (const GridPoint& corner :
-                     {c, GridPoint{c[0] + 1, c[1]}, GridPoint{c[0], c[1] + 1}, GridPoint{c[0] + 1, c[1] + 1}}) {
-                    const GridPoint q = rotate_quarter(corner, T.r);
-                    lo = {std::min(lo[0], q[0] + T.tx), std::min(lo[1], q[1] + T.ty)};
-                }
-                if (!meets(n, lo)) continue;
-                seen.insert(n);
-                queue.push_back({n, lo});
-            }
-        }
-    }
-    std::vector<char> fold_vertex(in.positions.size(), 0);
-    for (std::size_t t = 0; t < in.triangles.size(); ++t)
-        if (map.fold_over[t])
-            for (int v : in.triangles[t]) fold_vertex[static_cast<std::size_t>(v)] = 1;
-    std::vector<std::array<std::int64_t, 3>> out;
-    double budget = 1e7; // cells looked at, at most (a broken map can span huge UV boxes)
-    for (std::size_t t = 0; t < in.triangles.size() && out.size() < most && budget > 0; ++t) {
-        if (map.fold_over[t] || map.region_of[t] >= 0) continue;
-        bool near_fold = false;
-        for (int v : in.triangles[t])
-            near_fold =
-                near_fold || fold_vertex[static_cast<std::size_t>(v)] || map.singular[static_cast<std::size_t>(v)];
-        if (near_fold) continue;
-        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
-        const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        const double u0 = std::floor(std::min({a[0], b[0], c[0]})), u1 = std::max({a[0], b[0], c[0]});
-        const double v0 = std::floor(std::min({a[1], b[1], c[1]})), v1 = std::max({a[1], b[1], c[1]});
-        budget -= (u1 - u0 + 1) * (v1 - v0 + 1);
-        if (!(area > 0) || budget < 0) continue;
-        for (double u = u0; u < u1 && out.size() < most; ++u)
-            for (double v = v0; v < v1 && out.size() < most; ++v) {
-                // A point of the cell near its centre, off the lines generated maps put triangle
-                // edges on (the centre itself lies on diagonals).
-                const double x = u + 0.5137, y = v + 0.4729;
-                const double l1 = ((x - a[0]) * (c[1] - a[1]) - (y - a[1]) * (c[0] - a[0])) / area;
-                const double l2 = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
-                if (!(l1 > 0 && l2 > 0 && l1 + l2 < 1)) continue;
-                const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(t), static_cast<std::int64_t>(u),
-                                                      static_cast<std::int64_t>(v)};
-                if (!covered.count(key)) out.push_back(key);
-            }
-    }
-    return out;
-}
-
 } // namespace
 
-std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r) {
+std::vector<char> near_fold_overs(const Input& in, const std::vector<char>& fold_over, int rings) {
     const std::size_t nt = in.triangles.size(), nv = in.positions.size();
-    std::vector<std::int32_t> region_of(nt, -1);
+    std::vector<char> near(nt, 0);
     // Rings: breadth first over the input's edges from every corner of a fold-over.
     std::vector<int> dist(nv, -1), queue;
     for (std::size_t t = 0; t < nt; ++t)
         if (fold_over[t])
             for (int v : in.triangles[t])
                 if (dist[static_cast<std::size_t>(v)] < 0) dist[static_cast<std::size_t>(v)] = 0, queue.push_back(v);
-    if (queue.empty()) return region_of;
+    if (queue.empty()) return near;
     // Per vertex its triangles (counting sort), to walk the rings.
     std::vector<std::size_t> start(nv + 1, 0);
     for (const auto& tri : in.triangles)
@@ -293,18 +219,25 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
     }
     for (std::size_t head = 0; head < queue.size(); ++head) {
         const auto v = static_cast<std::size_t>(queue[head]);
-        if (dist[v] >= kFoldRegionRings) continue;
+        if (dist[v] >= rings) continue;
         for (std::size_t i = start[v]; i < start[v + 1]; ++i)
             for (int w : in.triangles[fan[i]])
                 if (dist[static_cast<std::size_t>(w)] < 0)
                     dist[static_cast<std::size_t>(w)] = dist[v] + 1, queue.push_back(w);
     }
-    // The region's triangles: a corner within the rings; grouped through shared vertices.
+    for (std::size_t t = 0; t < nt; ++t)
+        for (int v : in.triangles[t]) near[t] = near[t] || dist[static_cast<std::size_t>(v)] >= 0;
+    return near;
+}
+
+std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r) {
+    const std::size_t nt = in.triangles.size(), nv = in.positions.size();
+    std::vector<std::int32_t> region_of(nt, -1);
+    const std::vector<char> in_region = near_fold_overs(in, fold_over, kFoldRegionRings);
+    // The region's triangles, grouped through shared vertices.
     UnionFind groups(nv);
-    std::vector<char> in_region(nt, 0);
     for (std::size_t t = 0; t < nt; ++t) {
         const auto& tri = in.triangles[t];
-        for (int v : tri) in_region[t] = in_region[t] || dist[static_cast<std::size_t>(v)] >= 0;
         if (in_region[t]) groups.unite(tri[0], tri[1]), groups.unite(tri[1], tri[2]);
     }
     // Regions numbered by their first fold-over triangle (the smallest index).
@@ -362,8 +295,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                                             loc[static_cast<std::size_t>(v)].surface_only);
         r.surface_only_faces += surface_only;
     }
-    std::vector<FaceCell> cells;
-    check_face_cells(map, mesh, loc, r, out, &cells);
+    check_face_cells(map, mesh, loc, r, out);
     // Coverage: a closed, consistently oriented mesh of positive unit cells covers the map once
     // exactly when it has as many faces as the map has area. Flipped triangles (UV area < 0) can
     // make that impossible: with any, the difference is reported but not a violation (degenerate
@@ -374,19 +306,27 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                    std::to_string(mesh.faces.size()) + " faces, but the map (without fold-overs) has area " +
                        std::to_string(r.input_signed_uv_area_rounded),
                    -1);
-    // The whole mesh's violations name the unit cells no face covers (where the map is a plain
-    // grid: away from fold-overs), with the triangle whose chart holds each.
+    // And cell by cell, away from the fold-overs (as far as their regions reach, whether or not
+    // the vertices there are judged on the surface only): every cell the map covers once is a
+    // face, its corners vertices.
+    const std::vector<char> far_from_folds =
+        far_from_fold_overs(in, map.edges, map.fold_over, near_fold_overs(in, map.fold_over, kFoldRegionRings));
+    std::vector<FaceCell> uncovered;
+    check_coverage(map, mesh, loc, far_from_folds, opt.uv_tolerance, r, out, uncovered);
+    // The whole mesh's violations name the unit cells no face covers, with the triangle whose
+    // chart holds each.
     std::vector<Violation*> global;
     for (Violation& v : out)
         if (v.kind == ViolationKind::BoundaryMismatch || v.kind == ViolationKind::EulerMismatch ||
             v.kind == ViolationKind::CoverageMismatch)
             global.push_back(&v);
-    if (global.empty()) return;
-    const auto uncovered = uncovered_cells(map, cells, 100);
-    if (uncovered.empty()) return;
+    if (global.empty() || uncovered.empty()) return;
+    constexpr std::size_t kMostCells = 100;
     Place place{PlaceKind::GridCell, {}};
-    for (const auto& c : uncovered) place.indices.insert(place.indices.end(), c.begin(), c.end());
-    const std::string first = "; " + std::to_string(uncovered.size()) + (uncovered.size() == 100 ? " or more" : "") +
+    for (std::size_t i = 0; i < uncovered.size() && i < kMostCells; ++i)
+        place.indices.insert(place.indices.end(), uncovered[i].begin(), uncovered[i].end());
+    const std::string first = "; " + std::to_string(std::min(uncovered.size(), kMostCells)) +
+                              (uncovered.size() > kMostCells ? " or more" : "") +
                               " grid cells no face covers, the first (" + std::to_string(uncovered[0][1]) + ", " +
                               std::to_string(uncovered[0][2]) + ") in the chart of input triangle " +
                               std::to_string(uncovered[0][0]);

@@ -4,10 +4,12 @@
 // (map_check.cpp, signed_area.cpp, surface.cpp) keep it to themselves.
 #pragma once
 
+#include "grid.h"
 #include "qex/verify.h"
 
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -99,6 +101,27 @@ struct Transition {
     std::int64_t tx = 0, ty = 0;
 };
 
+/// Grid points far beyond any map (|coordinate| >= 2^60) are not compared (they make no unit
+/// step): a path through a broken map can compose translations without bound.
+inline constexpr std::int64_t kFar = std::int64_t{1} << 60;
+
+/// m composed with a (x -> m(a(x))); false when the translation grows far.
+inline bool compose(const Transition& m, const Transition& a, Transition& out) {
+    const GridPoint t = rotate_quarter(GridPoint{a.tx, a.ty}, m.r);
+    if (std::llabs(t[0]) >= kFar || std::llabs(t[1]) >= kFar || std::llabs(m.tx) >= kFar || std::llabs(m.ty) >= kFar)
+        return false;
+    out = {(m.r + a.r) & 3, t[0] + m.tx, t[1] + m.ty};
+    return true;
+}
+
+/// The grid point p carried by m (its coordinates below 2^62 in magnitude, m's translation below kFar).
+inline GridPoint map_point(const Transition& m, const GridPoint& p) {
+    const GridPoint q = rotate_quarter(p, m.r);
+    return {q[0] + m.tx, q[1] + m.ty};
+}
+
+inline bool same(const Transition& x, const Transition& y) { return x.r == y.r && x.tx == y.tx && x.ty == y.ty; }
+
 /// The input's half-edges (corners 3t + k, the edge from corner k to corner k + 1) and the
 /// transitions across them, rounded to integers (transitions.cpp).
 struct InputEdges {
@@ -106,8 +129,9 @@ struct InputEdges {
     std::vector<std::int64_t> opposite;
     /// The transition from the half-edge's chart to the chart across (where `opposite` >= 0).
     std::vector<Transition> across;
-    /// The edge has exactly two half-edges (in either direction), crossed or not.
-    std::vector<char> paired;
+    /// The other half-edge of the edge when it has exactly two (in either direction), crossed or
+    /// not (its transition determined or not); -1 otherwise.
+    std::vector<std::int64_t> partner;
 };
 
 /// The input's half-edges and their transitions. An edge is paired when exactly two half-edges
@@ -170,6 +194,11 @@ struct Located {
     /// surface only, not for being on a grid point; `grid` is the raw map's nearest one, and a
     /// face with such a corner that is no grid cell there is undecided, not a violation.
     bool surface_only = false;
+    /// On the surface, off its grid point by less than its positions' precision can tell
+    /// (NotOnGridPoint undecided): not `ok`; `grid` is the nearest one, and any grid point within
+    /// `spread` steps of it (in each coordinate) may be its own.
+    bool undecided = false;
+    int spread = 0;
 };
 
 /// What the located mode knows of the input map, shared by its steps.
@@ -184,21 +213,39 @@ struct LocatedMap {
     std::vector<std::int32_t> region_of;
 };
 
-/// The map's fold-over regions: the triangles with a corner within kFoldRegionRings edges
-/// (rings of input vertices, through any vertex) of a corner of a fold-over, grouped where they
-/// share a vertex. Fills `r.fold_regions` (ordered by their first fold-over triangle) and returns
-/// per triangle its region or -1 (check_located.cpp).
-std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r);
+/// Per input triangle: a corner lies within `rings` edges (rings of input vertices, through any
+/// vertex) of a corner of a fold-over (check_located.cpp).
+std::vector<char> near_fold_overs(const Input& in, const std::vector<char>& fold_over, int rings);
 
-/// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v); triangle -1: none.
-using FaceCell = std::array<std::int64_t, 3>;
+/// The map's fold-over regions: the triangles near_fold_overs(kFoldRegionRings) names, grouped
+/// where they share a vertex. Fills `r.fold_regions` (ordered by their first fold-over triangle)
+/// and returns per triangle its region or -1 (check_located.cpp).
+std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>& fold_over, VerifyResult& r);
 
 /// Faces: every quad's corners, carried into one chart along the input's transitions, must be
 /// the corners of one grid cell in counter-clockwise order (face_cells.cpp). Appends violations
 /// to `out`, and failures that paths across fold-overs or singular fans, or a corner in a
-/// fold-over region (Located::surface_only), leave undecided to `r.undecided`. With `cells`,
-/// per face the cell it showed (-1 where it showed none).
+/// fold-over region (Located::surface_only), leave undecided to `r.undecided`.
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
-                      std::vector<Violation>& out, std::vector<FaceCell>* cells = nullptr);
+                      std::vector<Violation>& out);
+
+/// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v).
+using FaceCell = std::array<std::int64_t, 3>;
+
+/// Per input triangle: far from every fold-over, i.e. not `near_rings` and farther than the
+/// reach of a fold-over an extractor leaves as it is (2.5 cells, in UV along the surface) from
+/// every flipped or degenerate triangle (coverage.cpp).
+std::vector<char> far_from_fold_overs(const Input& in, const InputEdges& edges, const std::vector<char>& fold_over,
+                                      const std::vector<char>& near_rings);
+
+/// Coverage (coverage.cpp): every unit grid cell the map covers once, where every triangle over
+/// it is `far_from_folds` and no boundary cuts it by more than a noise band, must be a face, its
+/// corners vertices (VerifyResult::coverage_cells). Appends GridPointNotCovered and
+/// GridCellNotCovered violations to `out` (a cell whose corner vertex lies in a fold-over region
+/// or is undecided, to `r.undecided`), and the cells no face covers to `uncovered`. Vertices
+/// claim their grid points in the triangles within `uv_tolerance` (at least 1e-4) of them.
+void check_coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
+                    const std::vector<char>& far_from_folds, double uv_tolerance, VerifyResult& r,
+                    std::vector<Violation>& out, std::vector<FaceCell>& uncovered);
 
 } // namespace qex::verify_detail

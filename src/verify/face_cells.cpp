@@ -14,10 +14,6 @@
 namespace qex::verify_detail {
 namespace {
 
-/// Grid points far beyond any map (|coordinate| >= 2^60) are not compared (they make no unit
-/// step): a path through a broken map can compose translations without bound.
-constexpr std::int64_t kFar = std::int64_t{1} << 60;
-
 /// a and b are neighbouring grid points (and not far).
 bool unit_step(const GridPoint& a, const GridPoint& b) {
     for (int k = 0; k < 2; ++k)
@@ -26,13 +22,6 @@ bool unit_step(const GridPoint& a, const GridPoint& b) {
 }
 
 using Quad = std::array<GridPoint, 4>;
-
-/// The cell with corners q in the chart of triangle t: (t, lower-left u, v).
-FaceCell cell_of(std::uint32_t t, const Quad& q) {
-    FaceCell c{static_cast<std::int64_t>(t), q[0][0], q[0][1]};
-    for (const GridPoint& p : q) c[1] = std::min(c[1], p[0]), c[2] = std::min(c[2], p[1]);
-    return c;
-}
 
 /// The four grid points are a counter-clockwise unit cell: unit steps and area 1.
 bool is_cell(const Quad& q) {
@@ -57,7 +46,6 @@ struct Anchors {
     bool cell = false, reached_all = false;
     Quad first{};
     std::uint32_t first_anchor = 0;
-    FaceCell shown{}; ///< where an anchor showed the cell (when `cell`)
     std::array<bool, 4> edge_ok{false, false, false, false}, edge_seen{false, false, false, false};
 };
 
@@ -145,22 +133,6 @@ double segment_triangle_distance(const Vec& a, const Vec& b, const std::array<Ve
     return d;
 }
 
-/// m composed with a (x -> m(a(x))); false when the translation grows far.
-bool compose(const Transition& m, const Transition& a, Transition& out) {
-    const GridPoint t = rotate_quarter(GridPoint{a.tx, a.ty}, m.r);
-    if (std::llabs(t[0]) >= kFar || std::llabs(t[1]) >= kFar || std::llabs(m.tx) >= kFar || std::llabs(m.ty) >= kFar)
-        return false;
-    out = {(m.r + a.r) & 3, t[0] + m.tx, t[1] + m.ty};
-    return true;
-}
-
-GridPoint map_point(const Transition& m, const GridPoint& p) {
-    const GridPoint q = rotate_quarter(p, m.r);
-    return {q[0] + m.tx, q[1] + m.ty};
-}
-
-bool same(const Transition& x, const Transition& y) { return x.r == y.r && x.tx == y.tx && x.ty == y.ty; }
-
 /// Judges the faces one by one; keeps the search's scratch between them.
 class FaceJudge {
 public:
@@ -191,10 +163,6 @@ private:
     /// A fold-over shares a vertex with triangle t.
     bool near_fold(std::uint32_t t) const;
 
-public:
-    std::vector<FaceCell>* cells_ = nullptr; ///< where to record each passing face's cell
-
-private:
     const LocatedMap& map_;
     const Input& in_;
     const QuadMesh& mesh_;
@@ -385,8 +353,8 @@ bool FaceJudge::along_edge(int a, int b, Edge& e) {
             if (u == cone_a || w == cone_a || u == cone_b || w == cone_b) continue; // a cut fan
             const std::int64_t o = map_.edges.opposite[c];
             if (o < 0) {
-                if (map_.edges.paired[c]) return false; // a crossing without a known transition
-                continue;                               // the boundary
+                if (map_.edges.partner[c] >= 0) return false; // a crossing without a known transition
+                continue;                                     // the boundary
             }
             const auto n = static_cast<std::uint32_t>(o / 3);
             if (!in_corridor(n, pa, pb, rho)) continue;
@@ -438,7 +406,6 @@ Anchors FaceJudge::try_anchors(const std::vector<int>& face, const std::array<do
         if (!a.reached_all) a.first = g_, a.first_anchor = tc;
         a.reached_all = true;
         a.cell = is_cell(g_);
-        if (a.cell) a.shown = cell_of(tc, g_);
         if (attempt < 4) {
             for (std::size_t e : {i, (i + 3) % 4}) { // edges (i, i+1) and (i-1, i)
                 a.edge_seen[e] = true;
@@ -482,10 +449,7 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
     through_fold_ = through_singular_ = corner_in_region_ = false;
     for (int v : face) corner_in_region_ = corner_in_region_ || loc_[static_cast<std::size_t>(v)].surface_only;
     const Anchors a = try_anchors(face, centre);
-    if (a.cell) {
-        if (cells_) (*cells_)[f] = a.shown;
-        return;
-    }
+    if (a.cell) return;
     corner_near_fold_ = false;
     for (int v : face) corner_near_fold_ = corner_near_fold_ || near_fold(loc_[static_cast<std::size_t>(v)].triangle);
     if (!a.reached_all) {
@@ -525,10 +489,7 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
         cell_certified = cell_certified && compose(around, along[e].m, around);
     }
     cell_certified = cell_certified && same(around, Transition{});
-    if (cell_certified && is_cell(q)) { // the corridors show one unit cell
-        if (cells_) (*cells_)[f] = cell_of(loc_[static_cast<std::size_t>(face[0])].triangle, q);
-        return;
-    }
+    if (cell_certified && is_cell(q)) return; // the corridors show one unit cell
     report(f,
            "face " + std::to_string(f) + ": its corners are the grid points " + point(a.first[0]) + " " +
                point(a.first[1]) + " " + point(a.first[2]) + " " + point(a.first[3]) +
@@ -540,10 +501,8 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
 } // namespace
 
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
-                      std::vector<Violation>& out, std::vector<FaceCell>* cells) {
+                      std::vector<Violation>& out) {
     FaceJudge judge(map, mesh, loc);
-    if (cells) cells->assign(mesh.faces.size(), FaceCell{-1, 0, 0});
-    judge.cells_ = cells;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) judge.judge(f, r, out);
 }
 

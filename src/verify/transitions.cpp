@@ -58,13 +58,14 @@ void cross_edge(const Input& in, std::size_t c, std::size_t o, double uv_toleran
 InputEdges input_edges(const Input& in, double uv_tolerance) {
     const std::size_t nc = 3 * in.triangles.size();
     const auto half = sorted_half_edges(in);
-    InputEdges edges{std::vector<std::int64_t>(nc, -1), std::vector<Transition>(nc), std::vector<char>(nc, 0)};
+    InputEdges edges{std::vector<std::int64_t>(nc, -1), std::vector<Transition>(nc), std::vector<std::int64_t>(nc, -1)};
     for (std::size_t i = 0, j = 0; i < nc; i = j) {
         j = i;
         while (j < nc && half[j].first == half[i].first) ++j;
         if (j - i != 2) continue;
         const std::size_t c = half[i].second, o = half[i + 1].second;
-        edges.paired[c] = edges.paired[o] = 1;
+        edges.partner[c] = static_cast<std::int64_t>(o);
+        edges.partner[o] = static_cast<std::int64_t>(c);
         cross_edge(in, c, o, uv_tolerance, edges);
     }
     return edges;
@@ -85,8 +86,8 @@ std::vector<char> singular_vertices(const Input& in, const InputEdges& edges) {
             seen[c] = 1;
             const std::int64_t o = edges.opposite[prev_corner(c)];
             if (o < 0) {
-                turns = edges.paired[prev_corner(c)] ? 1 : 0; // undetermined turn: treated as singular
-                closed = edges.paired[prev_corner(c)] != 0;
+                turns = edges.partner[prev_corner(c)] >= 0 ? 1 : 0; // undetermined turn: treated as singular
+                closed = edges.partner[prev_corner(c)] >= 0;
                 break;
             }
             turns += edges.across[prev_corner(c)].r;

@@ -27,6 +27,8 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::OffSurface: return "OffSurface";
         case ViolationKind::FaceNotGridCell: return "FaceNotGridCell";
         case ViolationKind::CoverageMismatch: return "CoverageMismatch";
+        case ViolationKind::GridPointNotCovered: return "GridPointNotCovered";
+        case ViolationKind::GridCellNotCovered: return "GridCellNotCovered";
     }
     return "Unknown";
 }
@@ -40,6 +42,7 @@ const char* to_string(PlaceKind k) {
         case PlaceKind::InputVertex: return "input_vertex";
         case PlaceKind::InputTriangle: return "input_triangle";
         case PlaceKind::GridCell: return "grid_cell";
+        case PlaceKind::GridPoint: return "grid_point";
     }
     return "unknown";
 }
@@ -60,7 +63,9 @@ ViolationElement element_kind(ViolationKind k) {
         case ViolationKind::OffSurface: return ViolationElement::OutputVertex;
         case ViolationKind::SingularityOffGrid: return ViolationElement::InputVertex;
         case ViolationKind::MapNotIntegerGrid:
-        case ViolationKind::RepairNotCertified: return ViolationElement::InputTriangle;
+        case ViolationKind::RepairNotCertified:
+        case ViolationKind::GridPointNotCovered:
+        case ViolationKind::GridCellNotCovered: return ViolationElement::InputTriangle;
         case ViolationKind::BoundaryMismatch:
         case ViolationKind::EulerMismatch:
         case ViolationKind::ComponentMismatch:
