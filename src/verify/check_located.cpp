@@ -265,7 +265,8 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
 }
 
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
-                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle) {
+                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle,
+                   std::vector<std::int64_t>* closest_triangle) {
     if (mesh.positions.empty()) return; // nothing to locate
     const std::unique_ptr<Surface> surface = Surface::build(in, opt.distance_tolerance);
     if (!surface) return;
@@ -285,6 +286,14 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
         located_triangle->assign(loc.size(), -1);
         for (std::size_t v = 0; v < loc.size(); ++v)
             if (loc[v].ok || loc[v].surface_only) (*located_triangle)[v] = loc[v].triangle;
+    }
+    if (closest_triangle) {
+        closest_triangle->assign(loc.size(), -1);
+        for (std::size_t v = 0; v < loc.size(); ++v) {
+            const auto& x = mesh.positions[v];
+            if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
+                (*closest_triangle)[v] = loc[v].triangle;
+        }
     }
     // Faces with a corner in a fold-over region are judged on the surface only: check_face_cells
     // lists their failures as undecided.

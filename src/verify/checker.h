@@ -73,9 +73,11 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
 /// Located mode (meshes without provenance): locates every output vertex on the input surface
 /// and checks faces and coverage against the map; appends violations to `out` and undecided
 /// checks to `r.undecided`. With `located_triangle`, per output vertex the input triangle it
-/// was located in (-1 where it was not).
+/// was located in (-1 where it was not); with `closest_triangle`, the input triangle of its
+/// closest surface point, on the surface or not (-1 for a non-finite position).
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
-                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr);
+                   std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr,
+                   std::vector<std::int64_t>* closest_triangle = nullptr);
 
 // ============================================================================ places (places.cpp)
 
@@ -86,10 +88,15 @@ struct PlaceContext {
     double boundary_tolerance = 0;
     /// Located mode: per output vertex the input triangle it lies on (-1: not located); empty otherwise.
     std::vector<std::int64_t> located_triangle;
+    /// Located mode: per output vertex the input triangle of its closest surface point (-1: not
+    /// finite); empty otherwise.
+    std::vector<std::int64_t> closest_triangle;
 };
 
 /// Gives every violation (and undecided check) the place its element names, and the violations
-/// of the whole mesh their candidates (Violation::places); decides nothing.
+/// of the whole mesh their candidates (Violation::places); in located mode, a violation of an
+/// output vertex or face also the input triangle where it lies (the vertex's, or the first
+/// corner's closest). Decides nothing.
 void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r);
 
 /// An integer grid point (or translation).

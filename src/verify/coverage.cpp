@@ -33,9 +33,9 @@ constexpr double kCornerReach = 4 * kBoundaryBand;
 /// A vertex claims its grid point in every triangle within this distance of it (at least; the
 /// UV tolerance when larger): more than kCornerReach plus the charts' disagreement along an edge.
 constexpr double kClaimReach = 1e-4;
-/// A cell's reference point: off the diagonals and the lines through the centre that generated
-/// maps put triangle edges on.
-constexpr double kRefU = 0.5137, kRefV = 0.4729;
+/// A cell's reference point: its centre, the one point a grid automorphism (a quarter turn and
+/// an integer translation) keeps inside it, so that every chart names the same point.
+constexpr double kRefU = 0.5, kRefV = 0.5;
 /// Triangles one cell's flood holds at most, triangles a vertex's claim visits at most, and steps
 /// of the walk from a vertex's triangle to its grid point.
 constexpr std::size_t kCellTriangles = 1u << 12, kClaimTriangles = 1u << 10;
@@ -130,9 +130,15 @@ private:
     /// within the claim reach; false when the walk leaves the surface, meets a fold-over or an
     /// edge without a transition, or runs too long.
     bool walk_to(std::uint32_t& t, GridPoint& p) const;
-    /// The triangles within the claim reach of p from triangle t (which holds it), with p in
-    /// each one's chart, into `reach_` (t first).
-    void reach_from(std::uint32_t t, const GridPoint& p);
+    /// The triangles within the claim reach of the point x (in the chart of triangle t, which
+    /// holds it within the reach), reached from t across edges within twice the reach of it,
+    /// with x in each one's chart, into `reach_` (t first). Exact for integer points.
+    void reach_from(std::uint32_t t, const P2& x);
+    /// Whether triangle t (its UVs q) owns the cell with reference point x (in t's chart): x lies inside it,
+    /// and where x lies within the claim reach of its edges, no triangle of smaller index holds
+    /// it as well (or, if none holds it, lies within the reach). Solver noise can leave x in two
+    /// triangles' charts or in none: each cell has one owner.
+    bool owns(std::uint32_t t, const std::array<P2, 3>& q, const P2& x);
     /// The cell with lower-left p in the chart of triangle t0: whether it is required, and its corners.
     CellState judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell);
     /// The claims at key k.
@@ -163,7 +169,7 @@ private:
     std::vector<Transition> to_;
     std::vector<std::uint32_t> queue_;
     std::uint32_t generation_ = 0;
-    std::vector<std::pair<std::uint32_t, GridPoint>> reach_;
+    std::vector<std::pair<std::uint32_t, P2>> reach_;
 };
 
 Coverage::Coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
@@ -228,16 +234,16 @@ bool Coverage::walk_to(std::uint32_t& t, GridPoint& p) const {
     return false;
 }
 
-void Coverage::reach_from(std::uint32_t t, const GridPoint& p) {
+void Coverage::reach_from(std::uint32_t t, const P2& x) {
     if (++generation_ == 0) {
         std::fill(stamp_.begin(), stamp_.end(), 0);
         generation_ = 1;
     }
-    reach_.assign(1, {t, p});
+    reach_.assign(1, {t, x});
     stamp_[t] = generation_;
     for (std::size_t head = 0; head < reach_.size() && reach_.size() < kClaimTriangles; ++head) {
         const auto [s, q] = reach_[head];
-        const std::array<P2, 3> here = uv(s, {static_cast<double>(q[0]), static_cast<double>(q[1])});
+        const std::array<P2, 3> here = uv(s, q);
         for (std::size_t k = 0; k < 3; ++k) {
             // Only across an edge near the point (the charts on its two sides disagree by less
             // than the reach): the triangle beyond holds no point farther from it.
@@ -247,12 +253,11 @@ void Coverage::reach_from(std::uint32_t t, const GridPoint& p) {
             if (o < 0) continue;
             const auto n = static_cast<std::uint32_t>(o / 3);
             if (stamp_[n] == generation_ || map_.fold_over[n]) continue;
-            const GridPoint qn = map_point(map_.edges.across[c], q);
-            if (std::abs(static_cast<double>(qn[0])) > kFarGrid || std::abs(static_cast<double>(qn[1])) > kFarGrid)
-                continue;
-            if (triangle_distance({0, 0}, uv(n, {static_cast<double>(qn[0]), static_cast<double>(qn[1])})) >
-                claim_reach_)
-                continue;
+            const Transition& m = map_.edges.across[c];
+            const P2 r = rotate_quarter(q, m.r);
+            const P2 qn{r[0] + static_cast<double>(m.tx), r[1] + static_cast<double>(m.ty)};
+            if (!(std::abs(qn[0]) < kFarGrid && std::abs(qn[1]) < kFarGrid)) continue;
+            if (triangle_distance({0, 0}, uv(n, qn)) > claim_reach_) continue;
             stamp_[n] = generation_;
             reach_.push_back({n, qn});
         }
@@ -270,8 +275,11 @@ void Coverage::claim_grid_points() {
                 std::uint32_t t = L.triangle;
                 GridPoint p{L.grid[0] + du, L.grid[1] + dv};
                 if (map_.fold_over[t] || !walk_to(t, p)) continue;
-                reach_from(t, p);
-                for (const auto& [n, q] : reach_) claims_.push_back({q, n, static_cast<std::int32_t>(v)});
+                reach_from(t, {static_cast<double>(p[0]), static_cast<double>(p[1])});
+                for (const auto& [n, q] : reach_)
+                    claims_.push_back({{static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])},
+                                       n,
+                                       static_cast<std::int32_t>(v)});
             }
     }
     // By triangle (a counting pass), then each triangle's by grid point and vertex.
@@ -391,10 +399,33 @@ CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCel
 }
 
 Key Coverage::canonical(const Key& k) {
-    reach_from(k.triangle, k.p);
+    reach_from(k.triangle, {static_cast<double>(k.p[0]), static_cast<double>(k.p[1])});
     Key best = k;
-    for (const auto& [n, q] : reach_) best = std::min(best, Key{n, q});
+    for (const auto& [n, q] : reach_)
+        best = std::min(best, Key{n, {static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])}});
     return best;
+}
+
+bool Coverage::owns(std::uint32_t t, const std::array<P2, 3>& q, const P2& x) {
+    // The distance of x inside t from its nearest edge's line (negative outside).
+    double inside = HUGE_VAL;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const P2 &a = q[k], &b = q[(k + 1) % 3];
+        const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+        inside = std::min(inside, len > 0 ? cross(a, b, x) / len : 0.0);
+    }
+    if (inside > claim_reach_) return true;
+    if (inside < -claim_reach_) return false;
+    // Near an edge: the smallest triangle that holds x strictly, else the smallest near it.
+    reach_from(t, x);
+    std::uint32_t holder = UINT32_MAX, near = UINT32_MAX;
+    for (const auto& [n, y] : reach_) {
+        const std::array<P2, 3> p = uv(n, y);
+        near = std::min(near, n);
+        if (cross(p[0], p[1], {0, 0}) > 0 && cross(p[1], p[2], {0, 0}) > 0 && cross(p[2], p[0], {0, 0}) > 0)
+            holder = std::min(holder, n);
+    }
+    return (holder != UINT32_MAX ? holder : near) == t;
 }
 
 std::string point(const GridPoint& g) { return "(" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ")"; }
@@ -423,10 +454,11 @@ void Coverage::run(VerifyResult& r, std::vector<Violation>& out, std::vector<Fac
     for (std::size_t t = 0; t < nt; ++t) {
         if (!far_[t] || map_.fold_over[t]) continue;
         const std::array<P2, 3> q = uv(static_cast<std::uint32_t>(t), {0, 0});
-        const double u0 = std::floor(std::min({q[0][0], q[1][0], q[2][0]}) - kRefU);
-        const double u1 = std::max({q[0][0], q[1][0], q[2][0]});
-        const double v0 = std::floor(std::min({q[0][1], q[1][1], q[2][1]}) - kRefV);
-        const double v1 = std::max({q[0][1], q[1][1], q[2][1]});
+        // The cells whose reference point lies within the claim reach of its UV box.
+        const double u0 = std::floor(std::min({q[0][0], q[1][0], q[2][0]}) - kRefU - claim_reach_);
+        const double u1 = std::max({q[0][0], q[1][0], q[2][0]}) + claim_reach_;
+        const double v0 = std::floor(std::min({q[0][1], q[1][1], q[2][1]}) - kRefV - claim_reach_);
+        const double v1 = std::max({q[0][1], q[1][1], q[2][1]}) + claim_reach_;
         const double looked = (u1 - u0 + 1) * (v1 - v0 + 1);
         if (!(looked <= budget) || !(std::abs(u0) < kFarGrid && std::abs(u1) < kFarGrid && std::abs(v0) < kFarGrid &&
                                      std::abs(v1) < kFarGrid)) {
@@ -434,11 +466,10 @@ void Coverage::run(VerifyResult& r, std::vector<Violation>& out, std::vector<Fac
             continue;
         }
         budget -= looked;
-        for (double u = u0; u + kRefU < u1; ++u)
-            for (double v = v0; v + kRefV < v1; ++v) {
-                // The triangle owns the cell whose reference point lies strictly inside it.
-                const P2 x{u + kRefU, v + kRefV};
-                if (!(cross(q[0], q[1], x) > 0 && cross(q[1], q[2], x) > 0 && cross(q[2], q[0], x) > 0)) continue;
+        for (double u = u0; u + kRefU <= u1; ++u)
+            for (double v = v0; v + kRefV <= v1; ++v) {
+                // The triangle owns the cell whose reference point lies inside it.
+                if (!owns(static_cast<std::uint32_t>(t), q, {u + kRefU, v + kRefV})) continue;
                 RequiredCell cell;
                 const GridPoint lo{static_cast<std::int64_t>(u), static_cast<std::int64_t>(v)};
                 if (judge_cell(static_cast<std::uint32_t>(t), lo, cell) != CellState::Required) continue;

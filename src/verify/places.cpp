@@ -177,6 +177,21 @@ std::vector<Index> empty_input_components(const Input& in, const std::vector<std
     return out;
 }
 
+/// Located mode: the input triangle of the closest surface point of the violation's output vertex,
+/// or of its output face's first corner that has one; -1 otherwise.
+Index closest_triangle(const QuadMesh& mesh, const PlaceContext& ctx, const Violation& v) {
+    const auto n = static_cast<Index>(ctx.closest_triangle.size());
+    if (v.element < 0 || n == 0) return -1;
+    if (element_kind(v.kind) == ViolationElement::OutputVertex)
+        return v.element < n ? ctx.closest_triangle[static_cast<std::size_t>(v.element)] : -1;
+    if (element_kind(v.kind) != ViolationElement::OutputFace || v.element >= static_cast<Index>(mesh.faces.size()))
+        return -1;
+    for (const int x : mesh.faces[static_cast<std::size_t>(v.element)])
+        if (x >= 0 && x < n && ctx.closest_triangle[static_cast<std::size_t>(x)] >= 0)
+            return ctx.closest_triangle[static_cast<std::size_t>(x)];
+    return -1;
+}
+
 void add_place(Violation& v, PlaceKind kind, std::vector<Index> indices) {
     if (v.places.size() < kMaxPlaces && !indices.empty()) v.places.push_back({kind, std::move(indices)});
 }
@@ -196,6 +211,9 @@ void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext&
         for (Violation& v : *list_of) {
             Place p;
             if (v.places.empty() && element_place(v, p)) v.places.push_back(std::move(p));
+            // Where on the input a located vertex or face lies: the closest surface point's triangle.
+            const std::int64_t t = closest_triangle(mesh, ctx, v);
+            if (t >= 0) v.places.push_back({PlaceKind::InputTriangle, {t}});
         }
     bool boundary = false, components = false, global = false;
     for (const Violation& v : out) {
@@ -229,10 +247,21 @@ void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext&
         for (Index c = 0; c < surplus; ++c) extra.push_back(std::move(comps[static_cast<std::size_t>(c)]));
         if (!ctx.located_triangle.empty()) missing = empty_input_components(in, ctx.located_triangle);
     }
+    // Located mode: where on the input each hole lies (its loop's vertices' closest triangles).
+    auto hole_triangles = [&](const std::vector<Index>& loop) {
+        std::vector<Index> t;
+        for (const Index x : loop)
+            if (x < static_cast<Index>(ctx.closest_triangle.size()) &&
+                ctx.closest_triangle[static_cast<std::size_t>(x)] >= 0 &&
+                std::find(t.begin(), t.end(), ctx.closest_triangle[static_cast<std::size_t>(x)]) == t.end())
+                t.push_back(ctx.closest_triangle[static_cast<std::size_t>(x)]);
+        return t;
+    };
     auto add_holes = [&](Violation& v) {
         for (const std::size_t l : holes) {
             add_place(v, PlaceKind::Loop, b.loops[l]);
             add_place(v, PlaceKind::Face, b.faces[l]);
+            add_place(v, PlaceKind::InputTriangle, hole_triangles(b.loops[l]));
         }
     };
     auto add_components = [&](Violation& v) {

@@ -239,7 +239,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     PlaceContext places;
     places.indices_ok = indices_ok;
     if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
-        check_located(input, mesh, options, r, out, &places.located_triangle);
+        check_located(input, mesh, options, r, out, &places.located_triangle, &places.closest_triangle);
     r.valid = out.empty();
     if (it.ok) {
         places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
