@@ -1,27 +1,35 @@
-// The checker as an oracle for meshes written with ordinary precision: qex's own outputs of the
-// real maps (../shared, skipped where absent), written as other tools write them (positions as
-// %.6g, or as float32 values), pass where the double-precision mesh passes, and their mutations
-// (mutations.h) are rejected with the right kind and place; --strict
-// (VerifyOptions::position_digits = 0) keeps judging positions as exact doubles.
+// The checker as an oracle for meshes written with ordinary precision: each of qex's valid
+// outputs of the real maps (../shared, skipped where absent; a map whose extraction is not valid
+// is skipped), judged as `qex check --grid-scale K` judges it (no provenance, the raw map scaled
+// by the output's grid scale, fold-over regions on the surface only), passes in double precision
+// (--strict), with positions as %.6g and as float32 values. Its mutations (mutations.h) are
+// rejected with the right kind and place, and the coverage check names every cell it requires
+// when that cell's face is dropped, and nothing else.
+// One ctest test per map (SharedMaps/*, label precision: `ctest -L precision`); all 44 take about
+// as long as the one test of 13 maps they replace (100 s on one core, the extractions mostly).
 #include "mutations.h"
 #include "test_support.h"
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 namespace qex::testing {
 namespace {
 
 namespace fs = std::filesystem;
+using Index = std::int64_t;
 
-std::vector<fs::path> real_maps() {
-    std::vector<fs::path> out;
+/// The shared real maps, relative to QEX_SHARED_DIR/meshes ("paper/fandisk_param.obj").
+std::vector<std::string> real_maps() {
+    std::vector<std::string> out;
     for (const char* sub : {"paper", "miq", "miq-more"}) {
         std::error_code ec;
         for (const auto& e : fs::directory_iterator(fs::path(QEX_SHARED_DIR) / "meshes" / sub, ec))
-            if (e.path().extension() == ".obj") out.push_back(e.path());
+            if (e.path().extension() == ".obj") out.push_back(std::string(sub) + "/" + e.path().filename().string());
     }
     std::sort(out.begin(), out.end());
     return out;
@@ -49,16 +57,71 @@ QuadMesh as_float32(QuadMesh m) {
     return m;
 }
 
-/// Rotated edges tried on the real maps and how many were rejected (the others are undecided:
-/// next to cones or fold-overs no corridor certifies the failure).
+/// Face f of `m` has the corners `cell` in the same cyclic order.
+bool is_face(const QuadMesh& m, std::size_t f, const std::vector<Index>& cell) {
+    const auto& q = m.faces[f];
+    if (q.size() != 4 || cell.size() != 4) return false;
+    for (std::size_t s = 0; s < 4; ++s) {
+        bool all = true;
+        for (std::size_t i = 0; i < 4; ++i) all = all && q[(s + i) % 4] == cell[i];
+        if (all) return true;
+    }
+    return false;
+}
+
+/// The corner vertices a GridCellNotCovered violation names.
+std::vector<Index> cell_corners(const Violation& x) {
+    for (const Place& p : x.places)
+        if (p.kind == PlaceKind::Vertex) return p.indices;
+    return {};
+}
+
+/// Coverage on a correct mesh: the faces are dropped in seven classes (by index mod 7); each
+/// GridCellNotCovered then names a dropped face by its corners, no grid point is named (the
+/// vertices stay), and the classes together name every cell the check requires once. Returns
+/// the faces whose cells are required.
+std::vector<std::size_t> drops_are_named(const Input& in, const QuadMesh& good, const VerifyOptions& opt,
+                                         Index required) {
+    constexpr std::size_t kClasses = 7;
+    std::vector<std::size_t> named;
+    Index uncovered = 0;
+    for (std::size_t j = 0; j < kClasses; ++j) {
+        QuadMesh m = good;
+        std::vector<std::size_t> dropped;
+        m.faces.clear();
+        for (std::size_t f = 0; f < good.faces.size(); ++f)
+            if (f % kClasses == j)
+                dropped.push_back(f);
+            else
+                m.faces.push_back(good.faces[f]);
+        const VerifyResult v = verify(in, m, opt);
+        uncovered += v.uncovered_cells;
+        // (Undecided where a corner's vertex lies in a fold-over region, on the surface only.)
+        for (const Violation& x : v.undecided) uncovered += x.kind == ViolationKind::GridCellNotCovered;
+        EXPECT_EQ(v.uncovered_grid_points, 0) << "class " << j;
+        for (const Violation& x : v.violations) {
+            if (x.kind != ViolationKind::GridCellNotCovered) continue;
+            const std::vector<Index> corners = cell_corners(x);
+            const auto hit =
+                std::find_if(dropped.begin(), dropped.end(), [&](std::size_t f) { return is_face(good, f, corners); });
+            EXPECT_NE(hit, dropped.end()) << "class " << j << ": not a dropped face: " << x.message;
+            if (hit != dropped.end()) named.push_back(*hit);
+        }
+    }
+    EXPECT_EQ(uncovered, required) << "the required cells, each named once when its face is dropped";
+    std::sort(named.begin(), named.end());
+    return named;
+}
+
+/// What the coverage check caught on one map.
 struct Tally {
-    int rotations = 0, rotations_rejected = 0;
+    Index faces = 0, required = 0, rotations = 0, rotations_located = 0, rotations_rejected = 0;
 };
 
 /// The mutations of mutations.h on a correct real-map mesh (positions as %.6g, as other tools
-/// write them): each rejected with its kind and place; a rotated edge named at least as undecided.
-void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tally& tally) {
-    using Index = std::int64_t;
+/// write them): each rejected with its kind and place; a rotated edge named at least as undecided
+/// by the face check, and located by the coverage check where both its cells are required.
+void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tally& tally) {
     // A face away from the boundary, so that dropping it leaves a hole of its own (a tiny mesh
     // may have none).
     const std::size_t inner = interior_face(good, good.faces.size() / 2);
@@ -68,8 +131,8 @@ void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tall
     { // Drop a quad: a hole, named by its loop.
         QuadMesh m = good;
         m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
-        const VerifyResult v = verify(in, m);
-        EXPECT_FALSE(v.valid) << name;
+        const VerifyResult v = verify(in, m, opt);
+        EXPECT_FALSE(v.valid);
         std::string said;
         for (const Violation& x : v.violations) said += "\n  " + x.message;
         // (Where the hole touches itself at a vertex, that vertex is named instead.)
@@ -77,14 +140,14 @@ void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tall
         for (const Violation& x : v.violations) pinched = pinched || x.kind == ViolationKind::NonManifoldVertex;
         if (interior && !pinched) {
             EXPECT_TRUE(names(v, ViolationKind::BoundaryMismatch, PlaceKind::Loop, {q[0], q[1], q[2], q[3]}))
-                << name << ": face " << f << said;
+                << "face " << f << said;
         }
-        EXPECT_EQ(unplaced(v), "") << name;
+        EXPECT_EQ(unplaced(v), "");
     }
     { // Drop two neighbouring quads and pinch two opposite corners of their hexagonal hole: a
         // vertex with two boundary fans.
         const SharedEdge e = shared_edge(good, f);
-        ASSERT_GE(e.a, 0) << name;
+        ASSERT_GE(e.a, 0);
         QuadMesh hex = good;
         rotate_edge(hex, e); // the same hexagon: face e.f is now (z, w, b, x)
         const int z = hex.faces[e.f][0], x = hex.faces[e.f][3];
@@ -92,20 +155,19 @@ void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tall
         m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(std::max(e.f, e.g)));
         m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(std::min(e.f, e.g)));
         merge_into(m, x, z);
-        const VerifyResult p = verify(in, m);
-        EXPECT_TRUE(names(p, ViolationKind::NonManifoldVertex, PlaceKind::Vertex, {z})) << name;
-        EXPECT_TRUE(names(p, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {x})) << name;
-        EXPECT_EQ(unplaced(p), "") << name;
+        const VerifyResult p = verify(in, m, opt);
+        EXPECT_TRUE(names(p, ViolationKind::NonManifoldVertex, PlaceKind::Vertex, {z}));
+        EXPECT_TRUE(names(p, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {x}));
+        EXPECT_EQ(unplaced(p), "");
     }
     { // Split a quad into two triangles.
         QuadMesh m = good;
         m.faces[f] = {q[0], q[1], q[2]};
         m.faces.push_back({q[0], q[2], q[3]});
-        const VerifyResult v = verify(in, m);
-        EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(f)})) << name;
-        EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(m.faces.size() - 1)}))
-            << name;
-        EXPECT_EQ(unplaced(v), "") << name;
+        const VerifyResult v = verify(in, m, opt);
+        EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(f)}));
+        EXPECT_TRUE(names(v, ViolationKind::NotQuad, PlaceKind::Face, {static_cast<Index>(m.faces.size() - 1)}));
+        EXPECT_EQ(unplaced(v), "");
     }
     { // Glue a quad to its reverse: an extra component of two faces.
         QuadMesh m = good;
@@ -114,23 +176,23 @@ void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tall
         const auto f0 = static_cast<Index>(m.faces.size());
         m.faces.push_back({n, n + 1, n + 2, n + 3});
         m.faces.push_back({n + 3, n + 2, n + 1, n});
-        const VerifyResult v = verify(in, m);
-        EXPECT_TRUE(names(v, ViolationKind::ComponentMismatch, PlaceKind::Face, {f0, f0 + 1})) << name;
-        EXPECT_EQ(unplaced(v), "") << name;
+        const VerifyResult v = verify(in, m, opt);
+        EXPECT_TRUE(names(v, ViolationKind::ComponentMismatch, PlaceKind::Face, {f0, f0 + 1}));
+        EXPECT_EQ(unplaced(v), "");
     }
     { // Merge the ends of an edge at their average.
         const SharedEdge e = shared_edge(good, f);
-        ASSERT_GE(e.a, 0) << name;
+        ASSERT_GE(e.a, 0);
         QuadMesh m = good;
         auto& x = m.positions[static_cast<std::size_t>(e.a)];
         const auto& y = good.positions[static_cast<std::size_t>(e.b)];
         for (int k = 0; k < 3; ++k) x[k] = 0.5 * (x[k] + y[k]);
         merge_into(m, e.b, e.a);
-        const VerifyResult v = verify(in, m);
-        EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.f)})) << name;
-        EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.g)})) << name;
-        EXPECT_TRUE(names(v, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {e.b})) << name;
-        EXPECT_EQ(unplaced(v), "") << name;
+        const VerifyResult v = verify(in, m, opt);
+        EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.f)}));
+        EXPECT_TRUE(names(v, ViolationKind::RepeatedVertex, PlaceKind::Face, {static_cast<Index>(e.g)}));
+        EXPECT_TRUE(names(v, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {e.b}));
+        EXPECT_EQ(unplaced(v), "");
     }
     for (std::size_t start = 0; start < good.faces.size(); start += good.faces.size() / 8 + 1) {
         // Rotate an edge between two quads: both named, rejected where a corridor certifies it.
@@ -138,65 +200,92 @@ void mutate(const Input& in, const QuadMesh& good, const std::string& name, Tall
         if (e.a < 0) continue;
         QuadMesh m = good;
         rotate_edge(m, e);
-        const VerifyResult v = verify(in, m);
+        const VerifyResult v = verify(in, m, opt);
         ++tally.rotations;
         tally.rotations_rejected += !v.valid;
         const bool named = names_face(v, static_cast<Index>(e.f), true) || names_face(v, static_cast<Index>(e.g), true);
-        EXPECT_TRUE(named) << name << ": faces " << e.f << " and " << e.g;
-        EXPECT_EQ(unplaced(v), "") << name;
+        EXPECT_TRUE(named) << "faces " << e.f << " and " << e.g;
+        EXPECT_EQ(unplaced(v), "");
     }
 }
 
-TEST(CheckerPrecision, RoundedPositionsOfCorrectMeshesPass) {
-    const auto files = real_maps();
-    if (files.empty()) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes";
-    VerifyOptions strict;
-    strict.position_digits = 0;
-    int judged = 0;
-    Tally tally;
-    for (const auto& path : files) {
-        Input in;
-        ASSERT_TRUE(read_obj(path.string(), in).ok()) << path;
-        const Result r = extract(in);
-        if (!r.ok() || !r.check.valid) continue;
-        if (path.parent_path().filename() == "miq-more") {
-            // As `qex check --param RAW --grid-scale K OUT` judges it: vertices in the raw map's
-            // fold-over regions, where the repair moved the map, on the surface only (the paper's
-            // and the MIQ maps: real_maps_test.cpp).
-            QuadMesh at_scale = bare(r.mesh);
-            at_scale.grid_scale = r.mesh.grid_scale;
-            VerifyOptions regions;
-            regions.fold_regions = true;
-            const VerifyResult g = verify(in, at_scale, regions);
-            if (path.filename() == "face_miq_20_param.obj") {
-                // Known: one face at a cone outside the fold-over regions fails its certified edge
-                // corridor (with and without the regions): the located mode and the extractor
-                // disagree there. Every violation is that kind.
-                for (const Violation& x : g.violations) EXPECT_EQ(x.kind, ViolationKind::FaceNotGridCell) << x.message;
-            } else {
-                EXPECT_TRUE(g.valid) << path << " (fold-over regions): " << first_message(g);
-            }
+/// Rotated edges between two faces whose cells the coverage check requires: both cells named,
+/// with their corners and the two faces in their place (at most eight edges).
+void rotations_are_located(const Input& in, const QuadMesh& good, const VerifyOptions& opt,
+                           const std::vector<std::size_t>& required, Tally& tally) {
+    std::vector<char> is_required(good.faces.size(), 0);
+    for (const std::size_t f : required) is_required[f] = 1;
+    const std::size_t step = required.size() / 8 + 1;
+    for (std::size_t i = 0; i < required.size(); i += step) {
+        const SharedEdge e = shared_edge(good, required[i]);
+        if (e.a < 0 || e.f != required[i] || !is_required[e.g]) continue;
+        QuadMesh m = good;
+        rotate_edge(m, e);
+        const VerifyResult v = verify(in, m, opt);
+        ++tally.rotations_located;
+        EXPECT_FALSE(v.valid);
+        for (const std::size_t g : {e.f, e.g}) {
+            const std::vector<Index> cell(good.faces[g].begin(), good.faces[g].end());
+            EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Vertex, cell)) << "face " << g;
         }
-        const QuadMesh exact = bare(r.mesh);
-        // Only meshes the located mode accepts in double precision (not those whose repaired
-        // map moved vertices off the given map's grid points).
-        const VerifyResult d = verify(in, exact, strict);
-        if (!d.valid) continue;
-        ++judged;
-        EXPECT_TRUE(verify(in, exact).valid) << path;
-        const VerifyResult p = verify(in, printed_6g(exact));
-        EXPECT_TRUE(p.valid) << path << " (%.6g): " << first_message(p);
-        EXPECT_LE(p.position_digits, 6) << path;
-        const VerifyResult f = verify(in, as_float32(exact));
-        EXPECT_TRUE(f.valid) << path << " (float32): " << first_message(f);
-        EXPECT_TRUE(f.positions_float32) << path;
-        mutate(in, printed_6g(exact), path.filename().string(), tally);
+        EXPECT_TRUE(names(v, ViolationKind::GridCellNotCovered, PlaceKind::Face,
+                          {static_cast<Index>(e.f), static_cast<Index>(e.g)}));
+        EXPECT_EQ(unplaced(v), "");
     }
-    std::cout << judged << " of " << files.size()
-              << " real maps' outputs judged at three precisions; rotated edges: " << tally.rotations_rejected << " of "
-              << tally.rotations << " rejected, the others undecided\n";
-    EXPECT_GT(judged, 0);
 }
+
+class RealMapPrecision : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RealMapPrecision, RoundedOutputPassesAndMutationsAreLocated) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / GetParam();
+    if (!fs::exists(path)) GTEST_SKIP() << path << " is absent";
+    Input in;
+    ASSERT_TRUE(read_obj(path.string(), in).ok()) << path;
+    const Result r = extract(in);
+    if (!r.ok() || !r.check.valid) GTEST_SKIP() << path.filename() << ": extraction gives no valid mesh to judge";
+    // As `qex check --param RAW --grid-scale K OUT` judges it: vertices in the raw map's fold-over
+    // regions, where the repair moved the map, on the surface only.
+    QuadMesh exact = bare(r.mesh);
+    exact.grid_scale = r.mesh.grid_scale;
+    VerifyOptions opt;
+    opt.fold_regions = true;
+    VerifyOptions strict = opt;
+    strict.position_digits = 0;
+    const VerifyResult d = verify(in, exact, strict);
+    EXPECT_TRUE(d.valid) << "(double, --strict): " << first_message(d);
+    EXPECT_TRUE(verify(in, exact, opt).valid);
+    const QuadMesh rounded = printed_6g(exact);
+    const VerifyResult p = verify(in, rounded, opt);
+    EXPECT_TRUE(p.valid) << "(%.6g): " << first_message(p);
+    EXPECT_LE(p.position_digits, 6);
+    const VerifyResult f = verify(in, as_float32(exact), opt);
+    EXPECT_TRUE(f.valid) << "(float32): " << first_message(f);
+    EXPECT_TRUE(f.positions_float32);
+    // The coverage check requires the same cells at every precision.
+    EXPECT_EQ(p.coverage_cells, d.coverage_cells);
+    EXPECT_EQ(f.coverage_cells, d.coverage_cells);
+    Tally tally;
+    tally.faces = static_cast<Index>(exact.faces.size());
+    tally.required = p.coverage_cells;
+    mutate(in, rounded, opt, tally);
+    const std::vector<std::size_t> required = drops_are_named(in, rounded, opt, p.coverage_cells);
+    rotations_are_located(in, rounded, opt, required, tally);
+    std::cout << path.filename().string() << " (grid scale " << exact.grid_scale << "): " << tally.required << " of "
+              << tally.faces << " cells required by the coverage check; rotated edges: " << tally.rotations_rejected
+              << " of " << tally.rotations << " rejected, " << tally.rotations_located
+              << " between required cells located\n";
+}
+
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+    std::string s = fs::path(info.param).stem().string();
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return s;
+}
+
+// Every real map, one ctest test each (label precision); none where ../shared is absent.
+INSTANTIATE_TEST_SUITE_P(SharedMaps, RealMapPrecision, ::testing::ValuesIn(real_maps()), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RealMapPrecision);
 
 TEST(CheckerPrecision, StrictModeTakesPositionsAsExact) {
     // A vertex moved off the surface by 3e-6 of its coordinates' magnitude: within the rounding

@@ -1,12 +1,14 @@
 // `qex check --param MAP MESH`: judges any quad mesh (OBJ or PLY) against a map with the
 // independent checker; the verdict in words or as JSON.
 #include "cli.h"
+#include "draw.h"
 #include "progress.h"
 #include "violations.h"
 #include "qex/report.h"
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 namespace qex::cli {
@@ -94,6 +96,19 @@ int run_check(const CheckArgs& a) {
     mesh.grid_scale = a.grid_scale;
     const qex::VerifyResult v = qex::verify(input, mesh, a.options);
     progress.stop();
+    // The verdict to files first: a file that cannot be written is an error, whatever the verdict.
+    if (!a.report_path.empty() && !write_text(a.report_path, qex::verify_json(v) + "\n")) {
+        std::cerr << "qex: cannot write '" << a.report_path << "'\n";
+        return kIo;
+    }
+    if (!a.svg_path.empty()) {
+        const std::string title = std::filesystem::path(a.mesh_path).filename().string() + " on " +
+                                  std::filesystem::path(a.param_path).filename().string();
+        if (!write_text(a.svg_path, verdict_svg(input, mesh, v, a.grid_scale, title))) {
+            std::cerr << "qex: cannot write '" << a.svg_path << "'\n";
+            return kIo;
+        }
+    }
     if (a.json)
         std::cout << qex::verify_json(v) << "\n";
     else
@@ -107,6 +122,9 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");
+    check->add_option("--report", a.report_path, "also write the JSON verdict to this file");
+    check->add_option("--svg", a.svg_path,
+                      "also draw the violations on the map (and on the mesh, up to 30,000 faces) into this SVG");
     check
         ->add_option("--grid-scale", a.grid_scale,
                      "judge the mesh against the map with its UVs multiplied by this power of two (a mesh qex "

@@ -56,6 +56,7 @@ int run_extract(const ExtractArgs& a);
 
 struct CheckArgs {
     std::string param_path, mesh_path;
+    std::string report_path, svg_path; ///< --report (the JSON verdict) and --svg (its picture)
     bool json = false;
     int grid_scale = 1;
     VerifyOptions options;

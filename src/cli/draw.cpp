@@ -4,6 +4,7 @@
 // in three orthographic views (flat-shaded, back faces culled) with every defect of a report and
 // every violation of the checker circled and numbered.
 #include "cli.h"
+#include "draw.h"
 #include "map_info.h"
 #include "progress.h"
 
@@ -16,7 +17,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <queue>
+#include <tuple>
 #include <unordered_map>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -34,6 +37,7 @@ constexpr std::size_t kWholeMapTriangles = 30000; ///< larger maps are drawn in 
 constexpr double kMapSize = 1000.0;               ///< the map picture's larger side, in pixels
 constexpr double kPanel = 520.0;                  ///< one view of the mesh, in pixels
 constexpr std::size_t kListed = 40;               ///< defects listed under the mesh picture
+constexpr std::size_t kMeshViewFaces = 30000;     ///< larger meshes are not drawn in 3D by `qex check --svg`
 
 // === SVG text
 
@@ -136,10 +140,20 @@ std::vector<int> around(const Input& in, int t, double radius) {
     return out;
 }
 
+/// A violation's place on the map, in the chart of `triangle`: a grid cell (lower-left `at`), a
+/// grid point, or the triangle itself (`at` its UV centroid).
+struct MapMark {
+    enum class Shape { Cell, Point, Triangle } shape = Shape::Point;
+    Vec2 at{0, 0};
+    int triangle = -1;
+    std::string label; ///< the violation's number (on its first mark only)
+};
+
 /// The map's picture: every triangle of `tris`, or with `outline` (large maps) only its
-/// boundary and seam edges, its flipped and degenerate triangles and its singularities.
+/// boundary and seam edges, its flipped and degenerate triangles and its singularities; and the
+/// violations' marks, each a group of class "violation-mark".
 std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int>& tris, bool outline,
-                     const std::string& title, double& width, double& height) {
+                     const std::string& title, double& width, double& height, const std::vector<MapMark>& marks = {}) {
     Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
     for (int t : tris)
         for (int k = 0; k < 3; ++k)
@@ -219,6 +233,28 @@ std::string draw_map(const Input& in, const MapInfo& info, const std::vector<int
                           "\" font-weight=\"bold\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"");
             break;
         }
+    // The violations: cells and triangles outlined, points circled, each with its number.
+    const std::string red = "fill=\"#e00000\" fill-opacity=\"0.25\" stroke=\"#e00000\" stroke-width=\"2.5\"";
+    for (const MapMark& m : marks) {
+        std::string g;
+        Vec2 label_at = at(m.at);
+        if (m.shape == MapMark::Shape::Cell) {
+            g += polygon(
+                {at(m.at), at({m.at[0] + 1, m.at[1]}), at({m.at[0] + 1, m.at[1] + 1}), at({m.at[0], m.at[1] + 1})},
+                red);
+            label_at = at({m.at[0] + 1, m.at[1] + 1});
+        } else if (m.shape == MapMark::Shape::Triangle && m.triangle >= 0) {
+            g += polygon({at(in.uvs[3 * m.triangle]), at(in.uvs[3 * m.triangle + 1]), at(in.uvs[3 * m.triangle + 2])},
+                         red);
+        }
+        const Vec2 c = m.shape == MapMark::Shape::Cell ? at({m.at[0] + 0.5, m.at[1] + 0.5}) : at(m.at);
+        g += circle(c[0], c[1], 9, "fill=\"none\" stroke=\"#e00000\" stroke-width=\"2.5\"");
+        if (!m.label.empty())
+            g += text(
+                label_at[0] + 8, label_at[1] - 8, m.label,
+                "fill=\"#c00000\" font-weight=\"bold\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"");
+        s += "<g class=\"violation-mark\">\n" + g + "</g>\n";
+    }
     s += text(margin, 22, title, "font-size=\"16\" font-weight=\"bold\"");
     s += text(margin, 44,
               std::to_string(info.flipped) + " flipped (red), " + std::to_string(info.degenerate) +
@@ -346,6 +382,94 @@ bool place_of(const Input& in, const QuadMesh& mesh, ViolationElement kind, std:
     return false;
 }
 
+/// The point of triangle t whose UV in t's chart is (u, v) (barycentric; outside t when (u, v) is).
+Vec3 surface_point(const Input& in, std::int64_t t, double u, double v) {
+    const auto T = static_cast<std::size_t>(t);
+    const Vec2 &a = in.uvs[3 * T], &b = in.uvs[3 * T + 1], &c = in.uvs[3 * T + 2];
+    const double den = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if (den == 0) return triangle_centroid(in, t);
+    const double l1 = ((u - a[0]) * (c[1] - a[1]) - (v - a[1]) * (c[0] - a[0])) / den;
+    const double l2 = ((b[0] - a[0]) * (v - a[1]) - (b[1] - a[1]) * (u - a[0])) / den;
+    Vec3 x{0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+        x[i] = (1 - l1 - l2) * in.positions[in.triangles[T][0]][i] + l1 * in.positions[in.triangles[T][1]][i] +
+               l2 * in.positions[in.triangles[T][2]][i];
+    return x;
+}
+
+/// Where a violation is in 3D: the element it names, else its first place this picture can show
+/// (a grid cell's centre or a grid point on the surface through its chart's triangle).
+bool violation_at(const Input& in, const QuadMesh& mesh, const Violation& x, Vec3& at) {
+    if (place_of(in, mesh, element_kind(x.kind), x.element, at)) return true;
+    for (const Place& p : x.places) {
+        if (p.indices.empty()) continue;
+        const std::int64_t e = p.indices[0];
+        switch (p.kind) {
+            case PlaceKind::Vertex:
+            case PlaceKind::Edge:
+            case PlaceKind::Loop:
+                if (place_of(in, mesh, ViolationElement::OutputVertex, e, at)) return true;
+                break;
+            case PlaceKind::Face:
+                if (place_of(in, mesh, ViolationElement::OutputFace, e, at)) return true;
+                break;
+            case PlaceKind::InputVertex:
+                if (place_of(in, mesh, ViolationElement::InputVertex, e, at)) return true;
+                break;
+            case PlaceKind::InputTriangle:
+                if (place_of(in, mesh, ViolationElement::InputTriangle, e, at)) return true;
+                break;
+            case PlaceKind::GridCell:
+            case PlaceKind::GridPoint:
+                if (p.indices.size() >= 3 && e >= 0 && e < static_cast<std::int64_t>(in.triangles.size())) {
+                    const double half = p.kind == PlaceKind::GridCell ? 0.5 : 0.0;
+                    at = surface_point(in, e, static_cast<double>(p.indices[1]) + half,
+                                       static_cast<double>(p.indices[2]) + half);
+                    return true;
+                }
+                break;
+        }
+    }
+    return false;
+}
+
+/// Where a violation is on the map: its grid cells and grid points (up to four of each), else the
+/// input triangle it names or lies on, else an input vertex (in its first triangle's chart). The
+/// first mark carries `label`; none where the violation has no place on the map.
+std::vector<MapMark> map_marks(const Input& in, const Violation& x, const std::string& label) {
+    std::vector<MapMark> out;
+    const auto nt = static_cast<std::int64_t>(in.triangles.size());
+    for (const Place& p : x.places) {
+        if (p.kind != PlaceKind::GridCell && p.kind != PlaceKind::GridPoint) continue;
+        for (std::size_t i = 0; i + 2 < p.indices.size() && i < 12; i += 3)
+            if (p.indices[i] >= 0 && p.indices[i] < nt)
+                out.push_back({p.kind == PlaceKind::GridCell ? MapMark::Shape::Cell : MapMark::Shape::Point,
+                               {static_cast<double>(p.indices[i + 1]), static_cast<double>(p.indices[i + 2])},
+                               static_cast<int>(p.indices[i]),
+                               ""});
+    }
+    std::int64_t triangle = element_kind(x.kind) == ViolationElement::InputTriangle ? x.element : -1;
+    for (const Place& p : x.places)
+        if (triangle < 0 && p.kind == PlaceKind::InputTriangle && !p.indices.empty()) triangle = p.indices[0];
+    if (out.empty() && triangle >= 0 && triangle < nt) {
+        const auto t = static_cast<std::size_t>(triangle);
+        const Vec2 c{(in.uvs[3 * t][0] + in.uvs[3 * t + 1][0] + in.uvs[3 * t + 2][0]) / 3,
+                     (in.uvs[3 * t][1] + in.uvs[3 * t + 1][1] + in.uvs[3 * t + 2][1]) / 3};
+        out.push_back({MapMark::Shape::Triangle, c, static_cast<int>(triangle), ""});
+    }
+    std::int64_t vertex = element_kind(x.kind) == ViolationElement::InputVertex ? x.element : -1;
+    for (const Place& p : x.places)
+        if (vertex < 0 && p.kind == PlaceKind::InputVertex && !p.indices.empty()) vertex = p.indices[0];
+    if (out.empty() && vertex >= 0)
+        for (std::size_t c = 0; c < 3 * in.triangles.size(); ++c)
+            if (in.triangles[c / 3][c % 3] == vertex) {
+                out.push_back({MapMark::Shape::Point, in.uvs[c], static_cast<int>(c / 3), ""});
+                break;
+            }
+    if (!out.empty()) out.front().label = label;
+    return out;
+}
+
 /// The marks (and the listing under the picture): the report's defects, then the checker's violations.
 std::vector<Mark> collect_marks(const Input& in, const QuadMesh& mesh, const nlohmann::json& report,
                                 const VerifyResult& check, std::vector<std::string>& listing) {
@@ -366,7 +490,7 @@ std::vector<Mark> collect_marks(const Input& in, const QuadMesh& mesh, const nlo
         }
     for (const Violation& x : check.violations) {
         Vec3 at{};
-        const bool placed = place_of(in, mesh, element_kind(x.kind), x.element, at);
+        const bool placed = violation_at(in, mesh, x, at);
         add(placed, at, std::string("check ") + to_string(x.kind) + ": " + x.message);
     }
     return marks;
@@ -439,6 +563,66 @@ int to_png(const std::string& svg, const std::string& png) {
 }
 
 } // namespace
+
+std::string verdict_svg(const Input& input, const QuadMesh& mesh, const VerifyResult& verdict, int grid_scale,
+                        const std::string& title) {
+    // The map as the checker judged it (its UVs times the grid scale, a power of two: exact).
+    Input in = input;
+    if (grid_scale != 1)
+        for (auto& uv : in.uvs) uv = {uv[0] * grid_scale, uv[1] * grid_scale};
+    // Marks at one place are drawn once, with the numbers of all violations there.
+    std::vector<MapMark> on_map;
+    std::map<std::tuple<int, int, double, double>, std::size_t> map_mark_at;
+    std::vector<Mark> in_3d;
+    std::map<Vec3, std::size_t> mark_at;
+    std::vector<std::string> listing;
+    for (std::size_t i = 0; i < verdict.violations.size(); ++i) {
+        const Violation& x = verdict.violations[i];
+        const std::string label = std::to_string(i + 1);
+        const std::vector<MapMark> m = map_marks(in, x, label);
+        for (const MapMark& mark : m) {
+            const auto key = std::make_tuple(static_cast<int>(mark.shape), mark.triangle, mark.at[0], mark.at[1]);
+            const auto [it, added] = map_mark_at.emplace(key, on_map.size());
+            if (added)
+                on_map.push_back(mark);
+            else if (!mark.label.empty())
+                on_map[it->second].label += (on_map[it->second].label.empty() ? "" : ", ") + mark.label;
+        }
+        Vec3 at{};
+        if (violation_at(in, mesh, x, at)) {
+            const auto [it, added] = mark_at.emplace(at, in_3d.size());
+            if (added)
+                in_3d.push_back({at, label});
+            else
+                in_3d[it->second].label += ", " + label;
+        }
+        listing.push_back(label + ": " + to_string(x.kind) + ": " + x.message + (m.empty() ? " (not on the map)" : ""));
+    }
+    std::vector<int> tris(in.triangles.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) tris[t] = static_cast<int>(t);
+    const bool outline = tris.size() > kWholeMapTriangles;
+    double map_width = 0, map_height = 0, mesh_width = 0, mesh_height = 0;
+    const std::string verdict_line = std::string(verdict.valid ? "VALID" : "INVALID") + ", " +
+                                     std::to_string(verdict.violations.size()) + " violations (numbered)";
+    std::string body = draw_map(in, analyse_map(in), tris, outline,
+                                title + ": " + verdict_line + "; the map" +
+                                    (grid_scale != 1 ? " at grid scale " + std::to_string(grid_scale) : "") +
+                                    (outline ? " in outline" : ""),
+                                map_width, map_height, on_map);
+    if (mesh.faces.size() <= kMeshViewFaces) {
+        body += "<g transform=\"translate(0," + num(map_height) + ")\">\n" +
+                draw_mesh(in, mesh, in_3d, listing, title + ": the mesh", mesh_width, mesh_height) + "</g>\n";
+    } else { // the listing alone
+        double y = map_height + 20;
+        for (std::size_t i = 0; i < listing.size() && i < kListed; ++i, y += 17)
+            body +=
+                text(20, y, listing[i].size() > 200 ? listing[i].substr(0, 197) + "..." : listing[i], "fill=\"#900\"");
+        if (listing.size() > kListed)
+            body += text(20, y, "... and " + std::to_string(listing.size() - kListed) + " more");
+        mesh_height = y - map_height + 20;
+    }
+    return svg_document(std::max(map_width, mesh_width), map_height + mesh_height, body);
+}
 
 CLI::App* add_draw(CLI::App& app, DrawArgs& a) {
     auto* draw = app.add_subcommand("draw", "Draw a map in UV space, or a quad mesh in 3 views with its defects (SVG)");
