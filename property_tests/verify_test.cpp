@@ -173,6 +173,25 @@ TEST(Checker, ParallelLoopsGiveTheSerialVerdict) {
     const VerifyResult s = same(cube, shifted);
     EXPECT_EQ(count(s, ViolationKind::SingularityOffGrid), 8u);
     EXPECT_GE(count(s, ViolationKind::MapNotIntegerGrid), 1u);
+    // Located mode (no provenance) on a finer triangulation of the same cube (the coverage check
+    // enumerates its 110K triangles in parallel): a quad dropped, a vertex moved off its grid point.
+    const Input finer = subdivide(cube);
+    QuadMesh located;
+    located.positions = cube_mesh.positions;
+    located.faces = cube_mesh.faces;
+    const VerifyResult l = same(finer, located);
+    EXPECT_TRUE(l.valid);
+    EXPECT_EQ(l.coverage_cells, static_cast<std::int64_t>(located.faces.size()));
+    located.faces.erase(located.faces.begin() + 7);
+    const int moved = located.faces[20][0];
+    for (int k = 0; k < 3; ++k)
+        located.positions[static_cast<std::size_t>(moved)][k] =
+            0.5 * (located.positions[static_cast<std::size_t>(moved)][k] +
+                   located.positions[static_cast<std::size_t>(located.faces[20][1])][k]);
+    const VerifyResult m = same(finer, located);
+    EXPECT_EQ(count(m, ViolationKind::GridCellNotCovered), 1u);
+    EXPECT_EQ(count(m, ViolationKind::GridPointNotCovered), 1u);
+    EXPECT_EQ(m.coverage_cells, l.coverage_cells);
     // A large mesh: a torus with many quads, one face reversed and one doubled.
     const Input torus = make_map(torus_layout(32, 16), 8, 2);
     QuadMesh quads = extract(torus).mesh;

@@ -12,6 +12,7 @@
 // (transitions.cpp); the grid points are then compared as integers.
 #include "checker.h"
 #include "grid.h"
+#include "parallel.h"
 #include "union_find.h"
 
 #include <algorithm>
@@ -321,7 +322,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     const std::vector<char> far_from_folds =
         far_from_fold_overs(in, map.edges, map.fold_over, near_fold_overs(in, map.fold_over, kFoldRegionRings));
     std::vector<FaceCell> uncovered;
-    check_coverage(map, mesh, loc, far_from_folds, opt.uv_tolerance, r, out, uncovered);
+    check_coverage(map, mesh, loc, far_from_folds, opt.uv_tolerance, thread_count(opt.threads), r, out, uncovered);
     // The whole mesh's violations name the unit cells no face covers, with the triangle whose
     // chart holds each.
     std::vector<Violation*> global;

@@ -250,9 +250,10 @@ std::vector<char> far_from_fold_overs(const Input& in, const InputEdges& edges, 
 /// corners vertices (VerifyResult::coverage_cells). Appends GridPointNotCovered and
 /// GridCellNotCovered violations to `out` (a cell whose corner vertex lies in a fold-over region
 /// or is undecided, to `r.undecided`), and the cells no face covers to `uncovered`. Vertices
-/// claim their grid points in the triangles within `uv_tolerance` (at least 1e-4) of them.
+/// claim their grid points in the triangles within `uv_tolerance` (at least 1e-4) of them. Runs
+/// on `threads` threads; the verdict does not depend on them.
 void check_coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
-                    const std::vector<char>& far_from_folds, double uv_tolerance, VerifyResult& r,
+                    const std::vector<char>& far_from_folds, double uv_tolerance, int threads, VerifyResult& r,
                     std::vector<Violation>& out, std::vector<FaceCell>& uncovered);
 
 } // namespace qex::verify_detail

@@ -11,6 +11,7 @@
 // passes.
 #include "checker.h"
 #include "grid.h"
+#include "parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +40,7 @@ constexpr double kRefU = 0.5, kRefV = 0.5;
 /// Triangles one cell's flood holds at most, triangles a vertex's claim visits at most, and steps
 /// of the walk from a vertex's triangle to its grid point.
 constexpr std::size_t kCellTriangles = 1u << 12, kClaimTriangles = 1u << 10;
-constexpr int kWalkSteps = 256;
+constexpr int kWalkSteps = 1 << 12;
 /// Cells looked at in all (a broken map can span huge UV boxes), per triangle of the input and
 /// face of the mesh, and at least.
 constexpr double kCellsPerElement = 64, kMinCells = 1e7;
@@ -53,6 +54,9 @@ constexpr double kFarGrid = 1e15;
 constexpr double kFoldReach = 3;
 
 using P2 = std::array<double, 2>;
+
+/// The length of (x, y) (std::hypot guards against overflow that UVs below kFarGrid cannot reach, slowly).
+double norm(double x, double y) { return std::sqrt(x * x + y * y); }
 
 double cross(const P2& a, const P2& b, const P2& c) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
@@ -89,6 +93,37 @@ bool segment_meets_box(const P2& a, const P2& b, const P2& lo, const P2& hi) {
     return left && right;
 }
 
+/// A positive triangle's edges as lines: the signed distance of a point inside from each.
+struct EdgeLines {
+    std::array<P2, 3> from, along;   ///< each edge's start and vector
+    std::array<double, 3> inverse{}; ///< 1 / its length (0 for a point)
+    explicit EdgeLines(const std::array<P2, 3>& q) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            from[k] = q[k];
+            along[k] = {q[(k + 1) % 3][0] - q[k][0], q[(k + 1) % 3][1] - q[k][1]};
+            const double len = norm(along[k][0], along[k][1]);
+            inverse[k] = len > 0 ? 1 / len : 0;
+        }
+    }
+    /// Distance from x to the nearest edge's line, positive inside (negative outside).
+    double depth(const P2& x) const {
+        double d = HUGE_VAL;
+        for (std::size_t k = 0; k < 3; ++k)
+            d = std::min(d, (along[k][0] * (x[1] - from[k][1]) - along[k][1] * (x[0] - from[k][0])) * inverse[k]);
+        return d;
+    }
+    /// The unit cell centred at x lies inside, farther than `band` from every edge's line.
+    bool holds_cell(const P2& x, double band) const {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double d = (along[k][0] * (x[1] - from[k][1]) - along[k][1] * (x[0] - from[k][0])) * inverse[k];
+            // The corners' distances differ from the centre's by at most this (an affine function).
+            const double spread = 0.5 * (std::abs(along[k][0]) + std::abs(along[k][1])) * inverse[k];
+            if (!(d - spread > band)) return false;
+        }
+        return true;
+    }
+};
+
 /// A grid point in the chart of an input triangle.
 struct Key {
     std::uint32_t triangle = 0;
@@ -115,10 +150,35 @@ struct RequiredCell {
     std::array<Key, 4> corner;
 };
 
+/// What one thread's floods over the triangles use: per triangle its generation and the map
+/// from the flood's start's chart; the flood's queue; the triangles within reach of a point.
+struct Scratch {
+    explicit Scratch(std::size_t triangles) : stamp(triangles, 0), to(triangles) {}
+    /// A new flood: every triangle unvisited.
+    void next() {
+        if (++generation == 0) {
+            std::fill(stamp.begin(), stamp.end(), 0);
+            generation = 1;
+        }
+    }
+    std::vector<std::uint32_t> stamp;
+    std::vector<Transition> to;
+    std::vector<std::uint32_t> queue;
+    std::uint32_t generation = 0;
+    std::vector<std::pair<std::uint32_t, P2>> reach;
+};
+
+/// A required cell and the claims at its corners, as the enumeration found it.
+struct Found {
+    RequiredCell cell;
+    std::array<std::pair<const Claim*, const Claim*>, 4> at;
+    bool all = false; ///< every corner claimed
+};
+
 class Coverage {
 public:
     Coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
-             const std::vector<char>& far_from_folds, double uv_tolerance);
+             const std::vector<char>& far_from_folds, double uv_tolerance, int threads);
     /// Runs the check: violations to `out`, undecided cells to `r.undecided`, counts to `r`.
     void run(VerifyResult& r, std::vector<Violation>& out, std::vector<FaceCell>& uncovered);
 
@@ -126,27 +186,31 @@ private:
     std::array<P2, 3> uv(std::uint32_t t, const P2& origin) const;
     /// Every vertex's claims: its grid point in each triangle within the claim reach of it.
     void claim_grid_points();
+    /// The required cells that triangle t owns whose corners are not one face's, to `found`;
+    /// returns how many cells it requires.
+    std::int64_t enumerate(std::uint32_t t, Scratch& scratch, std::vector<Found>& found) const;
     /// Walks from triangle t towards the grid point p (in t's chart) until a triangle holds it
     /// within the claim reach; false when the walk leaves the surface, meets a fold-over or an
     /// edge without a transition, or runs too long.
     bool walk_to(std::uint32_t& t, GridPoint& p) const;
     /// The triangles within the claim reach of the point x (in the chart of triangle t, which
     /// holds it within the reach), reached from t across edges within twice the reach of it,
-    /// with x in each one's chart, into `reach_` (t first). Exact for integer points.
-    void reach_from(std::uint32_t t, const P2& x);
-    /// Whether triangle t (its UVs q) owns the cell with reference point x (in t's chart): x lies inside it,
-    /// and where x lies within the claim reach of its edges, no triangle of smaller index holds
-    /// it as well (or, if none holds it, lies within the reach). Solver noise can leave x in two
-    /// triangles' charts or in none: each cell has one owner.
-    bool owns(std::uint32_t t, const std::array<P2, 3>& q, const P2& x);
-    /// The cell with lower-left p in the chart of triangle t0: whether it is required, and its corners.
-    CellState judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell);
+    /// with x in each one's chart, into `scratch.reach` (t first). Exact for integer points.
+    void reach_from(std::uint32_t t, const P2& x, Scratch& scratch) const;
+    /// Whether triangle t owns the cell with reference point x (in t's chart) at `depth` inside
+    /// it (EdgeLines::depth): x lies inside it, and where x lies within the claim reach of its
+    /// edges, no triangle of smaller index holds it as well (or, if none holds it, lies within the
+    /// reach). Solver noise can leave x in two triangles' charts or in none: each cell has one owner.
+    bool owns(std::uint32_t t, double depth, const P2& x, Scratch& scratch) const;
+    /// The cell with lower-left p in the chart of triangle t0 (which does not hold it whole):
+    /// whether it is required, and its corners.
+    CellState judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell, Scratch& scratch) const;
     /// The claims at key k.
     std::pair<const Claim*, const Claim*> claims_at(const Key& k) const;
     /// A face whose corners, in order, are claims at the four corners; -1 if none.
     std::int64_t face_at(const std::array<std::pair<const Claim*, const Claim*>, 4>& at) const;
     /// The smallest key of the grid point k (over the triangles within the claim reach).
-    Key canonical(const Key& k);
+    Key canonical(const Key& k, Scratch& scratch) const;
 
     const LocatedMap& map_;
     const Input& in_;
@@ -154,6 +218,7 @@ private:
     const std::vector<Located>& loc_;
     const std::vector<char>& far_;
     double claim_reach_;
+    int threads_;
     std::vector<Claim> claims_;        ///< sorted by key
     std::vector<std::size_t> claimed_; ///< per triangle, where its claims start in claims_ (CSR)
     /// Per vertex, its faces (CSR): each as the face and, for a quad, the three corners that
@@ -164,24 +229,17 @@ private:
     };
     std::vector<std::uint32_t> face_start_;
     std::vector<Around> around_;
-    // Scratch of the floods: per triangle its generation and the map from the start's chart.
-    std::vector<std::uint32_t> stamp_;
-    std::vector<Transition> to_;
-    std::vector<std::uint32_t> queue_;
-    std::uint32_t generation_ = 0;
-    std::vector<std::pair<std::uint32_t, P2>> reach_;
 };
 
 Coverage::Coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
-                   const std::vector<char>& far_from_folds, double uv_tolerance)
+                   const std::vector<char>& far_from_folds, double uv_tolerance, int threads)
     : map_(map),
       in_(map.in),
       mesh_(mesh),
       loc_(loc),
       far_(far_from_folds),
       claim_reach_(std::max(kClaimReach, uv_tolerance)),
-      stamp_(map.in.triangles.size(), 0),
-      to_(map.in.triangles.size()) {
+      threads_(threads) {
     // The faces at each vertex (the located mode runs only when every index is in range); a
     // quad with the three corners that follow the vertex, any other polygon with none (-1).
     const std::size_t nv = mesh.positions.size();
@@ -218,7 +276,7 @@ bool Coverage::walk_to(std::uint32_t& t, GridPoint& p) const {
         double beyond = 0;
         for (int k = 0; k < 3; ++k) {
             const P2 &a = q[static_cast<std::size_t>(k)], &b = q[static_cast<std::size_t>((k + 1) % 3)];
-            const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+            const double len = norm(b[0] - a[0], b[1] - a[1]);
             const double s = len > 0 ? -cross(a, b, {0, 0}) / len * (area < 0 ? -1 : 1) : 0;
             if (s > beyond) beyond = s, best = k;
         }
@@ -234,15 +292,13 @@ bool Coverage::walk_to(std::uint32_t& t, GridPoint& p) const {
     return false;
 }
 
-void Coverage::reach_from(std::uint32_t t, const P2& x) {
-    if (++generation_ == 0) {
-        std::fill(stamp_.begin(), stamp_.end(), 0);
-        generation_ = 1;
-    }
-    reach_.assign(1, {t, x});
-    stamp_[t] = generation_;
-    for (std::size_t head = 0; head < reach_.size() && reach_.size() < kClaimTriangles; ++head) {
-        const auto [s, q] = reach_[head];
+void Coverage::reach_from(std::uint32_t t, const P2& x, Scratch& scratch) const {
+    scratch.next();
+    auto& reach = scratch.reach;
+    reach.assign(1, {t, x});
+    scratch.stamp[t] = scratch.generation;
+    for (std::size_t head = 0; head < reach.size() && reach.size() < kClaimTriangles; ++head) {
+        const auto [s, q] = reach[head];
         const std::array<P2, 3> here = uv(s, q);
         for (std::size_t k = 0; k < 3; ++k) {
             // Only across an edge near the point (the charts on its two sides disagree by less
@@ -252,36 +308,55 @@ void Coverage::reach_from(std::uint32_t t, const P2& x) {
             const std::int64_t o = map_.edges.opposite[c];
             if (o < 0) continue;
             const auto n = static_cast<std::uint32_t>(o / 3);
-            if (stamp_[n] == generation_ || map_.fold_over[n]) continue;
+            if (scratch.stamp[n] == scratch.generation || map_.fold_over[n]) continue;
             const Transition& m = map_.edges.across[c];
             const P2 r = rotate_quarter(q, m.r);
             const P2 qn{r[0] + static_cast<double>(m.tx), r[1] + static_cast<double>(m.ty)};
             if (!(std::abs(qn[0]) < kFarGrid && std::abs(qn[1]) < kFarGrid)) continue;
             if (triangle_distance({0, 0}, uv(n, qn)) > claim_reach_) continue;
-            stamp_[n] = generation_;
-            reach_.push_back({n, qn});
+            scratch.stamp[n] = scratch.generation;
+            reach.push_back({n, qn});
         }
     }
 }
 
 void Coverage::claim_grid_points() {
-    claims_.reserve(loc_.size() + loc_.size() / 2);
-    for (std::size_t v = 0; v < loc_.size(); ++v) {
-        const Located& L = loc_[v];
-        if (!L.ok && !L.undecided) continue; // off the surface or off the grid: it claims nothing
-        // Its grid point; one its precision cannot place, every grid point it may be on.
-        for (int du = -L.spread; du <= L.spread; ++du)
-            for (int dv = -L.spread; dv <= L.spread; ++dv) {
-                std::uint32_t t = L.triangle;
-                GridPoint p{L.grid[0] + du, L.grid[1] + dv};
-                if (map_.fold_over[t] || !walk_to(t, p)) continue;
-                reach_from(t, {static_cast<double>(p[0]), static_cast<double>(p[1])});
-                for (const auto& [n, q] : reach_)
-                    claims_.push_back({{static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])},
-                                       n,
-                                       static_cast<std::int32_t>(v)});
-            }
+    // Each thread its vertices' claims (their order does not matter: they are sorted below).
+    const auto nv = static_cast<std::int64_t>(loc_.size());
+    const int threads = run_parallel(threads_, nv) ? threads_ : 1;
+    std::vector<std::vector<Claim>> part(static_cast<std::size_t>(threads));
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(threads)
+#endif
+    {
+#if defined(_OPENMP)
+        const auto me = static_cast<std::size_t>(omp_get_thread_num());
+#else
+        const std::size_t me = 0;
+#endif
+        Scratch scratch(in_.triangles.size());
+        std::vector<Claim>& mine = part[me];
+#if defined(_OPENMP)
+#pragma omp for schedule(dynamic, 4096)
+#endif
+        for (std::int64_t vi = 0; vi < nv; ++vi) {
+            const Located& L = loc_[static_cast<std::size_t>(vi)];
+            if (!L.ok && !L.undecided) continue; // off the surface or off the grid: it claims nothing
+            // Its grid point; one its precision cannot place, every grid point it may be on.
+            for (int du = -L.spread; du <= L.spread; ++du)
+                for (int dv = -L.spread; dv <= L.spread; ++dv) {
+                    std::uint32_t t = L.triangle;
+                    GridPoint p{L.grid[0] + du, L.grid[1] + dv};
+                    if (map_.fold_over[t] || !walk_to(t, p)) continue;
+                    reach_from(t, {static_cast<double>(p[0]), static_cast<double>(p[1])}, scratch);
+                    for (const auto& [n, q] : scratch.reach)
+                        mine.push_back({{static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])},
+                                        n,
+                                        static_cast<std::int32_t>(vi)});
+                }
+        }
     }
+    for (auto& p : part) claims_.insert(claims_.end(), p.begin(), p.end());
     // By triangle (a counting pass), then each triangle's by grid point and vertex.
     const std::size_t nt = in_.triangles.size();
     claimed_.assign(nt + 1, 0);
@@ -319,40 +394,24 @@ std::int64_t Coverage::face_at(const std::array<std::pair<const Claim*, const Cl
     return -1;
 }
 
-CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell) {
+CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell, Scratch& scratch) const {
     const GridPoint corners[4] = {p, {p[0] + 1, p[1]}, {p[0] + 1, p[1] + 1}, {p[0], p[1] + 1}};
     cell.cell = {t0, p};
-    // The whole cell inside its owner, by the band: required, its corners there.
-    {
-        const std::array<P2, 3> q = uv(t0, {static_cast<double>(p[0]), static_cast<double>(p[1])});
-        bool inside = true;
-        for (int k = 0; k < 3 && inside; ++k) {
-            const P2 &a = q[static_cast<std::size_t>(k)], &b = q[static_cast<std::size_t>((k + 1) % 3)];
-            const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-            for (const P2 c : {P2{0, 0}, P2{1, 0}, P2{1, 1}, P2{0, 1}})
-                inside = inside && cross(a, b, c) > kBoundaryBand * len;
-        }
-        if (inside) {
-            for (std::size_t i = 0; i < 4; ++i) cell.corner[i] = {t0, corners[i]};
-            return CellState::Required;
-        }
-    }
     // The triangles over the cell's interior (shrunk by the band): from the owner across the edges
     // that cross it. Where the map is locally injective over the cell they are connected so.
-    if (++generation_ == 0) {
-        std::fill(stamp_.begin(), stamp_.end(), 0);
-        generation_ = 1;
-    }
-    stamp_[t0] = generation_;
-    to_[t0] = Transition{};
-    queue_.assign(1, t0);
-    for (std::size_t head = 0; head < queue_.size(); ++head) {
-        if (queue_.size() > kCellTriangles) return CellState::Unknown;
-        const std::uint32_t t = queue_[head];
+    scratch.next();
+    auto &stamp = scratch.stamp, &queue = scratch.queue;
+    auto& to = scratch.to;
+    stamp[t0] = scratch.generation;
+    to[t0] = Transition{};
+    queue.assign(1, t0);
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+        if (queue.size() > kCellTriangles) return CellState::Unknown;
+        const std::uint32_t t = queue[head];
         // The cell in t's chart: its corners carried, the lowest of each coordinate.
-        GridPoint lo = map_point(to_[t], corners[0]);
+        GridPoint lo = map_point(to[t], corners[0]);
         for (std::size_t i = 1; i < 4; ++i) {
-            const GridPoint c = map_point(to_[t], corners[i]);
+            const GridPoint c = map_point(to[t], corners[i]);
             lo = {std::min(lo[0], c[0]), std::min(lo[1], c[1])};
         }
         const std::array<P2, 3> q = uv(t, {static_cast<double>(lo[0]), static_cast<double>(lo[1])});
@@ -375,21 +434,21 @@ CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCel
             const auto n = static_cast<std::uint32_t>(o / 3);
             if (map_.fold_over[n] || !far_[n]) return CellState::NearFold;
             Transition m;
-            if (!compose(map_.edges.across[c], to_[t], m)) return CellState::Unknown;
-            if (stamp_[n] == generation_) {
-                if (!same(m, to_[n])) return CellState::Cone; // the charts disagree: a cone inside
+            if (!compose(map_.edges.across[c], to[t], m)) return CellState::Unknown;
+            if (stamp[n] == scratch.generation) {
+                if (!same(m, to[n])) return CellState::Cone; // the charts disagree: a cone inside
                 continue;
             }
-            stamp_[n] = generation_;
-            to_[n] = m;
-            queue_.push_back(n);
+            stamp[n] = scratch.generation;
+            to[n] = m;
+            queue.push_back(n);
         }
     }
     // Each corner in the flooded triangle nearest to it (the first of equals).
     for (std::size_t i = 0; i < 4; ++i) {
         double best = HUGE_VAL;
-        for (const std::uint32_t t : queue_) {
-            const GridPoint c = map_point(to_[t], corners[i]);
+        for (const std::uint32_t t : queue) {
+            const GridPoint c = map_point(to[t], corners[i]);
             const double d = triangle_distance({0, 0}, uv(t, {static_cast<double>(c[0]), static_cast<double>(c[1])}));
             if (d < best) best = d, cell.corner[i] = {t, c};
         }
@@ -398,28 +457,21 @@ CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCel
     return CellState::Required;
 }
 
-Key Coverage::canonical(const Key& k) {
-    reach_from(k.triangle, {static_cast<double>(k.p[0]), static_cast<double>(k.p[1])});
+Key Coverage::canonical(const Key& k, Scratch& scratch) const {
+    reach_from(k.triangle, {static_cast<double>(k.p[0]), static_cast<double>(k.p[1])}, scratch);
     Key best = k;
-    for (const auto& [n, q] : reach_)
+    for (const auto& [n, q] : scratch.reach)
         best = std::min(best, Key{n, {static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])}});
     return best;
 }
 
-bool Coverage::owns(std::uint32_t t, const std::array<P2, 3>& q, const P2& x) {
-    // The distance of x inside t from its nearest edge's line (negative outside).
-    double inside = HUGE_VAL;
-    for (std::size_t k = 0; k < 3; ++k) {
-        const P2 &a = q[k], &b = q[(k + 1) % 3];
-        const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-        inside = std::min(inside, len > 0 ? cross(a, b, x) / len : 0.0);
-    }
-    if (inside > claim_reach_) return true;
-    if (inside < -claim_reach_) return false;
+bool Coverage::owns(std::uint32_t t, double depth, const P2& x, Scratch& scratch) const {
+    if (depth > claim_reach_) return true;
+    if (depth < -claim_reach_) return false;
     // Near an edge: the smallest triangle that holds x strictly, else the smallest near it.
-    reach_from(t, x);
+    reach_from(t, x, scratch);
     std::uint32_t holder = UINT32_MAX, near = UINT32_MAX;
-    for (const auto& [n, y] : reach_) {
+    for (const auto& [n, y] : scratch.reach) {
         const std::array<P2, 3> p = uv(n, y);
         near = std::min(near, n);
         if (cross(p[0], p[1], {0, 0}) > 0 && cross(p[1], p[2], {0, 0}) > 0 && cross(p[2], p[0], {0, 0}) > 0)
@@ -436,12 +488,92 @@ std::string list(const std::vector<std::int64_t>& xs) {
     return s;
 }
 
+std::int64_t Coverage::enumerate(std::uint32_t t, Scratch& scratch, std::vector<Found>& found) const {
+    const std::array<P2, 3> q = uv(t, {0, 0});
+    const EdgeLines lines(q);
+    std::int64_t required = 0;
+    // The cells whose reference point lies within the claim reach of its UV box.
+    const double u0 = std::floor(std::min({q[0][0], q[1][0], q[2][0]}) - kRefU - claim_reach_);
+    const double u1 = std::max({q[0][0], q[1][0], q[2][0]}) + claim_reach_;
+    const double v0 = std::floor(std::min({q[0][1], q[1][1], q[2][1]}) - kRefV - claim_reach_);
+    const double v1 = std::max({q[0][1], q[1][1], q[2][1]}) + claim_reach_;
+    for (double u = u0; u + kRefU <= u1; ++u)
+        for (double v = v0; v + kRefV <= v1; ++v) {
+            // The triangle owns the cell whose reference point lies inside it.
+            const P2 x{u + kRefU, v + kRefV};
+            const double depth = lines.depth(x);
+            if (depth < -claim_reach_ || !owns(t, depth, x, scratch)) continue;
+            Found f;
+            const GridPoint lo{static_cast<std::int64_t>(u), static_cast<std::int64_t>(v)};
+            if (lines.holds_cell(x, kBoundaryBand)) { // the whole cell inside its owner: its corners there
+                f.cell.cell = {t, lo};
+                f.cell.corner = {
+                    Key{t, lo}, {t, {lo[0] + 1, lo[1]}}, {t, {lo[0] + 1, lo[1] + 1}}, {t, {lo[0], lo[1] + 1}}};
+            } else if (judge_cell(t, lo, f.cell, scratch) != CellState::Required) {
+                continue;
+            }
+            ++required;
+            f.all = true;
+            for (std::size_t i = 0; i < 4; ++i) {
+                f.at[i] = claims_at(f.cell.corner[i]);
+                f.all = f.all && f.at[i].first != f.at[i].second;
+            }
+            if (!f.all || face_at(f.at) < 0) found.push_back(f);
+        }
+    return required;
+}
+
 void Coverage::run(VerifyResult& r, std::vector<Violation>& out, std::vector<FaceCell>& uncovered) {
     claim_grid_points();
     const std::size_t nt = in_.triangles.size();
-    double budget = std::max(kMinCells, kCellsPerElement * static_cast<double>(nt + mesh_.faces.size()));
+    // The triangles whose cells are looked at: far from fold-overs, within the budget of cells
+    // (in triangle order, so the same whatever the thread count).
+    std::vector<std::uint32_t> triangles;
+    const double most = std::max(kMinCells, kCellsPerElement * static_cast<double>(nt + mesh_.faces.size()));
+    double budget = most;
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!far_[t] || map_.fold_over[t]) continue;
+        const std::array<P2, 3> q = uv(static_cast<std::uint32_t>(t), {0, 0});
+        const double lo[2] = {std::min({q[0][0], q[1][0], q[2][0]}), std::min({q[0][1], q[1][1], q[2][1]})};
+        const double hi[2] = {std::max({q[0][0], q[1][0], q[2][0]}), std::max({q[0][1], q[1][1], q[2][1]})};
+        const double looked = (hi[0] - lo[0] + 2) * (hi[1] - lo[1] + 2);
+        if (!(looked <= budget) || !(std::abs(lo[0]) < kFarGrid && std::abs(hi[0]) < kFarGrid &&
+                                     std::abs(lo[1]) < kFarGrid && std::abs(hi[1]) < kFarGrid)) {
+            ++r.coverage_skipped_triangles;
+            continue;
+        }
+        budget -= looked;
+        triangles.push_back(static_cast<std::uint32_t>(t));
+    }
+    // Each thread its triangles' cells (in parallel from as many cells as the other loops'
+    // elements); the cells without a face, in triangle order.
+    const auto count = static_cast<std::int64_t>(triangles.size());
+    const int threads = run_parallel(threads_, static_cast<std::int64_t>(most - budget)) ? threads_ : 1;
+    std::vector<std::vector<Found>> part(static_cast<std::size_t>(threads));
+    std::int64_t required = 0;
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(threads) reduction(+ : required)
+#endif
+    {
+#if defined(_OPENMP)
+        const auto me = static_cast<std::size_t>(omp_get_thread_num());
+#else
+        const std::size_t me = 0;
+#endif
+        Scratch scratch(nt);
+#if defined(_OPENMP)
+#pragma omp for schedule(dynamic, 256)
+#endif
+        for (std::int64_t i = 0; i < count; ++i)
+            required += enumerate(triangles[static_cast<std::size_t>(i)], scratch, part[me]);
+    }
+    r.coverage_cells = required;
+    std::vector<Found> found;
+    for (auto& p : part) found.insert(found.end(), p.begin(), p.end());
+    std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.cell.cell < b.cell.cell; });
     // Uncovered grid points (by their canonical key) with the required cells at them, and cells
     // whose corners are vertices but no face (by their corner vertices) with their undecided mark.
+    Scratch scratch(nt);
     std::map<Key, std::vector<Key>> points;
     std::vector<Key> point_order;
     std::map<std::array<std::int32_t, 4>, bool> cell_seen;
@@ -451,62 +583,38 @@ void Coverage::run(VerifyResult& r, std::vector<Violation>& out, std::vector<Fac
         bool soft;
     };
     std::vector<Missing> cells;
-    for (std::size_t t = 0; t < nt; ++t) {
-        if (!far_[t] || map_.fold_over[t]) continue;
-        const std::array<P2, 3> q = uv(static_cast<std::uint32_t>(t), {0, 0});
-        // The cells whose reference point lies within the claim reach of its UV box.
-        const double u0 = std::floor(std::min({q[0][0], q[1][0], q[2][0]}) - kRefU - claim_reach_);
-        const double u1 = std::max({q[0][0], q[1][0], q[2][0]}) + claim_reach_;
-        const double v0 = std::floor(std::min({q[0][1], q[1][1], q[2][1]}) - kRefV - claim_reach_);
-        const double v1 = std::max({q[0][1], q[1][1], q[2][1]}) + claim_reach_;
-        const double looked = (u1 - u0 + 1) * (v1 - v0 + 1);
-        if (!(looked <= budget) || !(std::abs(u0) < kFarGrid && std::abs(u1) < kFarGrid && std::abs(v0) < kFarGrid &&
-                                     std::abs(v1) < kFarGrid)) {
-            ++r.coverage_skipped_triangles;
+    for (const Found& f : found) {
+        const RequiredCell& cell = f.cell;
+        const auto& at = f.at;
+        if (!f.all) {
+            for (std::size_t i = 0; i < 4; ++i) {
+                if (at[i].first != at[i].second) continue;
+                const Key k = canonical(cell.corner[i], scratch);
+                auto& at_point = points[k];
+                if (at_point.empty()) point_order.push_back(k);
+                if (std::find(at_point.begin(), at_point.end(), cell.cell) == at_point.end())
+                    at_point.push_back(cell.cell);
+            }
             continue;
         }
-        budget -= looked;
-        for (double u = u0; u + kRefU <= u1; ++u)
-            for (double v = v0; v + kRefV <= v1; ++v) {
-                // The triangle owns the cell whose reference point lies inside it.
-                if (!owns(static_cast<std::uint32_t>(t), q, {u + kRefU, v + kRefV})) continue;
-                RequiredCell cell;
-                const GridPoint lo{static_cast<std::int64_t>(u), static_cast<std::int64_t>(v)};
-                if (judge_cell(static_cast<std::uint32_t>(t), lo, cell) != CellState::Required) continue;
-                ++r.coverage_cells;
-                std::array<std::pair<const Claim*, const Claim*>, 4> at;
-                bool all = true, soft = false;
-                for (std::size_t i = 0; i < 4; ++i) {
-                    at[i] = claims_at(cell.corner[i]);
-                    all = all && at[i].first != at[i].second;
-                    bool firm = false;
-                    // A vertex in a fold-over region, or one its precision cannot place, claims softly.
-                    for (const Claim* c = at[i].first; c != at[i].second; ++c) {
-                        const Located& L = loc_[static_cast<std::size_t>(c->vertex)];
-                        firm = firm || !(L.surface_only || L.undecided);
-                    }
-                    soft = soft || (at[i].first != at[i].second && !firm);
-                }
-                if (all && face_at(at) >= 0) continue;
-                if (!all) {
-                    for (std::size_t i = 0; i < 4; ++i) {
-                        if (at[i].first != at[i].second) continue;
-                        const Key k = canonical(cell.corner[i]);
-                        auto& at_point = points[k];
-                        if (at_point.empty()) point_order.push_back(k);
-                        if (std::find(at_point.begin(), at_point.end(), cell.cell) == at_point.end())
-                            at_point.push_back(cell.cell);
-                    }
-                    continue;
-                }
-                // Every corner is a vertex, but no face joins them: one report per set of corners.
-                std::array<std::int32_t, 4> vertices;
-                for (std::size_t i = 0; i < 4; ++i) vertices[i] = at[i].first->vertex;
-                std::array<std::int32_t, 4> id = vertices;
-                std::rotate(id.begin(), std::min_element(id.begin(), id.end()), id.end());
-                if (!cell_seen.emplace(id, true).second) continue;
-                cells.push_back({cell, vertices, soft});
+        // Every corner is a vertex, but no face joins them: one report per set of corners;
+        // undecided where a corner's vertices all lie in a fold-over region or cannot be placed by
+        // their precision (soft claims).
+        bool soft = false;
+        for (std::size_t i = 0; i < 4; ++i) {
+            bool firm = false;
+            for (const Claim* c = at[i].first; c != at[i].second; ++c) {
+                const Located& L = loc_[static_cast<std::size_t>(c->vertex)];
+                firm = firm || !(L.surface_only || L.undecided);
             }
+            soft = soft || !firm;
+        }
+        std::array<std::int32_t, 4> vertices;
+        for (std::size_t i = 0; i < 4; ++i) vertices[i] = at[i].first->vertex;
+        std::array<std::int32_t, 4> id = vertices;
+        std::rotate(id.begin(), std::min_element(id.begin(), id.end()), id.end());
+        if (!cell_seen.emplace(id, true).second) continue;
+        cells.push_back({cell, vertices, soft});
     }
     // The grid points that no vertex claims, each with the required cells at it.
     for (const Key& k : point_order) {
@@ -576,8 +684,8 @@ std::vector<char> far_from_fold_overs(const Input& in, const InputEdges& edges, 
         for (std::size_t k = 0; k < 3; ++k)
             for (int d = 0; d < 2; ++d) centre[t][d] += in.uvs[3 * t + k][d] / 3;
         for (std::size_t k = 0; k < 3; ++k)
-            radius[t] = std::max(radius[t],
-                                 std::hypot(in.uvs[3 * t + k][0] - centre[t][0], in.uvs[3 * t + k][1] - centre[t][1]));
+            radius[t] =
+                std::max(radius[t], norm(in.uvs[3 * t + k][0] - centre[t][0], in.uvs[3 * t + k][1] - centre[t][1]));
     }
     std::vector<std::pair<double, std::uint32_t>> heap;
     for (std::size_t t = 0; t < nt; ++t)
@@ -601,8 +709,8 @@ std::vector<char> far_from_fold_overs(const Input& in, const InputEdges& edges, 
             if (o >= 0) {
                 const Transition& back = edges.across[static_cast<std::size_t>(o)];
                 const P2 r = rotate_quarter(centre[n], back.r);
-                step = std::hypot(r[0] + static_cast<double>(back.tx) - centre[t][0],
-                                  r[1] + static_cast<double>(back.ty) - centre[t][1]);
+                step = norm(r[0] + static_cast<double>(back.tx) - centre[t][0],
+                            r[1] + static_cast<double>(back.ty) - centre[t][1]);
             }
             const double dn = d + (std::isfinite(step) ? step : 0.0);
             if (dn < dist[n])
@@ -616,9 +724,9 @@ std::vector<char> far_from_fold_overs(const Input& in, const InputEdges& edges, 
 }
 
 void check_coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc,
-                    const std::vector<char>& far_from_folds, double uv_tolerance, VerifyResult& r,
+                    const std::vector<char>& far_from_folds, double uv_tolerance, int threads, VerifyResult& r,
                     std::vector<Violation>& out, std::vector<FaceCell>& uncovered) {
-    Coverage(map, mesh, loc, far_from_folds, uv_tolerance).run(r, out, uncovered);
+    Coverage(map, mesh, loc, far_from_folds, uv_tolerance, threads).run(r, out, uncovered);
 }
 
 } // namespace qex::verify_detail
