@@ -116,6 +116,7 @@ std::vector<std::size_t> drops_are_named(const Input& in, const QuadMesh& good, 
 /// What the coverage check caught on one map.
 struct Tally {
     Index faces = 0, required = 0, rotations = 0, rotations_located = 0, rotations_rejected = 0;
+    Index rotations_face_rejected = 0; ///< of the rejected, by the face check (the others by coverage)
 };
 
 /// The mutations of mutations.h on a correct real-map mesh (positions as %.6g, as other tools
@@ -203,6 +204,8 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
         const VerifyResult v = verify(in, m, opt);
         ++tally.rotations;
         tally.rotations_rejected += !v.valid;
+        tally.rotations_face_rejected +=
+            names_face(v, static_cast<Index>(e.f), false) || names_face(v, static_cast<Index>(e.g), false);
         const bool named = names_face(v, static_cast<Index>(e.f), true) || names_face(v, static_cast<Index>(e.g), true);
         EXPECT_TRUE(named) << "faces " << e.f << " and " << e.g;
         EXPECT_EQ(unplaced(v), "");
@@ -272,8 +275,8 @@ TEST_P(RealMapPrecision, RoundedOutputPassesAndMutationsAreLocated) {
     rotations_are_located(in, rounded, opt, required, tally);
     std::cout << path.filename().string() << " (grid scale " << exact.grid_scale << "): " << tally.required << " of "
               << tally.faces << " cells required by the coverage check; rotated edges: " << tally.rotations_rejected
-              << " of " << tally.rotations << " rejected, " << tally.rotations_located
-              << " between required cells located\n";
+              << " of " << tally.rotations << " rejected (" << tally.rotations_face_rejected << " by the face check), "
+              << tally.rotations_located << " between required cells located\n";
 }
 
 std::string test_name(const ::testing::TestParamInfo<std::string>& info) {

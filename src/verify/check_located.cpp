@@ -2,8 +2,9 @@
 // back from an OBJ): every output vertex is located on the input surface (CGAL's AABB tree,
 // surface.cpp) and must be the image of an integer grid point; every face's corners, carried
 // into one chart along the input's transitions, must be the corners of one grid cell in
-// counter-clockwise order (face_cells.cpp); and the faces must cover the map (their number
-// equals the map's signed area) unless the map has flipped triangles. Around the map's
+// counter-clockwise order (face_cells.cpp); and the faces must cover the map: their number
+// equals the map's signed area unless the map has flipped triangles, and every cell the map
+// covers once away from its fold-overs and its boundary is a face (coverage.cpp). Around the map's
 // fold-overs (fold_regions: kFoldRegionRings rings of input vertices around its flipped or
 // degenerate triangles), where a repair may have moved the map a correct mesh follows, vertices
 // are judged on the surface only, and their faces' failures are undecided. Positions from other
