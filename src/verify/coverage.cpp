@@ -1,14 +1,14 @@
 // The located mode's coverage check, without provenance: every unit grid cell that the map
 // covers once, away from its fold-overs and its boundary, must be a face of the mesh, and each of
-// its corners a vertex. The input's triangles are enumerated: each owns the cells whose
-// reference point (a point near the centre) lies inside it. A cell is required when the
-// triangles over it (a flood across the input's transitions, from the owner) are positive, far
-// from every fold-over, agree on one chart (no cone inside) and leave no boundary across it;
+// its corners a vertex. The input's triangles are enumerated: each owns the cells whose centre
+// lies inside it (in its chart). A cell is required when the triangles over it (a flood across
+// the input's transitions, from the owner) are positive, far from every fold-over, agree on one
+// chart (no cone inside) and leave no boundary across it;
 // its corners are then looked up among the grid points that the mesh's vertices claim (each
 // vertex its grid point, in every triangle that holds it), and its four corner vertices must be
 // one face's, in counter-clockwise order. Grid points and cells are compared as integers; the
-// doubles only decide which cells are required (with the margins below), never that a mesh
-// passes.
+// doubles only decide which cells are required and which triangles a claim reaches (with the
+// margins below), never which grid point a vertex claims or that a face is a cell's.
 #include "checker.h"
 #include "grid.h"
 #include "parallel.h"
