@@ -356,16 +356,19 @@ void Coverage::claim_grid_points() {
                 }
         }
     }
-    for (auto& p : part) claims_.insert(claims_.end(), p.begin(), p.end());
-    // By triangle (a counting pass), then each triangle's by grid point and vertex.
+    // By triangle (a counting pass over the threads' claims), then each triangle's by grid point
+    // and vertex.
     const std::size_t nt = in_.triangles.size();
     claimed_.assign(nt + 1, 0);
-    for (const Claim& c : claims_) ++claimed_[c.triangle + 1];
+    for (const auto& p : part)
+        for (const Claim& c : p) ++claimed_[c.triangle + 1];
     for (std::size_t t = 0; t < nt; ++t) claimed_[t + 1] += claimed_[t];
-    std::vector<Claim> sorted(claims_.size());
+    claims_.resize(claimed_[nt]);
     std::vector<std::size_t> fill(claimed_.begin(), claimed_.end() - 1);
-    for (const Claim& c : claims_) sorted[fill[c.triangle]++] = c;
-    claims_ = std::move(sorted);
+    for (auto& p : part) {
+        for (const Claim& c : p) claims_[fill[c.triangle]++] = c;
+        std::vector<Claim>().swap(p);
+    }
     for (std::size_t t = 0; t < nt; ++t)
         std::sort(claims_.begin() + static_cast<std::ptrdiff_t>(claimed_[t]),
                   claims_.begin() + static_cast<std::ptrdiff_t>(claimed_[t + 1]));
