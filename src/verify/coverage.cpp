@@ -329,11 +329,7 @@ void Coverage::claim_grid_points() {
 #pragma omp parallel num_threads(threads)
 #endif
     {
-#if defined(_OPENMP)
-        const auto me = static_cast<std::size_t>(omp_get_thread_num());
-#else
-        const std::size_t me = 0;
-#endif
+        const std::size_t me = thread_slot();
         Scratch scratch(in_.triangles.size());
         std::vector<Claim>& mine = part[me];
 #if defined(_OPENMP)
@@ -558,11 +554,7 @@ void Coverage::run(VerifyResult& r, std::vector<Violation>& out, std::vector<Fac
 #pragma omp parallel num_threads(threads) reduction(+ : required)
 #endif
     {
-#if defined(_OPENMP)
-        const auto me = static_cast<std::size_t>(omp_get_thread_num());
-#else
-        const std::size_t me = 0;
-#endif
+        const std::size_t me = thread_slot();
         Scratch scratch(nt);
 #if defined(_OPENMP)
 #pragma omp for schedule(dynamic, 256)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #if defined(_OPENMP)
 #include <omp.h>
@@ -21,6 +22,15 @@ inline int thread_count(int requested) {
 #else
     (void)requested;
     return 1;
+#endif
+}
+
+/// The calling thread's index in the enclosing parallel region (0 outside one, or without OpenMP).
+inline std::size_t thread_slot() {
+#if defined(_OPENMP)
+    return static_cast<std::size_t>(omp_get_thread_num());
+#else
+    return 0;
 #endif
 }
 
