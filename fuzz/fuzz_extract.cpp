@@ -16,8 +16,10 @@
 //   (property_tests/result_checks.h: the verdict is the checker's run again, the checker defects
 //   are its violations kind for kind, every defect names a place): no crash, hang or sanitizer
 //   report.
-// - The area promise where the map folds over (Report::signed_uv_area, Report::explanations),
-//   for a valid mesh of a map without holes, or whose boundaries carry no unsnapped noise:
+// - The area promise (Report::signed_uv_area, Report::explanations; result_checks.h,
+//   area_inconsistency), on every valid mesh of a map with no triangle dropped, no valences
+//   given that override it, and no unsnapped noise on its boundaries: on the large fold-overs,
+//   the folds at singularities and the scaled maps above, and on every other case:
 //   - when the map the mesh carries (QuadMesh::map_uvs, after stage repair) has no flipped or
 //     degenerate triangle (Report::flipped_after_repair == 0) and no explanation names a lost
 //     quad, the quad count is that map's signed UV area (rounded), which the repair keeps; and,
@@ -56,8 +58,9 @@ struct Case {
     bool noise = false, collapsed = false;
     /// UVs x 2^scale_log2 (transforms::scale_uvs: exact).
     int scale_log2 = 0;
-    /// The map has no holes but its own: no triangle dropped, no valences that override it.
-    bool no_holes = true;
+    /// The area promise applies (result_checks.h, area_inconsistency): no triangle was dropped
+    /// (a hole whose boundary is off the iso-lines) and no valences override the map's.
+    bool area_promised = true;
     /// The perturbations kept the map's signed UV area: the generated count times 4^scale_log2.
     bool area_kept = true;
 };
@@ -134,14 +137,14 @@ void perturb(fuzz::Bytes& b, int op, std::vector<char>& single_chart, std::mt199
         case 12: { // valences given by the caller: 4 everywhere except a few, possibly wrong
             in.valences.assign(in.positions.size(), 4);
             for (int i = b.range(0, 4); i > 0; --i) in.valences[b.range(0, nv - 1)] = b.range(0, 9);
-            c.benign = c.no_holes = c.area_kept = false; // a wrong valence moves a vertex onto a grid point
+            c.benign = c.area_promised = c.area_kept = false; // a wrong valence moves a vertex onto a grid point
             break;
         }
         default: {
             const int f = b.range(0, nf - 1);
             in.triangles.erase(in.triangles.begin() + f);
             in.uvs.erase(in.uvs.begin() + 3 * f, in.uvs.begin() + 3 * f + 3);
-            c.benign = c.no_holes = c.area_kept = false;
+            c.benign = c.area_promised = c.area_kept = false;
             break;
         }
     }
@@ -251,24 +254,20 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
     (void)verify(c.in, bare);
 }
 
-/// The area promise for a valid mesh (see the top of the file): "" or what is broken.
-std::string area_inconsistency(const Case& c, const Options& opt, const Result& r, const VerifyResult& v) {
-    if (!v.valid || !(c.no_holes && (!c.noise || v.input_boundary_loops == 0 || opt.snap_boundary))) return {};
-    const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
-    const std::int64_t area = std::llround(r.report.signed_uv_area);
+/// The area promise on a valid mesh (see the top of the file): "" or what is broken.
+std::string area_inconsistency(const Case& c, const Options& opt, const Result& r) {
+    if (!r.check.valid || !c.area_promised || (c.noise && r.check.input_boundary_loops > 0 && !opt.snap_boundary))
+        return {};
+    if (std::string why = qex::testing::area_inconsistency(r); !why.empty()) return why;
     bool explained = false;
     for (const Defect& d : r.report.explanations) explained = explained || d.kind != DefectKind::MapRefined;
-    const std::string about = std::to_string(quads) + " quads on a map of signed UV area " +
-                              std::to_string(r.report.signed_uv_area) + " (rung " + r.report.rung + ", grid scale " +
-                              std::to_string(r.mesh.grid_scale) + ", " + std::to_string(r.report.flipped_after_repair) +
-                              " flipped or degenerate after repair)";
-    if (quads < area && !explained) return "no explanation for " + about;
-    if (r.report.flipped_after_repair != 0 || explained) return {};
-    if (quads != area) return "a fold-free map gives " + about;
+    const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
     const std::int64_t k = std::int64_t{r.mesh.grid_scale} << c.scale_log2;
-    if (c.area_kept && quads != expected_quads(*c.layout, c.n) * k * k)
-        return "the generated map of " + std::to_string(expected_quads(*c.layout, c.n)) + " quads, scaled by " +
-               std::to_string(k) + ", gives " + about;
+    if (c.area_kept && r.report.flipped_after_repair == 0 && !explained &&
+        quads != expected_quads(*c.layout, c.n) * k * k)
+        return std::to_string(quads) + " quads from the generated map of " +
+               std::to_string(expected_quads(*c.layout, c.n)) + " quads, scaled by " + std::to_string(k) +
+               " (UVs and grid scale), whose perturbations keep the area";
     return {};
 }
 
@@ -314,7 +313,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         fuzz::fail(std::string(v.valid ? "valid" : "invalid") + " mesh of " + std::to_string(quads) +
                    " quads on a map of area " + std::to_string(v.input_signed_uv_area_rounded) +
                    " (generated: " + std::to_string(generated) + ")");
-    if (const std::string why = area_inconsistency(c, opt, r, v); !why.empty()) fuzz::fail(why);
+    if (const std::string why = area_inconsistency(c, opt, r); !why.empty()) fuzz::fail(why);
     check_without_provenance(b, c, opt, r, v.valid);
     return 0;
 }
