@@ -1,17 +1,42 @@
 // Structure-aware: the bytes choose a generated integer-grid map and a sequence of perturbations,
-// then run extraction and the exact checker. Perturbations the paper handles (charts, order,
-// translation, rotation, collapsed edges, noise, on a boundary only when snapped, and feature
-// edges that lie on iso-lines) must give a valid mesh whose quad count is the map's signed UV
-// area, exactly; any others must give a clean error or a consistent result
-// (property_tests/result_checks.h: the verdict is the checker's run again, the checker defects are
-// its violations kind for kind, every defect names a place).
+// then run extraction and the exact checker.
+//
+// The bytes: the map (layout, n, k, diagonals, two seeds), up to six perturbations of the first
+// kind (perturb), the snap-boundary byte, then up to six more of either kind (perturb, or
+// perturb_more: large fold-overs, folds at singularities, UVs x 2^k). An input that ends at the
+// snap byte means the case it meant before the second kind existed (corpus/fuzz_extract/
+// regressions/ still replay their findings).
+//
+// What must hold:
+// - Perturbations the paper handles (charts, order, translation, rotation, UVs x 2^k, collapsed
+//   edges, noise, on a boundary only when snapped, and feature edges that lie on iso-lines) must
+//   give a valid mesh whose quad count is the map's signed UV area, exactly: the generated count
+//   times K^2 for UVs x K.
+// - Any others must give a clean error (with a message) or a consistent result
+//   (property_tests/result_checks.h: the verdict is the checker's run again, the checker defects
+//   are its violations kind for kind, every defect names a place): no crash, hang or sanitizer
+//   report.
+// - The area promise (Report::signed_uv_area, Report::explanations; result_checks.h,
+//   area_inconsistency), on every valid mesh of a map with no triangle dropped, no valences
+//   given that override it, and no unsnapped noise on its boundaries: on the large fold-overs,
+//   the folds at singularities and the scaled maps above, and on every other case:
+//   - when the map the mesh carries (QuadMesh::map_uvs, after stage repair) has no flipped or
+//     degenerate triangle (Report::flipped_after_repair == 0) and no explanation names a lost
+//     quad, the quad count is that map's signed UV area (rounded), which the repair keeps; and,
+//     where the perturbations keep the area (moving regular vertices through their charts,
+//     collapsed edges and zero-area triangles do), the generated count times (K x grid_scale)^2;
+//   - a quad count below that area has an explanation other than MapRefined.
 #include "fuzz_input.h"
 #include "map_generators.h"
+#include "map_transforms.h"
 #include "result_checks.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 using namespace qex;
 using namespace qex::testing;
@@ -31,6 +56,15 @@ struct Case {
     /// corner: the output is invalid, with located defects).
     bool benign = true;
     bool noise = false, collapsed = false;
+    /// UVs x 2^scale_log2 (transforms::scale_uvs: exact).
+    int scale_log2 = 0;
+    /// The area promise applies (result_checks.h, area_inconsistency): no triangle was dropped
+    /// (a hole whose boundary is off the iso-lines) and no valences override the map's.
+    bool area_promised = true;
+    /// The perturbations kept the map's signed UV area: the generated count times 4^scale_log2.
+    bool area_kept = true;
+    /// Shuffled: the single-chart marks of make_map no longer name the vertices they marked.
+    bool shuffled = false;
 };
 
 /// Whether the edge from corner k of triangle f lies on an integer iso-line of its chart.
@@ -49,7 +83,10 @@ void perturb(fuzz::Bytes& b, int op, std::vector<char>& single_chart, std::mt199
     const int nf = static_cast<int>(in.triangles.size()), nv = static_cast<int>(in.positions.size());
     switch (op) {
         case 0: rechart(in, rng, 1 << b.range(0, 20)); break;
-        case 1: shuffle(in, rng); break;
+        case 1:
+            shuffle(in, rng);
+            c.shuffled = true;
+            break;
         case 2: {
             const int x = b.range(0, 40), y = b.range(0, 40);
             translate(in, std::int64_t{1} << x, -(std::int64_t{1} << y));
@@ -67,6 +104,8 @@ void perturb(fuzz::Bytes& b, int op, std::vector<char>& single_chart, std::mt199
                 const double dx = b.unit() * n / k * 1.5, dy = b.unit() * n / k * 1.5;
                 displace_vertex(in, v, dx, dy);
                 c.benign = false;
+                // After a shuffle the marks name other vertices: this one may be on a boundary.
+                if (c.shuffled) c.area_kept = false;
             }
             break;
         }
@@ -84,34 +123,108 @@ void perturb(fuzz::Bytes& b, int op, std::vector<char>& single_chart, std::mt199
         case 8:
             in.uvs[b.range(0, 3 * nf - 1)][b.range(0, 1)] =
                 (b.byte() & 1) ? std::numeric_limits<double>::quiet_NaN() : std::numeric_limits<double>::infinity();
-            c.benign = false;
+            c.benign = c.area_kept = false;
             break;
         case 9:
             in.triangles.push_back(in.triangles[b.range(0, nf - 1)]);
             in.uvs.resize(3 * in.triangles.size());
-            c.benign = false;
+            c.benign = c.area_kept = false;
             break;
         case 11: { // a feature edge: an edge of the mesh, or (rarely) an arbitrary pair
             const int f = b.range(0, nf - 1), corner = b.range(0, 2);
             if (b.byte() < 240) {
                 in.feature_edges.push_back({in.triangles[f][corner], in.triangles[f][(corner + 1) % 3]});
-                c.benign = c.benign && on_iso_line(in, f, corner);
+                // Snapping an edge off its iso-line moves the map (a boundary edge, its area).
+                if (!on_iso_line(in, f, corner)) c.benign = c.area_kept = false;
             } else {
-                in.feature_edges.push_back({b.range(-1, nv), b.range(-1, nv)}), c.benign = false;
+                in.feature_edges.push_back({b.range(-1, nv), b.range(-1, nv)}), c.benign = c.area_kept = false;
             }
             break;
         }
         case 12: { // valences given by the caller: 4 everywhere except a few, possibly wrong
             in.valences.assign(in.positions.size(), 4);
             for (int i = b.range(0, 4); i > 0; --i) in.valences[b.range(0, nv - 1)] = b.range(0, 9);
-            c.benign = false; // a wrong valence moves a vertex onto a grid point
+            c.benign = c.area_promised = c.area_kept = false; // a wrong valence moves a vertex onto a grid point
             break;
         }
         default: {
             const int f = b.range(0, nf - 1);
             in.triangles.erase(in.triangles.begin() + f);
             in.uvs.erase(in.uvs.begin() + 3 * f, in.uvs.begin() + 3 * f + 3);
-            c.benign = false;
+            c.benign = c.area_promised = c.area_kept = false;
+            break;
+        }
+    }
+}
+
+/// A displacement of up to `cells` grid cells in each coordinate.
+std::array<double, 2> push(fuzz::Bytes& b, int cells) {
+    const double dx = b.unit() * cells, dy = b.unit() * cells;
+    return {dx, dy};
+}
+
+/// Folds the patch of `rings` rings around `centre` by a motion the bytes choose (fold_patch).
+void fold_patch_at(fuzz::Bytes& b, Case& c, int centre) {
+    const int rings = b.range(0, 3);
+    const auto motion = static_cast<PatchMotion>(b.range(0, 3));
+    double x = 0.0, y = 0.0;
+    switch (motion) {
+        case PatchMotion::Translate: {
+            const auto d = push(b, b.range(1, 4));
+            x = d[0], y = d[1];
+            break;
+        }
+        case PatchMotion::Twist: x = b.unit() * 2 * M_PI; break;
+        case PatchMotion::Mirror: x = b.unit() * M_PI; break;
+        case PatchMotion::Expand: x = b.unit() * 3; break;
+    }
+    if (fold_patch(c.in, centre, rings, motion, x, y) >= 0) c.benign = false;
+}
+
+/// Applies the perturbation `op` of the second kind: large fold-overs, in one chart or through
+/// the transitions, at or next to singularities, and UVs x 2^k.
+void perturb_more(fuzz::Bytes& b, int op, Case& c) {
+    Input& in = c.in;
+    const int nf = static_cast<int>(in.triangles.size()), nv = static_cast<int>(in.positions.size());
+    switch (op) {
+        case 0: { // UVs x 2^e, up to x 8 in all (the map of 4^e times the quads)
+            const int e = std::min(b.range(1, 3), 3 - c.scale_log2);
+            if (e <= 0) break;
+            if (transforms::scale_uvs(in, std::int64_t{1} << e) != 0) c.benign = c.area_kept = false; // overflowed
+            c.scale_log2 += e;
+            break;
+        }
+        case 1: { // one vertex pushed across its neighbours, by up to four cells, in all its charts
+            const auto corner = static_cast<std::size_t>(b.range(0, 3 * nf - 1));
+            const auto d = push(b, b.range(1, 4));
+            if (displace_vertex_in_charts(in, corner, d[0], d[1]) >= 0) c.benign = false;
+            break;
+        }
+        case 2: fold_patch_at(b, c, b.range(0, nv - 1)); break;
+        case 3: { // a fold with a singularity inside (the patch around it) or beside it
+            const std::vector<int> singular = singular_vertices(in);
+            if (singular.empty()) break;
+            int centre = singular[static_cast<std::size_t>(b.range(0, static_cast<int>(singular.size()) - 1))];
+            if (b.byte() & 1) { // a neighbour: the first vertex after the singularity in a triangle of it
+                const int f = b.range(0, nf - 1);
+                for (int t = 0; t < nf; ++t) {
+                    const auto& tri = in.triangles[static_cast<std::size_t>((f + t) % nf)];
+                    const auto at = std::find(tri.begin(), tri.end(), centre);
+                    if (at == tri.end()) continue;
+                    centre = tri[static_cast<std::size_t>((at - tri.begin() + 1) % 3)];
+                    break;
+                }
+            }
+            fold_patch_at(b, c, centre);
+            break;
+        }
+        default: { // the fan of a singularity squeezed to a fraction of its angle
+            const std::vector<int> singular = singular_vertices(in);
+            if (singular.empty()) break;
+            const int v = singular[static_cast<std::size_t>(b.range(0, static_cast<int>(singular.size()) - 1))];
+            const double factor = 1.5 + 4.5 * (0.5 + 0.5 * b.unit());
+            squeeze_fan(in, v, factor);
+            c.benign = c.area_kept = false; // neighbours in charts outside the fan stay
             break;
         }
     }
@@ -148,6 +261,23 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
     (void)verify(c.in, bare);
 }
 
+/// The area promise on a valid mesh (see the top of the file): "" or what is broken.
+std::string area_inconsistency(const Case& c, const Options& opt, const Result& r) {
+    if (!r.check.valid || !c.area_promised || (c.noise && r.check.input_boundary_loops > 0 && !opt.snap_boundary))
+        return {};
+    if (std::string why = qex::testing::area_inconsistency(r); !why.empty()) return why;
+    bool explained = false;
+    for (const Defect& d : r.report.explanations) explained = explained || d.kind != DefectKind::MapRefined;
+    const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
+    const std::int64_t k = std::int64_t{r.mesh.grid_scale} << c.scale_log2;
+    if (c.area_kept && r.report.flipped_after_repair == 0 && !explained &&
+        quads != expected_quads(*c.layout, c.n) * k * k)
+        return std::to_string(quads) + " quads from the generated map of " +
+               std::to_string(expected_quads(*c.layout, c.n)) + " quads, scaled by " + std::to_string(k) +
+               " (UVs and grid scale), whose perturbations keep the area";
+    return {};
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -167,6 +297,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Options opt;
     opt.max_qvertices = 200000;
     opt.snap_boundary = b.byte() & 1;
+    // The second kind: 13 + 2 * 5 choices, each of perturb_more's twice as likely as one of perturb's.
+    for (int ops = b.range(0, 6); ops > 0 && !b.empty(); --ops) {
+        const int op = b.range(0, 22);
+        if (op < 13)
+            perturb(b, op, single_chart, rng, c);
+        else
+            perturb_more(b, (op - 13) % 5, c);
+    }
+    // A scaled map is refined up to UVs x 4 in all, not beyond: a map x 8 with a dropped triangle,
+    // refined x 2 and x 4 (48K quads), took 1.2 s in Release and 30 s under ASan, past run.sh's
+    // 30 s timeout. Unscaled maps are refined as the library's default allows.
+    opt.max_refinement = std::max(1, opt.max_refinement >> c.scale_log2);
     const Result r = extract(c.in, opt);
     if (!r.ok()) {
         if (c.benign) fuzz::fail(std::string("a generated map is valid input: ") + r.error.message);
@@ -177,11 +319,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const std::string why = result_inconsistency(c.in, r, &v); !why.empty()) fuzz::fail(why);
     const bool exact_expected = c.benign && (!c.noise || v.input_boundary_loops == 0 || opt.snap_boundary);
     const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
-    const std::int64_t generated = expected_quads(*c.layout, c.n);
+    const std::int64_t generated = expected_quads(*c.layout, c.n) << (2 * c.scale_log2);
     if (exact_expected && (!v.valid || quads != v.input_signed_uv_area_rounded || quads != generated))
         fuzz::fail(std::string(v.valid ? "valid" : "invalid") + " mesh of " + std::to_string(quads) +
                    " quads on a map of area " + std::to_string(v.input_signed_uv_area_rounded) +
                    " (generated: " + std::to_string(generated) + ")");
+    if (const std::string why = area_inconsistency(c, opt, r); !why.empty()) fuzz::fail(why);
     check_without_provenance(b, c, opt, r, v.valid);
     return 0;
 }

@@ -1,8 +1,14 @@
 // Fold-overs (Figure 2 of the paper): a vertex pushed across its one-ring, and fans of singularities
 // squeezed until they fold; each must give a valid mesh with the map's area.
+#include "result_checks.h"
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <random>
+#include <utility>
+#include <vector>
 
 namespace qex::testing {
 namespace {
@@ -72,69 +78,6 @@ TEST(Extraction, FoldOverContainingGridPoint) {
     // Figure 2 (b)/(c): the fold-over covers a grid point; its clones are merged.
     const Result r = folded_torus(5, 0.7, 0.7); // spacing 0.4: a vertex pushed over the grid point
     EXPECT_GT(r.report.merged_qvertices, 0);
-}
-
-/// Squeezes the fan of the interior vertex `v` in the parameter domain: walking round v from one
-/// of its triangles, every neighbour at developed angle A (0 <= A <= the fan's angle sum) is moved
-/// to angle A / `factor`, at the same distance, in every chart that holds it. Turning about v
-/// commutes with the transitions around v, so the map stays an integer-grid map.
-void squeeze_fan(Input& in, int v, double factor) {
-    struct Tri {
-        std::size_t f;
-        int cv; // v's corner
-    };
-    std::vector<Tri> fan;
-    for (std::size_t f = 0; f < in.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k)
-            if (in.triangles[f][k] == v) fan.push_back({f, k});
-    // New UVs of the neighbours' corners in v's triangles, in walk order.
-    struct Move {
-        int w;
-        std::array<double, 2> from, to;
-    };
-    std::vector<Move> moved; // neighbour w's corner UV in one chart -> its new UV
-    std::vector<char> done(fan.size(), 0);
-    std::size_t t = 0;
-    double angle = 0; // developed angle of the current triangle's first neighbour
-    for (std::size_t step = 0; step < fan.size(); ++step) {
-        done[t] = 1;
-        const auto [f, cv] = fan[t];
-        const auto& c = in.uvs[3 * f + cv];
-        const std::size_t ca = 3 * f + (cv + 1) % 3, cb = 3 * f + (cv + 2) % 3;
-        auto dir = [&](std::size_t corner) { return std::atan2(in.uvs[corner][1] - c[1], in.uvs[corner][0] - c[0]); };
-        double sweep = dir(cb) - dir(ca);
-        while (sweep <= 0) sweep += 2 * M_PI;
-        for (const auto& [corner, developed] : {std::pair{ca, angle}, std::pair{cb, angle + sweep}}) {
-            const double r = std::hypot(in.uvs[corner][0] - c[0], in.uvs[corner][1] - c[1]);
-            const double turned = dir(corner) - developed + developed / factor;
-            moved.push_back({in.triangles[corner / 3][corner % 3],
-                             in.uvs[corner],
-                             {c[0] + r * std::cos(turned), c[1] + r * std::sin(turned)}});
-        }
-        angle += sweep;
-        // The next triangle starts with this one's second neighbour.
-        const int b = in.triangles[f][(cv + 2) % 3];
-        for (std::size_t u = 0; u < fan.size(); ++u)
-            if (!done[u] && in.triangles[fan[u].f][(fan[u].cv + 1) % 3] == b) t = u;
-    }
-    // The same neighbour in the same chart keeps one new UV (the walk's first assignment).
-    std::vector<std::array<double, 2>> out = in.uvs;
-    std::vector<char> set(in.uvs.size(), 0);
-    for (std::size_t f = 0; f < in.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const int w = in.triangles[f][k];
-            if (w == v) continue;
-            bool neighbour = false;
-            for (const Tri& x : fan)
-                for (int j = 0; j < 3; ++j) neighbour = neighbour || in.triangles[x.f][j] == w;
-            if (!neighbour) continue;
-            for (const Move& m : moved)
-                if (m.w == w && m.from == in.uvs[3 * f + k] && !set[3 * f + k]) {
-                    out[3 * f + k] = m.to;
-                    set[3 * f + k] = 1;
-                }
-        }
-    in.uvs = out;
 }
 
 TEST(Extraction, FoldOverTakingAFullTurnFromASingularity) {
@@ -219,5 +162,128 @@ TEST(Extraction, SqueezedFansOfNeighbouringSingularities) {
         expect_repaired(in, expected_quads(layout, n), rounding);
     }
 }
+// ---------------------------------------------------------------------------- large folds
+
+/// Per interior half-edge (corner c, from its vertex to the next), the grid automorphism from
+/// its triangle's chart to its neighbour's: the quarter turns that best map the edge, and the
+/// translation that then maps its first vertex. Written here on its own, not with the
+/// generators' code.
+std::vector<std::array<double, 3>> edge_transitions(const Input& in) {
+    std::map<std::pair<int, int>, std::size_t> half_edges;
+    for (std::size_t c = 0; c < in.uvs.size(); ++c)
+        half_edges[{in.triangles[c / 3][c % 3], in.triangles[c / 3][(c + 1) % 3]}] = c;
+    auto turned = [](std::array<double, 2> e, int r) {
+        for (; r > 0; --r) e = {-e[1], e[0]};
+        return e;
+    };
+    std::vector<std::array<double, 3>> out;
+    for (const auto& [edge, c] : half_edges) {
+        const auto it = half_edges.find({edge.second, edge.first});
+        if (it == half_edges.end()) continue;
+        const std::size_t d = it->second, c1 = c - c % 3 + (c + 1) % 3, d1 = d - d % 3 + (d + 1) % 3;
+        // Half-edge c runs p -> q, d runs q -> p: p is uvs[c] here and uvs[d1] there.
+        const std::array<double, 2> e{in.uvs[c1][0] - in.uvs[c][0], in.uvs[c1][1] - in.uvs[c][1]};
+        const std::array<double, 2> e2{in.uvs[d][0] - in.uvs[d1][0], in.uvs[d][1] - in.uvs[d1][1]};
+        int best = 0;
+        for (int r = 1; r < 4; ++r) {
+            const auto a = turned(e, r), b = turned(e, best);
+            if (std::hypot(a[0] - e2[0], a[1] - e2[1]) < std::hypot(b[0] - e2[0], b[1] - e2[1])) best = r;
+        }
+        const auto p = turned(in.uvs[c], best);
+        out.push_back({double(best), in.uvs[d1][0] - p[0], in.uvs[d1][1] - p[1]});
+    }
+    return out;
+}
+
+double signed_area(const Input& in) {
+    double twice = 0;
+    for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+        const auto &a = in.uvs[3 * f], &b = in.uvs[3 * f + 1], &c = in.uvs[3 * f + 2];
+        twice += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    }
+    return 0.5 * twice;
+}
+
+TEST(FoldGenerators, SingularVerticesAreTheLayoutsIrregularVertices) {
+    struct Case {
+        QuadLayout layout;
+        std::size_t singular;
+    };
+    // The cube's 8 corners; the icosahedron's 12 vertices (valence 5) and 20 face centres (3);
+    // the prism's 2 cap centres (8) and 16 corners (3); the torus and the disk have none.
+    for (const Case& c : {Case{cube_layout(), 8}, Case{icosahedron_layout(), 32}, Case{prism_layout(8), 18},
+                          Case{torus_layout(), 0}, Case{disk_layout(2), 0}}) {
+        Input in = make_map(c.layout, 2, 3, 2, 5);
+        std::mt19937 rng(3);
+        rechart(in, rng);
+        shuffle(in, rng);
+        EXPECT_EQ(singular_vertices(in).size(), c.singular) << c.layout.name;
+    }
+}
+
+TEST(FoldGenerators, VerticesMoveThroughTheirChartsAndKeepTransitionsAndArea) {
+    // On a re-charted cube every edge is a cut: each vertex moves in every chart it has.
+    Input in = make_map(cube_layout(), 2, 4, 1, 9);
+    std::mt19937 rng(4);
+    rechart(in, rng, 64);
+    const auto transitions = edge_transitions(in);
+    const double area = signed_area(in);
+    const std::vector<int> singular = singular_vertices(in);
+    int moved = 0, refused = 0;
+    for (std::size_t corner = 0; corner < in.uvs.size(); corner += 7) {
+        Input folded = in;
+        const int v = in.triangles[corner / 3][corner % 3];
+        const std::int64_t flipped = displace_vertex_in_charts(folded, corner, 1.75, -0.625);
+        const bool is_singular = std::find(singular.begin(), singular.end(), v) != singular.end();
+        if (flipped < 0) {
+            EXPECT_TRUE(is_singular) << "vertex " << v; // the cube's map has no boundary
+            EXPECT_EQ(folded.uvs, in.uvs);
+            ++refused;
+            continue;
+        }
+        ++moved;
+        EXPECT_FALSE(is_singular) << "vertex " << v;
+        EXPECT_GT(flipped, 0); // 1.75 cells across neighbours half a cell away
+        EXPECT_EQ(edge_transitions(folded), transitions) << "vertex " << v;
+        EXPECT_NEAR(signed_area(folded), area, 1e-9);
+    }
+    EXPECT_GT(moved, 0);
+    EXPECT_GT(refused, 0);
+    // A boundary vertex stays.
+    Input disk = make_map(disk_layout(2), 2, 2);
+    EXPECT_EQ(displace_vertex_in_charts(disk, 0, 1.0, 1.0), -1);
+}
+
+TEST(FoldGenerators, PatchFoldsCoverSeveralCellsAndKeepTransitionsAndArea) {
+    const auto layout = icosahedron_layout();
+    Input in = make_map(layout, 2, 4, 2, 11);
+    std::mt19937 rng(5);
+    rechart(in, rng, 64);
+    const auto transitions = edge_transitions(in);
+    const double area = signed_area(in);
+    const std::vector<int> singular = singular_vertices(in);
+    ASSERT_FALSE(singular.empty());
+    struct Motion {
+        PatchMotion motion;
+        double a, b;
+    };
+    for (const Motion& m : {Motion{PatchMotion::Translate, 2.5, -1.5}, Motion{PatchMotion::Twist, 2.5, 0},
+                            Motion{PatchMotion::Mirror, 0.3, 0}, Motion{PatchMotion::Expand, -2.0, 0}}) {
+        // Around a singularity (which stays), three rings of half-cell edges: several cells wide.
+        Input folded = in;
+        const std::int64_t flipped = fold_patch(folded, singular[0], 3, m.motion, m.a, m.b);
+        EXPECT_GT(flipped, 6) << static_cast<int>(m.motion);
+        EXPECT_EQ(edge_transitions(folded), transitions) << static_cast<int>(m.motion);
+        EXPECT_NEAR(signed_area(folded), area, 1e-9) << static_cast<int>(m.motion);
+        // The singularity did not move: its corners keep their UVs.
+        for (std::size_t c = 0; c < in.uvs.size(); ++c)
+            if (in.triangles[c / 3][c % 3] == singular[0]) { EXPECT_EQ(folded.uvs[c], in.uvs[c]); }
+        // Extraction ends valid or with located defects, consistently.
+        const Result r = extract(folded);
+        ASSERT_TRUE(r.ok()) << r.error.message;
+        EXPECT_EQ(result_inconsistency(folded, r), "") << static_cast<int>(m.motion);
+    }
+}
+
 } // namespace
 } // namespace qex::testing

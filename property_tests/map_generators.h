@@ -74,4 +74,45 @@ namespace qex::testing {
 /// Splits triangle f by a new vertex whose UV lies on the segment between two of its corners
 /// (the midpoint of corners `corner` and `corner`+1), so one sub-triangle has zero UV area.
 void insert_zero_area_triangle(Input& in, int f, int corner);
+
+// ---------------------------------------------------------------------------- large fold-overs
+//
+// Folds of any size, through the charts: a vertex's corners in different charts move by one
+// displacement turned into each chart. The charts of neighbouring triangles are matched by the
+// quarter turn that best maps their shared edge (so noisy maps work too); a vertex whose charts
+// compose to the identity around it moves consistently, and the map keeps its signed UV area.
+
+/// The interior vertices whose fan is not a regular vertex's: its charts compose to a turn, or
+/// its UV angle sum is not one full turn (a singularity of valence 4k != 4, or a vertex already
+/// pushed out of its neighbours' polygon). Sorted.
+std::vector<int> singular_vertices(const Input& in);
+
+/// Moves the vertex of corner `corner` (3f + k) by (dx, dy) in the chart of that corner, and its
+/// other corners by the same displacement turned into their charts. Only an interior vertex whose
+/// charts compose to the identity around it, with angle sum one turn or none (a pushed-out vertex),
+/// moves. Returns the number of flipped triangles afterwards, or -1 (nothing moved) for any other.
+std::int64_t displace_vertex_in_charts(Input& in, std::size_t corner, double dx, double dy);
+
+/// How fold_patch moves the points of the plane, in the centre's chart (a, b: its parameters).
+enum class PatchMotion {
+    Translate, ///< by (a, b)
+    Twist,     ///< about the centre by the angle a (radians) times (1 - ring / (rings + 1))
+    Mirror,    ///< across the line through the centre at the angle a (turns the patch inside out)
+    Expand,    ///< about the centre by the factor a (negative: through the centre)
+};
+
+/// Moves the vertices within `rings` edges of `centre` by `motion`, each as
+/// displace_vertex_in_charts moves it (singular and boundary vertices stay). Points are carried
+/// from the centre's chart into each vertex's along the triangles, and every displacement is
+/// rounded to a multiple of 2^-12 (so a vertex moves by the same in all its charts, exactly, while
+/// its UVs are below 2^40). Returns the number of flipped triangles afterwards, or -1 if no vertex
+/// moved.
+std::int64_t fold_patch(Input& in, int centre, int rings, PatchMotion motion, double a, double b = 0.0);
+
+/// Squeezes the fan of the interior vertex `v` in the parameter domain: walking round v from one
+/// of its triangles, every neighbour at developed angle A (0 <= A <= the fan's angle sum) is moved
+/// to angle A / `factor`, at the same distance, in every chart that holds it. Turning about v
+/// commutes with the transitions around v, so the map stays an integer-grid map; with a factor
+/// above the fan's angle sum over a half turn, the triangles beyond the squeezed ring fold over.
+void squeeze_fan(Input& in, int v, double factor);
 } // namespace qex::testing

@@ -1,5 +1,6 @@
 // Properties over generated integer-grid maps (RapidCheck; seeds print on failure and replay
 // with RC_PARAMS="reproduce=..."; the case count comes from RC_PARAMS=max_success=N).
+#include "map_transforms.h"
 #include "result_checks.h"
 #include "test_support.h"
 
@@ -126,6 +127,49 @@ RC_GTEST_PROP(Properties, InjectedFoldOversStillGiveValidQuadMeshes, ()) {
     RC_CLASSIFY(valid, "valid");
     RC_CLASSIFY(!valid, "invalid, reported");
     RC_ASSERT(result_inconsistency(folded, r) == std::string());
+}
+
+RC_GTEST_PROP(Properties, LargeFoldOversGiveValidMeshesOrLocatedDefects, ()) {
+    // Issue 12: a patch of one to three rings folded over its neighbours (fold_patch: translated
+    // by up to three cells, twisted, mirrored or expanded), through the charts of a re-charted map,
+    // around a singularity or anywhere, then the UVs x 1, 2 or 4. Valid or located defects,
+    // consistently, and the area promise holds; or a clean error. (A fold that stretches a
+    // triangle beside an edge between singularities of opposite index makes that edge "short",
+    // and the dipole pass of stage compute_transitions turns it: InconsistentMap, e.g. layout 2
+    // n 1 k 1 diagonals 0 seed 0, mirrored around singular vertex 12 by -3 over three rings.)
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    Input in = make_map(layout, c.n, c.k, c.diagonals, c.seed);
+    std::mt19937 rng(c.seed);
+    rechart(in, rng, 64);
+    const std::vector<int> singular = singular_vertices(in);
+    const int centre = !singular.empty() && *rc::gen::arbitrary<bool>()
+                           ? singular[*rc::gen::inRange<std::size_t>(0, singular.size())]
+                           : *rc::gen::inRange(0, static_cast<int>(in.positions.size()));
+    const int rings = *rc::gen::inRange(1, 4);
+    const auto motion = static_cast<PatchMotion>(*rc::gen::inRange(0, 4));
+    const double a = *rc::gen::inRange(-300, 301) / 100.0, b = *rc::gen::inRange(-300, 301) / 100.0;
+    RC_PRE(fold_patch(in, centre, rings, motion, a, b) > 0);
+    const int scale = 1 << *rc::gen::inRange(0, 3);
+    RC_ASSERT(transforms::scale_uvs(in, scale) == 0);
+    const Result r = extract(in);
+    RC_CLASSIFY(!r.ok(), "rejected");
+    if (!r.ok()) {
+        RC_ASSERT(!r.error.message.empty());
+        return;
+    }
+    RC_CLASSIFY(r.check.valid && r.report.rung == "repaired", "valid, repaired");
+    RC_CLASSIFY(r.check.valid && r.report.rung != "repaired", "valid, other rung");
+    RC_CLASSIFY(!r.check.valid, "invalid, reported");
+    RC_ASSERT(result_inconsistency(in, r) == std::string());
+    RC_ASSERT(area_inconsistency(r) == std::string());
+    // A fold-free carried map without explanations: the generated quads, times the scale squared.
+    const bool explained = std::any_of(r.report.explanations.begin(), r.report.explanations.end(),
+                                       [](const Defect& d) { return d.kind != DefectKind::MapRefined; });
+    if (r.check.valid && r.report.flipped_after_repair == 0 && !explained) {
+        const std::int64_t k = std::int64_t{scale} * r.mesh.grid_scale;
+        RC_ASSERT(static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n) * k * k);
+    }
 }
 
 QuadMesh without_provenance(QuadMesh m) {

@@ -7,6 +7,7 @@
 #include "qex/qex.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -144,6 +145,28 @@ inline std::string place_inconsistency(const Input& in, const Result& r) {
         if (std::string why = misplaced(in, r, d); !why.empty()) return why;
         if (d.output_face != -1) return "an explanation names an output face: " + d.message;
     }
+    return {};
+}
+
+/// "" when a valid result keeps the area promise of Report::signed_uv_area and
+/// Report::explanations, else what breaks it: a quad count below the signed UV area of the map
+/// the mesh carries (sanitized and repaired; a repair keeps the area) has an explanation other
+/// than MapRefined (which explains the scale, not a loss); and once that map has no flipped or
+/// degenerate triangle left (Report::flipped_after_repair == 0) and nothing is explained, the
+/// quad count is that area, rounded. The promise is for maps without boundaries or whose
+/// boundaries lie on iso-lines; the caller decides that it applies.
+inline std::string area_inconsistency(const Result& r) {
+    if (!r.ok() || !r.check.valid) return {};
+    const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
+    const std::int64_t area = std::llround(r.report.signed_uv_area);
+    bool explained = false;
+    for (const Defect& d : r.report.explanations) explained = explained || d.kind != DefectKind::MapRefined;
+    const std::string about = std::to_string(quads) + " quads on a map of signed UV area " +
+                              std::to_string(r.report.signed_uv_area) + " (rung " + r.report.rung + ", grid scale " +
+                              std::to_string(r.mesh.grid_scale) + ", " + std::to_string(r.report.flipped_after_repair) +
+                              " triangles flipped or degenerate after the repair)";
+    if (quads < area && !explained) return "no explanation for " + about;
+    if (r.report.flipped_after_repair == 0 && !explained && quads != area) return "a fold-free map gives " + about;
     return {};
 }
 
