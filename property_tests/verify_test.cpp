@@ -2,6 +2,10 @@
 // a missing or extra quad, a broken local UV square.
 #include "test_support.h"
 
+#include <algorithm>
+#include <cmath>
+#include <map>
+
 namespace qex::testing {
 namespace {
 
@@ -127,6 +131,66 @@ TEST(Checker, SingularitiesSitOnIntegerGridPoints) {
     // A torus has none.
     const Input torus = make_map(torus_layout(), 2, 3);
     EXPECT_EQ(verify(torus, extract(torus).mesh).map_singularities, 0);
+}
+
+/// A torus map's carried copy in which the 8 neighbours of a vertex `v` (every corner of them in
+/// one chart) go round it `turns` times, evenly from the first one's direction, at 0.9 of their
+/// distances; v's fan is listed as repaired. Returns v, or -1 when the map has no such vertex.
+int wind_fan(const Input& in, QuadMesh& mesh, const std::vector<char>& single_chart, int turns) {
+    for (int v = 0; v < static_cast<int>(single_chart.size()); ++v) {
+        if (!single_chart[v]) continue;
+        // v's fan, counter-clockwise: each triangle (v, a, b) is followed by the one starting at b.
+        std::map<int, std::pair<int, int>> next; // a -> (b, triangle)
+        bool all_single = true;
+        for (int t = 0; t < static_cast<int>(in.triangles.size()); ++t)
+            for (int k = 0; k < 3; ++k)
+                if (in.triangles[t][k] == v) {
+                    const int a = in.triangles[t][(k + 1) % 3], b = in.triangles[t][(k + 2) % 3];
+                    next[a] = {b, t};
+                    all_single = all_single && single_chart[a] && single_chart[b];
+                }
+        if (!all_single || next.size() != 8) continue;
+        std::map<int, std::array<double, 2>> uv; // the single-chart vertices' UVs
+        for (std::size_t c = 0; c < in.uvs.size(); ++c) uv[in.triangles[c / 3][c % 3]] = mesh.map_uvs[c];
+        const int first = next.begin()->first;
+        const std::array<double, 2> o = uv[v];
+        const double start = std::atan2(uv[first][1] - o[1], uv[first][0] - o[0]);
+        int i = 0;
+        for (int a = first; i == 0 || a != first; a = next[a].first, ++i) {
+            mesh.map_repaired.push_back(next[a].second);
+            const double angle = start + 2.0 * M_PI * turns * i / 8.0;
+            const double r = 0.9 * std::hypot(uv[a][0] - o[0], uv[a][1] - o[1]);
+            for (std::size_t c = 0; c < in.uvs.size(); ++c)
+                if (in.triangles[c / 3][c % 3] == a)
+                    mesh.map_uvs[c] = {o[0] + r * std::cos(angle), o[1] + r * std::sin(angle)};
+        }
+        std::sort(mesh.map_repaired.begin(), mesh.map_repaired.end());
+        return v;
+    }
+    return -1;
+}
+
+TEST(Checker, RepairMayNotAddABranchPoint) {
+    std::vector<char> single_chart;
+    const Input in = make_map(torus_layout(), 4, 5, 1, 1, &single_chart);
+    const QuadMesh mesh = extract(in).mesh;
+    ASSERT_FALSE(mesh.map_uvs.empty());
+    // Once round, a little closer: the repaired triangles are positive and every vertex still
+    // winds once, so the certificate holds.
+    QuadMesh once = mesh;
+    const int v = wind_fan(in, once, single_chart, 1);
+    ASSERT_GE(v, 0);
+    const VerifyResult v1 = verify(in, once);
+    EXPECT_FALSE(has(v1, ViolationKind::RepairNotCertified));
+    EXPECT_FALSE(has(v1, ViolationKind::MapNotIntegerGrid));
+    // Twice round: v's triangles are still positive, but v is a branch point.
+    QuadMesh twice = mesh;
+    ASSERT_EQ(wind_fan(in, twice, single_chart, 2), v);
+    bool named = false;
+    for (const auto& x : verify(in, twice).violations)
+        named = named || (x.kind == ViolationKind::RepairNotCertified && x.element == v &&
+                          x.message.find("winds 720 degrees") != std::string::npos);
+    EXPECT_TRUE(named);
 }
 
 TEST(Checker, MixedPolygonsAreWalkedFaceByFace) {

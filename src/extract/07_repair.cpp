@@ -8,9 +8,12 @@
 // regularisation shrinking as the triangles untangle (the foldover-free energy of Garanzha et
 // al. 2021, minimised here vertex by vertex with damped Newton steps). Each vertex lives in the chart of one of its corners and is
 // written to the others through the exact transitions after truncation (as sanitize does),
-// so transitions and singularities are untouched. A region counts as repaired only when every
-// one of its triangles is positively oriented by the exact predicate; otherwise its UVs are
-// restored bit for bit, it grows, and it is tried again, up to a budget.
+// so transitions and singularities are untouched. A region is attempted only when its fixed
+// vertices leave room for an embedding (their angles, Gauss-Bonnet), and counts as repaired only
+// when every one of its triangles is positively oriented by the exact predicate and every vertex
+// winds as it must (positive triangles can still wind twice round a vertex while a singularity
+// beside it is a turn short); otherwise its UVs are restored bit for bit, it grows, and it is
+// tried again, up to a budget.
 #include "pipeline.h"
 
 #include <algorithm>
@@ -397,6 +400,100 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
     return false;
 }
 
+// ============================================================================ the winding certificate
+
+/// The signed angle at corner h of its triangle (from the edge to its next corner to the edge to
+/// its previous one): in (0, pi) when the triangle is positive.
+double corner_angle(const TriMesh& m, int h) {
+    const Vec2 &u = m.uv[h], &p = m.uv[TriMesh::next(h)], &w = m.uv[TriMesh::prev(h)];
+    const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
+    return std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+}
+
+/// The angle an interior vertex's fan sums to in an embedding of the map: a full turn, or a
+/// singularity's valence in quarter turns.
+double target_angle(const TriMesh& m, int v) {
+    return m.map.singular[v] ? m.map.valence[v] * (0.5 * M_PI) : 2.0 * M_PI;
+}
+
+/// What the certificate needs of a region: its triangles and free vertices marked, and its
+/// fixed vertices (sorted).
+struct RegionMarks {
+    std::vector<char> face;   ///< per triangle
+    std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
+    std::vector<int> fixed;
+
+    void mark(const TriMesh& m, const Region& r) {
+        for (const int f : r.faces) face[f] = 1;
+        for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 1;
+        for (const int f : r.faces)
+            for (const int v : m.tri[f])
+                if (!vertex[v]) vertex[v] = 2, fixed.push_back(v);
+        std::sort(fixed.begin(), fixed.end());
+    }
+    void clear(const Region& r) {
+        for (const int f : r.faces) face[f] = 0;
+        for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
+        for (const int v : fixed) vertex[v] = 0;
+        fixed.clear();
+    }
+};
+
+/// Sums the signed angles at v's corners, inside the region and outside it.
+void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& inside, double& outside, int& corners) {
+    inside = outside = 0.0;
+    corners = 0;
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) {
+        if (marks.face[TriMesh::face(h)])
+            inside += corner_angle(m, h), ++corners;
+        else
+            outside += corner_angle(m, h);
+    }
+}
+
+/// Whether the region's fixed data leave room for an orientation-preserving re-embedding. In one,
+/// every interior vertex's angles sum to its target (a full turn, or a singularity's), so a fixed
+/// vertex leaves the region its target less its fixed triangles' angles, which must lie between
+/// 0 and pi per region corner; and the angles of the region's triangles sum to pi each. Where
+/// these fail, no motion of the free vertices helps: the fold reaches past the region's
+/// boundary (its boundary winds wrongly), and the region must grow. A region that touches the
+/// mesh's boundary is judged by the first test only.
+bool admits_embedding(const TriMesh& m, const Region& r, const RegionMarks& marks) {
+    double sum = 2.0 * M_PI * static_cast<double>(r.fans.size());
+    bool open = false;
+    for (const int v : marks.fixed) {
+        if (m.on_boundary[v]) {
+            open = true;
+            continue;
+        }
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        const double left = target_angle(m, v) - outside;
+        if (!(left > 0.0 && left < M_PI * corners)) return false;
+        sum += left;
+    }
+    return open || std::abs(sum - M_PI * static_cast<double>(r.faces.size())) < 1.0;
+}
+
+/// Whether every interior vertex of the region (all its triangles positive) winds by its
+/// target: positive triangles alone can still wind twice round a vertex (a branch point the
+/// map does not have) or leave a singularity a turn short.
+bool windings_kept(const TriMesh& m, const Region& r, const RegionMarks& marks) {
+    auto kept = [&](int v) {
+        if (m.on_boundary[v]) return true;
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        return std::abs(inside + outside - target_angle(m, v)) < 1.0;
+    };
+    for (const FreeFan& fan : r.fans)
+        if (!kept(fan.vertex)) return false;
+    for (const int v : marks.fixed)
+        if (!kept(v)) return false;
+    return true;
+}
+
 // ============================================================================ regions
 
 /// Vertices that never move: boundary, singular, on a feature edge, or without a fan.
@@ -556,6 +653,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
     std::vector<int> corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1);
     std::vector<GridAutomorphism> corner_to(corner_slot.size());
+    RegionMarks marks{std::vector<char>(static_cast<std::size_t>(m.num_faces()), 0),
+                      std::vector<char>(static_cast<std::size_t>(m.num_vertices), 0),
+                      {}};
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
         std::vector<int> seeds;
@@ -570,7 +670,11 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             std::vector<Point2> before;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
-            if (untangle_region(m, r, rest, corner_slot, corner_to)) continue;
+            marks.mark(m, r);
+            const bool repaired = admits_embedding(m, r, marks) &&
+                                  untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks);
+            marks.clear(r);
+            if (repaired) continue;
             std::size_t i = 0;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) m.uv[c] = before[i++];
@@ -592,8 +696,8 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     }
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         explain_unrepaired(m, group,
-                           "no orientation-preserving re-embedding was found within 8 rings around it "
-                           "(or the region's UV area is not positive)",
+                           "no orientation-preserving re-embedding that keeps every vertex's winding (once round "
+                           "a regular vertex, a singularity's valence round it) was found within 8 rings around it",
                            report);
         ++out.regions_failed;
     }

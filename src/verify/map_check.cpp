@@ -148,9 +148,8 @@ std::vector<std::int8_t> fan_turns(const Input& input, const UVs& U, const Chart
 /// exactly, so a composed identity closes the fan, and a composed rotation (a singularity) must
 /// have its fixed point, the vertex's UV, on an integer grid point (Algorithm 2). Counted and
 /// judged at each vertex's first corner, in the order of those corners.
-void check_singularities(const Input& input, const UVs& U, const ChartMatch& m, const std::vector<char>& single_fan,
-                         VerifyResult& r, std::vector<Violation>& out) {
-    const std::vector<std::int8_t> turns = fan_turns(input, U, m, single_fan);
+void check_singularities(const Input& input, const UVs& U, const std::vector<std::int8_t>& turns,
+                         const std::vector<char>& single_fan, VerifyResult& r, std::vector<Violation>& out) {
     std::vector<std::int32_t> first(single_fan.size(), -1);
     for (std::size_t c = 0; c < U.size(); ++c) {
         const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
@@ -168,6 +167,52 @@ void check_singularities(const Input& input, const UVs& U, const ChartMatch& m, 
                            ") in the chart of triangle " + std::to_string(c0 / 3) + ", not at an integer grid point",
                        static_cast<std::int64_t>(v));
     }
+}
+
+/// The signed angle at corner c of its triangle in the UVs given (the chart does not matter).
+double corner_angle(const UVs& U, std::size_t c) {
+    const std::size_t t = c - c % 3;
+    const auto &u = U[c], &p = U[t + (c % 3 + 1) % 3], &w = U[t + (c % 3 + 2) % 3];
+    const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
+    return std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+}
+
+/// Per input vertex with a checked fan, its winding in quarter turns: the signed angle sum of its
+/// corners, which is congruent to its turn modulo four turns; only the whole turns are taken
+/// from the (inexact) angles, with half a turn of margin either way.
+std::vector<int> windings(const Input& input, const UVs& U, const std::vector<std::int8_t>& turns) {
+    std::vector<double> sum(turns.size(), 0.0);
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
+        if (turns[v] >= 0) sum[v] += corner_angle(U, c);
+    }
+    std::vector<int> out(turns.size(), 0);
+    for (std::size_t v = 0; v < turns.size(); ++v)
+        if (turns[v] >= 0)
+            out[v] = turns[v] + 4 * static_cast<int>(std::lround((sum[v] - turns[v] * M_PI / 2) / (2 * M_PI)));
+    return out;
+}
+
+/// The repair adds no branch point: at each vertex of a repaired triangle whose fan's transitions
+/// compose to no turn (with a checked fan), the carried map winds once, or as the input's does.
+/// Positive triangles alone do not show this: they can wind twice round a vertex while a
+/// singularity beside it loses a turn. (A singularity's winding is not judged here: a fold-over
+/// can take whole turns from it, which the repair gives back, as Algorithm 8 counts them.)
+void check_repair_windings(const Input& input, const UVs& U, const std::vector<char>& repaired,
+                           const std::vector<std::int8_t>& turns, std::vector<Violation>& out) {
+    std::vector<char> touched(turns.size(), 0);
+    bool any = false;
+    for (std::size_t c = 0; c < U.size(); ++c)
+        if (repaired[c / 3]) touched[static_cast<std::size_t>(input.triangles[c / 3][c % 3])] = 1, any = true;
+    if (!any) return;
+    const std::vector<int> now = windings(input, U, turns), given = windings(input, input.uvs, turns);
+    for (std::size_t v = 0; v < turns.size(); ++v)
+        if (touched[v] && turns[v] == 0 && now[v] != given[v] && now[v] != 4)
+            add_capped(out, ViolationKind::RepairNotCertified,
+                       "input vertex " + std::to_string(v) + " winds " + std::to_string(now[v] * 90) +
+                           " degrees in the repaired map, " + std::to_string(given[v] * 90) +
+                           " in the input's: a vertex without a singularity must wind once",
+                       static_cast<std::int64_t>(v));
 }
 
 /// The provenance's grid point lies on the element it names, in the chart of its triangle
@@ -272,7 +317,9 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
                        "the charts of triangles " + std::to_string(c / 3) + " and " + std::to_string(pairs[c] / 3) +
                            " do not differ by a grid automorphism along their shared edge",
                        static_cast<std::int64_t>(c / 3));
-    check_singularities(input, U, m, single_fan, r, out);
+    const std::vector<std::int8_t> turns = fan_turns(input, U, m, single_fan);
+    check_singularities(input, U, turns, single_fan, r, out);
+    check_repair_windings(input, U, repaired, turns, out);
     check_provenance(mesh, input.triangles.size(), out);
 }
 
