@@ -422,6 +422,13 @@ struct RegionMarks {
     std::vector<char> face;   ///< per triangle
     std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
     std::vector<int> fixed;
+    /// A singularity whose angle Gauss-Bonnet fixes otherwise than Algorithm 8 counted it (the
+    /// fold took a whole turn from its fan without flipping it), and that angle.
+    int cone = -1;
+    double cone_angle = 0.0;
+
+    /// What v's angles sum to in an embedding of the region's map.
+    double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }
 
     void mark(const TriMesh& m, const Region& r) {
         for (const int f : r.faces) face[f] = 1;
@@ -436,6 +443,7 @@ struct RegionMarks {
         for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
         for (const int v : fixed) vertex[v] = 0;
         fixed.clear();
+        cone = -1;
     }
 };
 
@@ -457,8 +465,11 @@ void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& insid
 /// 0 and pi per region corner; and the angles of the region's triangles sum to pi each. Where
 /// these fail, no motion of the free vertices helps: the fold reaches past the region's
 /// boundary (its boundary winds wrongly), and the region must grow. A region that touches the
-/// mesh's boundary is judged by the first test only.
-bool admits_embedding(const TriMesh& m, const Region& r, const RegionMarks& marks) {
+/// mesh's boundary is judged by the first test only. When the sum misses whole turns and one
+/// singularity lies inside the region, the turns are that singularity's: Algorithm 8 counts a
+/// turn only for a flipped run of its fan, and a fold can take one without flipping any (Figure 2
+/// (d), the fan squeezed); the region is then admitted with that singularity's angle corrected.
+bool admits_embedding(const TriMesh& m, const Region& r, RegionMarks& marks) {
     double sum = 2.0 * M_PI * static_cast<double>(r.fans.size());
     bool open = false;
     for (const int v : marks.fixed) {
@@ -469,11 +480,29 @@ bool admits_embedding(const TriMesh& m, const Region& r, const RegionMarks& mark
         double inside = 0.0, outside = 0.0;
         int corners = 0;
         fan_angles(m, v, marks, inside, outside, corners);
-        const double left = target_angle(m, v) - outside;
+        const double left = marks.target(m, v) - outside;
         if (!(left > 0.0 && left < M_PI * corners)) return false;
         sum += left;
     }
-    return open || std::abs(sum - M_PI * static_cast<double>(r.faces.size())) < 1.0;
+    const double missing = M_PI * static_cast<double>(r.faces.size()) - sum;
+    if (open || std::abs(missing) < 1.0) return true;
+    // Whole turns missing: with one singularity inside the region, they are its own (Algorithm
+    // 8 finds no flipped run in a fan squeezed by the fold, Figure 2 (d)).
+    int cone = -1;
+    for (const int v : marks.fixed) {
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        if (corners < m.fan_size[v]) continue;
+        if (!m.map.singular[v] || cone >= 0) return false;
+        cone = v;
+    }
+    if (cone < 0) return false;
+    const double turns = std::nearbyint(missing / (2.0 * M_PI)), angle = target_angle(m, cone) + 2.0 * M_PI * turns;
+    if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0 || !(angle > 1.0)) return false;
+    marks.cone = cone;
+    marks.cone_angle = angle;
+    return true;
 }
 
 /// Whether every interior vertex of the region (all its triangles positive) winds by its
@@ -485,7 +514,7 @@ bool windings_kept(const TriMesh& m, const Region& r, const RegionMarks& marks) 
         double inside = 0.0, outside = 0.0;
         int corners = 0;
         fan_angles(m, v, marks, inside, outside, corners);
-        return std::abs(inside + outside - target_angle(m, v)) < 1.0;
+        return std::abs(inside + outside - marks.target(m, v)) < 1.0;
     };
     for (const FreeFan& fan : r.fans)
         if (!kept(fan.vertex)) return false;
@@ -671,8 +700,14 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
             marks.mark(m, r);
-            const bool repaired = admits_embedding(m, r, marks) &&
-                                  untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks);
+            bool repaired = false;
+            if (admits_embedding(m, r, marks))
+                repaired = untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks);
+            if (repaired && marks.cone >= 0) {
+                // The singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
+                const int valence = static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
+                m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] = valence;
+            }
             marks.clear(r);
             if (repaired) continue;
             std::size_t i = 0;
