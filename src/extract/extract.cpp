@@ -147,6 +147,29 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     return {};
 }
 
+/// Why a q-vertex found no q-port, from the triangles it lies on: on a vertex, its fan and how
+/// many of them are flipped or degenerate; on an edge or in a triangle, whether they are all
+/// degenerate.
+std::string portless_why(const TriMesh& m, const QVertex& v) {
+    const auto sign = [&](int f) { return m.map.face_sign[static_cast<std::size_t>(f)]; };
+    if (v.kind == QVertexKind::Vertex) {
+        int triangles = 0, flipped = 0, degenerate = 0;
+        for (int h = m.fan_start[v.element], k = 0; h >= 0 && k < m.fan_size[v.element]; h = m.cw(h), ++k) {
+            ++triangles;
+            flipped += sign(TriMesh::face(h)) < 0;
+            degenerate += sign(TriMesh::face(h)) == 0;
+        }
+        return "on input vertex " + std::to_string(m.input_vertex[v.element]) + ", whose fan of " +
+               std::to_string(triangles) + " triangles (" + std::to_string(flipped) + " flipped, " +
+               std::to_string(degenerate) + " degenerate) starts no iso-line";
+    }
+    const int f = v.kind == QVertexKind::Edge ? TriMesh::face(v.element) : v.element;
+    const int o = v.kind == QVertexKind::Edge ? m.opp[v.element] : -1;
+    const bool degenerate = sign(f) == 0 && (o < 0 || sign(TriMesh::face(o)) == 0);
+    return std::string(v.kind == QVertexKind::Edge ? "on an edge" : "inside a triangle") +
+           (degenerate ? " of degenerate triangles only" : " whose triangles start no iso-line");
+}
+
 /// Geometry extraction (Section 4): stages generate_qvertices and enumerate_ports.
 Error extract_geometry(const TriMesh& m, const Options& options, QState& q, Report& report, StageTimer& timer) {
     if (Error e = generate_qvertices(m, options, q); e.code != ErrorCode::None) return e;
@@ -162,8 +185,7 @@ Error extract_geometry(const TriMesh& m, const Options& options, QState& q, Repo
         if (v.num_ports == 0)
             report.defects.push_back({DefectKind::PortlessQVertex,
                                       "the q-vertex at grid point (" + std::to_string(v.grid[0]) + ", " +
-                                          std::to_string(v.grid[1]) +
-                                          ") lies only on degenerate triangles and has no q-port",
+                                          std::to_string(v.grid[1]) + ") has no q-port: " + portless_why(m, v),
                                       m.input_triangle[v.chart],
                                       -1,
                                       {v.grid[0], v.grid[1]},
