@@ -297,6 +297,24 @@ TEST(CheckerLocated, AcceptsCorrectMeshesOfOtherExtractors) {
     }
 }
 
+TEST(CheckerLocated, GridPointsNearAnOffGridVertexKeepTheirOwnUv) {
+    // A fine grid puts grid points closer to an input vertex than the distance tolerance (as
+    // duck_miq_4 with UVs x 32 does); where the vertex's UV is off the grid, such a point keeps
+    // the UV it has in its triangle, not the vertex's. Here the tolerance is made large instead.
+    const Input in = make_map(torus_layout(), 4, 5); // k coprime to n: vertices off the grid
+    const QuadMesh m = without_provenance(extract(in).mesh);
+    VerifyOptions wide;
+    wide.distance_tolerance = 0.02;
+    const VerifyResult v = verify(in, m, wide);
+    EXPECT_TRUE(v.valid) << (v.violations.empty() ? "" : v.violations[0].message);
+    EXPECT_LT(v.max_grid_distance, 1e-9);
+    // A vertex moved off its grid point is still rejected at that tolerance.
+    QuadMesh moved = m;
+    for (double& x : moved.positions[7]) x += 1e-3;
+    const VerifyResult w = verify(in, moved, wide);
+    EXPECT_FALSE(w.valid);
+}
+
 TEST(CheckerLocated, RejectsVerticesOffTheirGridPoints) {
     const Input in = make_map(cube_layout(), 2, 3);
     const QuadMesh good = without_provenance(extract(in).mesh);

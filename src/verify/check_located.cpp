@@ -124,8 +124,17 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
         std::array<double, 2> uv = hit.uv;
         loc[v].triangle = hit.triangle;
         if (hit.corner >= 0) {
-            loc[v].on_vertex = map.in.triangles[loc[v].triangle][hit.corner];
-            uv = map.in.uvs[3 * loc[v].triangle + static_cast<std::size_t>(hit.corner)];
+            // Within the distance tolerance of an input vertex: the vertex's own UV, unless that
+            // is off the grid and the point's is on it (a fine grid puts grid points closer to
+            // a vertex than the tolerance: duck_miq_4 with UVs x 32, 0.0155 UV away).
+            const auto& corner = map.in.uvs[3 * loc[v].triangle + static_cast<std::size_t>(hit.corner)];
+            const auto off_grid = [](const std::array<double, 2>& p) {
+                return std::max(std::abs(p[0] - std::nearbyint(p[0])), std::abs(p[1] - std::nearbyint(p[1])));
+            };
+            if (!(off_grid(corner) > opt.uv_tolerance && off_grid(hit.uv) <= opt.uv_tolerance)) {
+                loc[v].on_vertex = map.in.triangles[loc[v].triangle][hit.corner];
+                uv = corner;
+            }
         }
         r.max_surface_distance = std::max(r.max_surface_distance, diag > 0 ? hit.distance / diag : 0.0);
         if (hit.distance > max_dist + round_v) {
