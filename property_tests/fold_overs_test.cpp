@@ -36,6 +36,16 @@ Result expect_repaired(const Input& in, std::int64_t quads, const Options& optio
     return r;
 }
 
+/// How many vertices of a closed quad mesh have each valence (faces around them).
+std::map<int, int> valence_histogram(const QuadMesh& mesh) {
+    std::vector<int> faces(mesh.positions.size(), 0);
+    for (const auto& f : mesh.faces)
+        for (const auto v : f) ++faces[static_cast<std::size_t>(v)];
+    std::map<int, int> histogram;
+    for (const int n : faces) ++histogram[n];
+    return histogram;
+}
+
 /// First vertex whose corners all share one chart and whose displacement by (dx, dy) flips triangles.
 int fold(Input& in, const std::vector<char>& single_chart, double dx, double dy) {
     for (int v = 0; v < static_cast<int>(in.positions.size()); ++v) {
@@ -115,6 +125,7 @@ TEST(Extraction, FoldOverTakingAFullTurnFromASingularity) {
     // lacks, Algorithm 8 sees no flipped run in the squeezed fan), and it stays pinned.
     const Result repaired = expect_repaired(in, expected_quads(layout, 2));
     EXPECT_EQ(repaired.report.singularities, before.report.singularities);
+    EXPECT_EQ(valence_histogram(repaired.mesh), valence_histogram(before.mesh)); // valence 5, not 1 or 9
     // Without the recovery the face round the singularity covers more than one cell.
     Options no_recovery;
     no_recovery.recover_lost_edges = false;
@@ -211,6 +222,7 @@ TEST(RepairRegions, SingularityInsideTheRegionStaysWithItsValence) {
     ASSERT_GT(fold_patch(in, singular[0], 2, PatchMotion::Translate, 1.5, 0.5), 0);
     const Result r = expect_repaired(in, expected_quads(layout, 2));
     EXPECT_EQ(r.report.singularities, before.report.singularities);
+    EXPECT_EQ(valence_histogram(r.mesh), valence_histogram(before.mesh));
 }
 
 TEST(RepairRegions, RegionTouchingTheBoundaryKeepsIt) {

@@ -407,7 +407,11 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
 double corner_angle(const TriMesh& m, int h) {
     const Vec2 &u = m.uv[h], &p = m.uv[TriMesh::next(h)], &w = m.uv[TriMesh::prev(h)];
     const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
-    return std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+    const double cross = ax * by - ay * bx, dot = ax * bx + ay * by;
+    // A flat corner (the vertex inside the opposite side) is half a turn in every chart: atan2
+    // would give -pi or pi by the sign of a zero.
+    if (cross == 0.0) return dot < 0.0 ? M_PI : 0.0;
+    return std::atan2(cross, dot);
 }
 
 /// The angle an interior vertex's fan sums to in an embedding of the map: a full turn, or a
@@ -469,7 +473,7 @@ void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& insid
 /// singularity lies inside the region, the turns are that singularity's: Algorithm 8 counts a
 /// turn only for a flipped run of its fan, and a fold can take one without flipping any (Figure 2
 /// (d), the fan squeezed); the region is then admitted with that singularity's angle corrected.
-bool admits_embedding(const TriMesh& m, const Region& r, RegionMarks& marks) {
+bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, RegionMarks& marks) {
     double sum = 2.0 * M_PI * static_cast<double>(r.fans.size());
     bool open = false;
     for (const int v : marks.fixed) {
@@ -486,6 +490,7 @@ bool admits_embedding(const TriMesh& m, const Region& r, RegionMarks& marks) {
     }
     const double missing = M_PI * static_cast<double>(r.faces.size()) - sum;
     if (open || std::abs(missing) < 1.0) return true;
+    if (valences_given) return false; // the user's valences stand
     // Whole turns missing: with one singularity inside the region, they are its own (Algorithm
     // 8 finds no flipped run in a fan squeezed by the fold, Figure 2 (d)).
     int cone = -1;
@@ -497,7 +502,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, RegionMarks& marks) {
         if (!m.map.singular[v] || cone >= 0) return false;
         cone = v;
     }
-    if (cone < 0) return false;
+    // Only a singularity whose transitions turn: a branch point's turns are its own business.
+    if (cone < 0 || ((m.map.winding_valence[cone] % 4) + 4) % 4 == 0) return false;
     const double turns = std::nearbyint(missing / (2.0 * M_PI)), angle = target_angle(m, cone) + 2.0 * M_PI * turns;
     if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0 || !(angle > 1.0)) return false;
     marks.cone = cone;
@@ -671,7 +677,8 @@ void explain_unrepaired(const TriMesh& m, const std::vector<int>& group, const c
 
 } // namespace
 
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, Report& report) {
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
+                     Report& report) {
     RepairOutcome out;
     const std::vector<char> pinned = pinned_vertices(m, feature_edges);
     std::vector<int> seeds_faces, stuck;
@@ -694,14 +701,20 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         for (const int v : ring_neighbourhood(m, seeds, radius, distance))
             if (!pinned[v]) free.push_back(v);
         std::sort(free.begin(), free.end());
-        for (const Region& r : split_regions(m, free, label)) {
+        // Regions share fixed vertices, whose windings the certificate reads: they are taken in
+        // an order that does not depend on the input's (their smallest vertex key first).
+        std::vector<Region> regions = split_regions(m, free, label);
+        std::sort(regions.begin(), regions.end(), [&](const Region& a, const Region& b) {
+            return vertex_key(m, a.fans[0].vertex) < vertex_key(m, b.fans[0].vertex);
+        });
+        for (const Region& r : regions) {
             if (r.fans.size() > kMaxRegionVertices) continue;
             std::vector<Point2> before;
             for (const FreeFan& fan : r.fans)
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
             marks.mark(m, r);
             bool repaired = false;
-            if (admits_embedding(m, r, marks))
+            if (admits_embedding(m, r, valences_given, marks))
                 repaired = untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks);
             if (repaired && marks.cone >= 0) {
                 // The singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
@@ -732,7 +745,8 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         explain_unrepaired(m, group,
                            "no orientation-preserving re-embedding that keeps every vertex's winding (once round "
-                           "a regular vertex, a singularity's valence round it) was found within 8 rings around it",
+                           "a regular vertex, a singularity's valence round it) was found within 8 rings around it "
+                           "(or the region's UV area is not positive)",
                            report);
         ++out.regions_failed;
     }

@@ -134,7 +134,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     report_map(m, report);
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        RepairOutcome outcome = repair(m, features, report);
+        RepairOutcome outcome = repair(m, features, !input.valences.empty(), report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = outcome.regions_failed;
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());

@@ -160,7 +160,8 @@ struct RepairOutcome {
 /// bit for bit, and the transitions stay as they are. A region that does not untangle grows
 /// and is tried again, up to a budget; past it, its UVs are restored and the paper's local
 /// handling takes over there (named in report.explanations). Updates MapState::face_sign.
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, Report& report);
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
+                     Report& report);
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.

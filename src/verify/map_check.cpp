@@ -9,6 +9,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <string>
 
@@ -174,12 +175,16 @@ double corner_angle(const UVs& U, std::size_t c) {
     const std::size_t t = c - c % 3;
     const auto &u = U[c], &p = U[t + (c % 3 + 1) % 3], &w = U[t + (c % 3 + 2) % 3];
     const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
-    return std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+    const double cross = ax * by - ay * bx, dot = ax * bx + ay * by;
+    // A flat corner is half a turn in every chart (atan2 would take the sign of a zero).
+    if (cross == 0.0) return dot < 0.0 ? M_PI : 0.0;
+    return std::atan2(cross, dot);
 }
 
 /// Per input vertex with a checked fan, its winding in quarter turns: the signed angle sum of its
-/// corners, which is congruent to its turn modulo four turns; only the whole turns are taken
-/// from the (inexact) angles, with half a turn of margin either way.
+/// corners, which is congruent to its turn modulo a full turn (four quarter turns); only the
+/// whole turns are taken from the (inexact) angles, with half a turn of margin either way.
+/// INT_MIN where the sum is not finite (non-finite UVs): no winding.
 std::vector<int> windings(const Input& input, const UVs& U, const std::vector<std::int8_t>& turns) {
     std::vector<double> sum(turns.size(), 0.0);
     for (std::size_t c = 0; c < U.size(); ++c) {
@@ -189,7 +194,9 @@ std::vector<int> windings(const Input& input, const UVs& U, const std::vector<st
     std::vector<int> out(turns.size(), 0);
     for (std::size_t v = 0; v < turns.size(); ++v)
         if (turns[v] >= 0)
-            out[v] = turns[v] + 4 * static_cast<int>(std::lround((sum[v] - turns[v] * M_PI / 2) / (2 * M_PI)));
+            out[v] = !std::isfinite(sum[v])
+                         ? INT_MIN
+                         : turns[v] + 4 * static_cast<int>(std::lround((sum[v] - turns[v] * M_PI / 2) / (2 * M_PI)));
     return out;
 }
 
@@ -206,12 +213,14 @@ void check_repair_windings(const Input& input, const UVs& U, const std::vector<c
         if (repaired[c / 3]) touched[static_cast<std::size_t>(input.triangles[c / 3][c % 3])] = 1, any = true;
     if (!any) return;
     const std::vector<int> now = windings(input, U, turns), given = windings(input, input.uvs, turns);
+    const auto degrees = [](int w) { return w == INT_MIN ? std::string("unknown") : std::to_string(w * 90); };
     for (std::size_t v = 0; v < turns.size(); ++v)
-        if (touched[v] && turns[v] == 0 && now[v] != given[v] && now[v] != 4)
+        if (touched[v] && turns[v] == 0 && (now[v] == INT_MIN || (now[v] != given[v] && now[v] != 4)))
             add_capped(out, ViolationKind::RepairNotCertified,
-                       "input vertex " + std::to_string(v) + " winds " + std::to_string(now[v] * 90) +
-                           " degrees in the repaired map, " + std::to_string(given[v] * 90) +
-                           " in the input's: a vertex without a singularity must wind once",
+                       "input vertex " + std::to_string(v) + " winds " + degrees(now[v]) +
+                           " degrees in the repaired map, " + degrees(given[v]) +
+                           " in the input's: a vertex whose transitions compose to no turn must wind once, or "
+                           "as in the input",
                        static_cast<std::int64_t>(v));
 }
 
