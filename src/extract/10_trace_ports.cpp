@@ -53,13 +53,21 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
         if (!on_segment(pb, m.uv[h], m.uv[TriMesh::next(h)])) continue;
         const int canon = canonical_half_edge(m, h);
         const IPoint bc = canon == h ? b : m.map.transition[h](b);
-        for (int i = q.edge_first[canon]; i < q.edge_first[canon + 1]; ++i)
-            if (q.qvertices[i].grid == bc) return i;
-        return -1;
+        // An edge's q-vertices ascend along its longer axis in its canonical chart (one per
+        // coordinate there), as generate_qvertices walks it: a binary search.
+        const Point2 &ea = m.uv[canon], &eb = m.uv[TriMesh::next(canon)];
+        const int ax = std::abs(eb[0] - ea[0]) >= std::abs(eb[1] - ea[1]) ? 0 : 1;
+        const auto first = q.qvertices.begin() + q.edge_first[canon],
+                   last = q.qvertices.begin() + q.edge_first[canon + 1];
+        const auto it =
+            std::lower_bound(first, last, bc[ax], [ax](const QVertex& v, std::int64_t x) { return v.grid[ax] < x; });
+        return it != last && it->grid == bc ? static_cast<int>(it - q.qvertices.begin()) : -1;
     }
-    for (int i = q.face_first[f]; i < q.face_first[f + 1]; ++i)
-        if (q.qvertices[i].grid == b) return i;
-    return -1;
+    // A triangle's q-vertices ascend by (u, v), as generate_qvertices scans it (u outer): a binary
+    // search, where a scan cost the square of the q-vertices on maps with large triangles.
+    const auto first = q.qvertices.begin() + q.face_first[f], last = q.qvertices.begin() + q.face_first[f + 1];
+    const auto it = std::lower_bound(first, last, b, [](const QVertex& v, const IPoint& g) { return v.grid < g; });
+    return it != last && it->grid == b ? static_cast<int>(it - q.qvertices.begin()) : -1;
 }
 
 /// The port of q-vertex qv in corner `corner` with direction dir, or -1.
