@@ -505,7 +505,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     // Only a singularity whose transitions turn: a branch point's turns are its own business.
     if (cone < 0 || ((m.map.winding_valence[cone] % 4) + 4) % 4 == 0) return false;
     const double turns = std::nearbyint(missing / (2.0 * M_PI)), angle = target_angle(m, cone) + 2.0 * M_PI * turns;
-    if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0 || !(angle > 1.0)) return false;
+    if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0 || !(angle > 1.0 && angle < M_PI * m.fan_size[cone]))
+        return false;
     marks.cone = cone;
     marks.cone_angle = angle;
     return true;
