@@ -404,31 +404,21 @@ bool violation_at(const Input& in, const QuadMesh& mesh, const Violation& x, Vec
     for (const Place& p : x.places) {
         if (p.indices.empty()) continue;
         const std::int64_t e = p.indices[0];
-        switch (p.kind) {
-            case PlaceKind::Vertex:
-            case PlaceKind::Edge:
-            case PlaceKind::Loop:
-                if (place_of(in, mesh, ViolationElement::OutputVertex, e, at)) return true;
-                break;
-            case PlaceKind::Face:
-                if (place_of(in, mesh, ViolationElement::OutputFace, e, at)) return true;
-                break;
-            case PlaceKind::InputVertex:
-                if (place_of(in, mesh, ViolationElement::InputVertex, e, at)) return true;
-                break;
-            case PlaceKind::InputTriangle:
-                if (place_of(in, mesh, ViolationElement::InputTriangle, e, at)) return true;
-                break;
-            case PlaceKind::GridCell:
-            case PlaceKind::GridPoint:
-                if (p.indices.size() >= 3 && e >= 0 && e < static_cast<std::int64_t>(in.triangles.size())) {
-                    const double half = p.kind == PlaceKind::GridCell ? 0.5 : 0.0;
-                    at = surface_point(in, e, static_cast<double>(p.indices[1]) + half,
-                                       static_cast<double>(p.indices[2]) + half);
-                    return true;
-                }
-                break;
+        if (p.kind == PlaceKind::GridCell || p.kind == PlaceKind::GridPoint) {
+            if (p.indices.size() >= 3 && e >= 0 && e < static_cast<std::int64_t>(in.triangles.size())) {
+                const double half = p.kind == PlaceKind::GridCell ? 0.5 : 0.0;
+                at = surface_point(in, e, static_cast<double>(p.indices[1]) + half,
+                                   static_cast<double>(p.indices[2]) + half);
+                return true;
+            }
+            continue;
         }
+        // Vertices, edges and loops are drawn at their first vertex.
+        const ViolationElement kind = p.kind == PlaceKind::Face            ? ViolationElement::OutputFace
+                                      : p.kind == PlaceKind::InputVertex   ? ViolationElement::InputVertex
+                                      : p.kind == PlaceKind::InputTriangle ? ViolationElement::InputTriangle
+                                                                           : ViolationElement::OutputVertex;
+        if (place_of(in, mesh, kind, e, at)) return true;
     }
     return false;
 }
