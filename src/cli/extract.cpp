@@ -101,11 +101,10 @@ int run_extract(const ExtractArgs& a) {
     if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
         std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
                   << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
-    const auto rounded = std::count_if(r.explanations.begin(), r.explanations.end(),
-                                       [](const Defect& d) { return d.kind == DefectKind::SeamRounded; });
-    if (rounded > 0) { // said even with -q: the map moved by up to half a cell there
-        const auto first = std::find_if(r.explanations.begin(), r.explanations.end(),
-                                        [](const Defect& d) { return d.kind == DefectKind::SeamRounded; });
+    const auto is_rounded = [](const Defect& d) { return d.kind == DefectKind::SeamRounded; };
+    const auto first = std::find_if(r.explanations.begin(), r.explanations.end(), is_rounded);
+    if (first != r.explanations.end()) { // said even with -q: the map moved by up to half a cell there
+        const auto rounded = std::count_if(first, r.explanations.end(), is_rounded);
         std::cerr << "qex: " << a.in_path << ": " << rounded
                   << " seams no grid transition relates were rounded (--round-seams); the first: " << first->message
                   << "\n";
