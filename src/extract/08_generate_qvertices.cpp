@@ -96,7 +96,7 @@ void add_vertex_qvertices(const TriMesh& m, QState& q) {
 }
 
 /// The edge-q-vertices of half-edge h's edge, if h is its canonical half-edge (canonical_half_edge),
-/// in h's chart.
+/// in h's chart, ascending along the edge's longer axis (trace_ports' qvertex_at searches them so).
 void edge_qvertices(const TriMesh& m, int h, std::vector<QVertex>& list) {
     if (canonical_half_edge(m, h) != h) return;
     const Point2& a = m.uv[h];
@@ -135,7 +135,8 @@ void edge_qvertices(const TriMesh& m, int h, std::vector<QVertex>& list) {
     }
 }
 
-/// The face-q-vertices of triangle f: grid points strictly inside it, if it is not degenerate.
+/// The face-q-vertices of triangle f: grid points strictly inside it, if it is not degenerate,
+/// ascending by (u, v) (trace_ports' qvertex_at searches them so).
 void face_qvertices(const TriMesh& m, int f, std::vector<QVertex>& list) {
     const int s = m.map.face_sign[f];
     if (s == 0) return;
