@@ -26,7 +26,7 @@ inline bool is_whole_mesh_violation(ViolationKind k) {
 inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
-           k == DefectKind::MapRefined || k == DefectKind::SeamRounded;
+           k == DefectKind::MapRefined || k == DefectKind::SeamRounded || k == DefectKind::SingularitiesMerged;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the

@@ -114,6 +114,9 @@ enum class DefectKind {
     /// A seam no grid transition relates was rounded to the nearest one
     /// (Options::round_inconsistent_seams); names the seam and how far off it was.
     SeamRounded,
+    /// Two singularities of opposite index on one grid point, with a fold between them (solver
+    /// rounding), were merged into regular vertices before the fold was re-embedded; names both.
+    SingularitiesMerged,
 };
 const char* to_string(DefectKind kind);
 
