@@ -13,7 +13,11 @@
 // when every one of its triangles is positively oriented by the exact predicate and every vertex
 // winds as it must (positive triangles can still wind twice round a vertex while a singularity
 // beside it is a turn short); otherwise its UVs are restored bit for bit, it grows, and it is
-// tried again, up to a budget.
+// tried again, up to a budget. Where the untangler left a singularity a turn short, the region is
+// tried once more from its given UVs with that singularity's fan opened (laid out over its
+// angle) and kept open by a barrier. Before the regions are grown, co-located dipoles (two
+// singularities of opposite index on one grid point, which no fold-free map allows) are merged
+// into regular vertices, each merge named in the report.
 #include "pipeline.h"
 
 #include <algorithm>
@@ -231,10 +235,14 @@ struct Problem {
     };
     std::vector<std::array<Corner, 3>> corners; ///< per triangle of the region, in its order
     std::size_t unknowns = 0;                   ///< 2 per free vertex
+    /// Per triangle: kept positive by a pure barrier (no regularisation), so the opened fan of a
+    /// cone keeps its winding.
+    std::vector<char> barrier;
 };
 
 Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestShape>& rest,
-                     std::vector<int>& corner_slot, std::vector<GridAutomorphism>& corner_to) {
+                     std::vector<int>& corner_slot, std::vector<GridAutomorphism>& corner_to,
+                     const std::vector<int>& barrier) {
     Problem p;
     for (std::size_t i = 0; i < r.fans.size(); ++i)
         for (std::size_t k = 0; k < r.fans[i].corners.size(); ++k) {
@@ -255,7 +263,20 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     for (const FreeFan& fan : r.fans)
         for (const int c : fan.corners) corner_slot[c] = -1;
     p.unknowns = 2 * r.fans.size();
+    p.barrier.assign(r.faces.size(), 0);
+    for (std::size_t t = 0; t < r.faces.size() && !barrier.empty(); ++t)
+        p.barrier[t] = std::binary_search(barrier.begin(), barrier.end(), r.faces[t]);
     return p;
+}
+
+/// The signed angle at u in the triangle (u, p, w), from the edge to p to the edge to w: in
+/// (0, pi) when the triangle is positive. A flat corner (u inside the opposite side) is half a
+/// turn in every chart: atan2 would give -pi or pi by the sign of a zero.
+double signed_angle(const Vec2& u, const Vec2& p, const Vec2& w) {
+    const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
+    const double cross = ax * by - ay * bx, dot = ax * bx + ay * by;
+    if (cross == 0.0) return dot < 0.0 ? M_PI : 0.0;
+    return std::atan2(cross, dot);
 }
 
 /// The region's energy at x, and with `grad` its gradient; `lowest`: the smallest Jacobian
@@ -277,12 +298,18 @@ double region_energy(const Problem& p, const Region& r, const std::vector<RestSh
                              (s.g00 * s.g11 - s.g01 * s.g10);
             *lowest = std::min(*lowest, d);
         }
+        double e = eps;
+        if (p.barrier[t]) {
+            const double twice = (u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0]);
+            if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
+            e = 0.0;
+        }
         if (!grad) {
-            energy += triangle_energy(u[0], u[1], u[2], s, eps, nullptr);
+            energy += triangle_energy(u[0], u[1], u[2], s, e, nullptr);
             continue;
         }
         std::array<Vec2, 3> g{};
-        energy += triangle_energy(u[0], u[1], u[2], s, eps, &g);
+        energy += triangle_energy(u[0], u[1], u[2], s, e, &g);
         for (int k = 0; k < 3; ++k) {
             const Problem::Corner& c = p.corners[t][k];
             if (c.slot < 0) continue;
@@ -362,9 +389,9 @@ void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& r
 
 /// Untangles the region in place; true when every triangle of it is positively oriented.
 bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
-                     std::vector<GridAutomorphism>& corner_to) {
+                     std::vector<GridAutomorphism>& corner_to, const std::vector<int>& barrier = {}) {
     if (!rest_shapes(m, r, rest)) return false;
-    const Problem p = make_problem(m, r, rest, corner_slot, corner_to);
+    const Problem p = make_problem(m, r, rest, corner_slot, corner_to, barrier);
     std::vector<double> x(p.unknowns);
     double length = 0.0;
     for (std::size_t i = 0; i < r.fans.size(); ++i) {
@@ -401,18 +428,26 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
     return false;
 }
 
+/// The canonical key of a vertex: its smallest corner position in 3D, then its input index.
+struct VertexKey {
+    std::array<double, 3> pos;
+    int input;
+    bool operator<(const VertexKey& o) const { return pos != o.pos ? pos < o.pos : input < o.input; }
+};
+
+VertexKey vertex_key(const TriMesh& m, int v) {
+    VertexKey k{m.pos(m.fan_start[v]), m.input_vertex[v]};
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+        if (m.pos(h) < k.pos) k.pos = m.pos(h);
+    return k;
+}
+
 // ============================================================================ the winding certificate
 
 /// The signed angle at corner h of its triangle (from the edge to its next corner to the edge to
 /// its previous one): in (0, pi) when the triangle is positive.
 double corner_angle(const TriMesh& m, int h) {
-    const Vec2 &u = m.uv[h], &p = m.uv[TriMesh::next(h)], &w = m.uv[TriMesh::prev(h)];
-    const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
-    const double cross = ax * by - ay * bx, dot = ax * bx + ay * by;
-    // A flat corner (the vertex inside the opposite side) is half a turn in every chart: atan2
-    // would give -pi or pi by the sign of a zero.
-    if (cross == 0.0) return dot < 0.0 ? M_PI : 0.0;
-    return std::atan2(cross, dot);
+    return signed_angle(m.uv[h], m.uv[TriMesh::next(h)], m.uv[TriMesh::prev(h)]);
 }
 
 /// The angle an interior vertex's fan sums to in an embedding of the map: a full turn, or a
@@ -531,6 +566,99 @@ bool windings_kept(const TriMesh& m, const Region& r, const RegionMarks& marks) 
     return true;
 }
 
+// ============================================================================ opening a cone's fan
+
+/// By how many whole turns v's fan winds past its target (0 for a boundary vertex).
+int winding_excess(const TriMesh& m, int v, const RegionMarks& marks) {
+    if (m.on_boundary[v]) return 0;
+    double inside = 0.0, outside = 0.0;
+    int corners = 0;
+    fan_angles(m, v, marks, inside, outside, corners);
+    const double turns = (inside + outside - marks.target(m, v)) / (2.0 * M_PI);
+    return std::isfinite(turns) ? static_cast<int>(std::lround(turns)) : 0;
+}
+
+/// A singularity whose fan a fold closed: one run of flipped or degenerate triangles, which the
+/// untangler tends to open by winding a neighbour twice instead (the cone then a turn short).
+/// Lays the run's inner rim vertices (all free) out evenly, clockwise from the run's first rim
+/// vertex, over the angle that the cone's target leaves the run, each at its distance from the
+/// cone; the cone's fan is then positive and winds by its target, and its triangles are added
+/// to `barrier` (the untangler keeps them positive, so the cone keeps its winding).
+/// False, with nothing moved, for a fan with no or several runs, a fixed inner rim vertex, or
+/// no room for the run (its angle not between 0 and pi per triangle).
+bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
+                   const std::unordered_map<int, std::size_t>& slot, int cone, std::vector<int>& barrier) {
+    // From the fan's canonical corner: the sums below do not depend on the input's order.
+    std::vector<int> fan = free_fan(m, cone).corners;
+    const std::size_t n = fan.size();
+    std::size_t start = n;
+    for (std::size_t i = 0; i < n && start == n; ++i)
+        if (positive(m, TriMesh::face(fan[i]))) start = i;
+    if (start == n) return false;
+    std::rotate(fan.begin(), fan.begin() + static_cast<std::ptrdiff_t>(start), fan.end());
+    std::size_t first = n, length = 0;
+    int runs = 0;
+    double kept = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool bad = !positive(m, TriMesh::face(fan[i]));
+        if (!bad) {
+            kept += corner_angle(m, fan[i]);
+            continue;
+        }
+        if (i == 0 || positive(m, TriMesh::face(fan[i - 1]))) ++runs, first = i;
+        ++length;
+    }
+    const double span = marks.target(m, cone) - kept;
+    if (runs != 1 || length < 2 || !(span > 0.0 && span < M_PI * static_cast<double>(length))) return false;
+    // In the chart of the run's first triangle: the cone, and the direction of its first rim vertex.
+    int h = fan[first];
+    const Vec2 c = m.uv[h], p = m.uv[TriMesh::prev(h)];
+    const double phi = std::atan2(p[1] - c[1], p[0] - c[0]);
+    GridAutomorphism to_h; // the first triangle's chart -> h's
+    std::vector<std::pair<std::size_t, Vec2>> moves;
+    for (std::size_t i = 1; i < length; ++i) {
+        const int rim = TriMesh::next(h);
+        const auto it = slot.find(m.origin(rim));
+        if (it == slot.end()) return false;
+        const double radius = std::hypot(m.uv[rim][0] - m.uv[h][0], m.uv[rim][1] - m.uv[h][1]);
+        const double angle = phi - span * static_cast<double>(i) / static_cast<double>(length);
+        const Vec2 at = to_h(Vec2{c[0] + radius * std::cos(angle), c[1] + radius * std::sin(angle)});
+        const FreeFan& f = r.fans[it->second];
+        const auto k = static_cast<std::size_t>(std::find(f.corners.begin(), f.corners.end(), rim) - f.corners.begin());
+        moves.push_back({it->second, f.to_c[k].inverse()(at)});
+        to_h = m.map.transition[h].after(to_h);
+        h = m.cw(h);
+    }
+    for (const auto& [i, x] : moves) place(m, r.fans[i], x);
+    if (winding_excess(m, cone, marks) != 0) return false;
+    for (const int c : fan) barrier.push_back(TriMesh::face(c));
+    return true;
+}
+
+/// After an untangling that left singularities a turn short: the region again from its given
+/// UVs (`before`), those singularities' fans opened and kept open. True when that is certified.
+bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
+                              std::vector<RestShape>& rest, std::vector<int>& corner_slot,
+                              std::vector<GridAutomorphism>& corner_to) {
+    std::vector<int> short_cones;
+    for (const int v : marks.fixed)
+        if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) == -1) short_cones.push_back(v);
+    if (short_cones.empty()) return false;
+    // Neighbouring cones may share rim vertices: opened in an order that does not depend on the input's.
+    std::sort(short_cones.begin(), short_cones.end(),
+              [&](int a, int b) { return vertex_key(m, a) < vertex_key(m, b); });
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = before[i++];
+    std::unordered_map<int, std::size_t> slot;
+    for (std::size_t k = 0; k < r.fans.size(); ++k) slot[r.fans[k].vertex] = k;
+    std::vector<int> barrier;
+    for (const int cone : short_cones) open_cone_fan(m, r, marks, slot, cone, barrier);
+    std::sort(barrier.begin(), barrier.end());
+    return !barrier.empty() && untangle_region(m, r, rest, corner_slot, corner_to, barrier) &&
+           windings_kept(m, r, marks);
+}
+
 // ============================================================================ regions
 
 /// Vertices that never move: boundary, singular, on a feature edge, or without a fan.
@@ -570,20 +698,6 @@ std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& se
     }
     for (const int v : reached) distance[v] = -1;
     return reached;
-}
-
-/// The canonical key of a vertex: its smallest corner position in 3D, then its input index.
-struct VertexKey {
-    std::array<double, 3> pos;
-    int input;
-    bool operator<(const VertexKey& o) const { return pos != o.pos ? pos < o.pos : input < o.input; }
-};
-
-VertexKey vertex_key(const TriMesh& m, int v) {
-    VertexKey k{m.pos(m.fan_start[v]), m.input_vertex[v]};
-    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
-        if (m.pos(h) < k.pos) k.pos = m.pos(h);
-    return k;
 }
 
 /// Splits the free vertices into regions: connected through shared triangles.
@@ -876,7 +990,8 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             marks.mark(m, r);
             bool repaired = false;
             if (admits_embedding(m, r, valences_given, marks))
-                repaired = untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks);
+                repaired = (untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks)) ||
+                           untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
             if (repaired && marks.cone >= 0) {
                 // The singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
                 const int valence = static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
