@@ -35,6 +35,36 @@ TEST(Extraction, SanitizationIsIdempotent) {
     EXPECT_EQ(rep2.max_sanitization_displacement, 0.0);
 }
 
+TEST(Valences, WhollyFlippedFanCountsAsItsTransitionsTurn) {
+    // A cone of three quarter turns round vertex 0 (ring 1, 2, 3 on the boundary), each triangle
+    // a unit right corner in its own chart; the transitions across its three edges turn by a
+    // quarter. Given as is, or with every triangle mirrored (u and v swapped): then the whole fan
+    // is one flipped run, the signed sum -3 quarter turns and the transitions turn by +1, so an
+    // unfolded fan must span 1 (or 5, ...) quarter turns, never |sum| = 3. Algorithm 8's valence
+    // must agree with the turn modulo 4 in both.
+    for (const bool mirrored : {false, true}) {
+        Input in;
+        in.positions = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
+        in.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+        for (int f = 0; f < 3; ++f)
+            for (const auto& uv : {std::array<double, 2>{0, 0}, {1, 0}, {0, 1}})
+                in.uvs.push_back(mirrored ? std::array<double, 2>{uv[1], uv[0]} : uv);
+        detail::TriMesh m = detail::make_mesh(in);
+        ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+        detail::compute_transitions(m);
+        detail::count_valences(m);
+        const int centre = [&] {
+            for (int v = 0; v < m.num_vertices; ++v)
+                if (m.input_vertex[v] == 0) return v;
+            return -1;
+        }();
+        ASSERT_GE(centre, 0);
+        EXPECT_EQ(m.map.winding_valence[centre], mirrored ? -3 : 3);
+        EXPECT_EQ(m.map.valence[centre], mirrored ? 1 : 3);
+        EXPECT_EQ(((m.map.valence[centre] - m.map.winding_valence[centre]) % 4 + 4) % 4, 0);
+    }
+}
+
 TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
     // The table is allocated without clearing (and reused when the size is unchanged), so
     // compute_transitions must write every entry: boundary half-edges and edges of a triangle

@@ -124,7 +124,16 @@ void count_by_runs(TriMesh& m, int v, const std::vector<Corner>& corners, std::v
     while (start < fan.size() && fan[start].first == fan[(start + fan.size() - 1) % fan.size()].first) ++start;
     m.map.winding_valence[v] = static_cast<int>(std::lround(2.0 * winding / M_PI));
     if (start == fan.size()) { // a single run: the whole fan has one orientation
-        m.map.valence[v] = std::abs(m.map.winding_valence[v]);
+        if (fan[0].first > 0) {
+            m.map.valence[v] = std::abs(m.map.winding_valence[v]);
+            return;
+        }
+        // The whole fan flipped: a fold covering every triangle of it. Its transitions still turn
+        // by the signed sum, so once unfolded its angle is a positive number of quarter turns
+        // congruent to it: the fewest (a flipped run's angle phi counts as 2*pi*j - phi), not
+        // |winding| (a quarter turn for a mirrored fan of three, which its transitions forbid).
+        const int turn = ((m.map.winding_valence[v] % 4) + 4) % 4;
+        m.map.valence[v] = turn == 0 ? 4 : turn;
         return;
     }
     m.map.valence[v] = static_cast<int>(std::lround(2.0 * run_angle_sum(fan, start) / M_PI));

@@ -580,8 +580,9 @@ int winding_excess(const TriMesh& m, int v, const RegionMarks& marks) {
 
 /// A singularity whose fan a fold closed: one run of flipped or degenerate triangles, which the
 /// untangler tends to open by winding a neighbour twice instead (the cone then a turn short).
-/// Lays the run's inner rim vertices (all free) out evenly, clockwise from the run's first rim
-/// vertex, over the angle that the cone's target leaves the run, each at its distance from the
+/// Lays the run's inner rim vertices (all free; the run grown by positive triangles beside it)
+/// out evenly, clockwise from the run's first rim vertex, over the angle that the cone's target
+/// leaves the run, each at its distance from the
 /// cone; the cone's fan is then positive and winds by its target, and its triangles are added
 /// to `barrier` (the untangler keeps them positive, so the cone keeps its winding).
 /// False, with nothing moved, for a fan with no or several runs, a fixed inner rim vertex, or
@@ -608,8 +609,22 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
         if (i == 0 || positive(m, TriMesh::face(fan[i - 1]))) ++runs, first = i;
         ++length;
     }
-    const double span = marks.target(m, cone) - kept;
-    if (runs != 1 || length < 2 || !(span > 0.0 && span < M_PI * static_cast<double>(length))) return false;
+    if (runs != 1) return false;
+    // The run takes in positive triangles beside it, alternately after and before it, until it
+    // has at most a quarter turn per triangle (a run of one cannot open by more than half a
+    // turn, and near-flat triangles are a poor start).
+    double span = marks.target(m, cone) - kept;
+    for (bool after = true; span > 0.5 * M_PI * static_cast<double>(length) && length + 1 < n; after = !after) {
+        if (after && first + length < n) {
+            span += corner_angle(m, fan[first + length]);
+        } else if (first > 0) {
+            span += corner_angle(m, fan[--first]);
+        } else {
+            span += corner_angle(m, fan[first + length]);
+        }
+        ++length;
+    }
+    if (length < 2 || !(span > 0.0 && span < M_PI * static_cast<double>(length))) return false;
     // In the chart of the run's first triangle: the cone, and the direction of its first rim vertex.
     int h = fan[first];
     const Vec2 c = m.uv[h], p = m.uv[TriMesh::prev(h)];
