@@ -387,6 +387,76 @@ void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& r
     }
 }
 
+/// Moves a free vertex into the kernel of its link (where every triangle round it is positive),
+/// at the kernel's centroid, in its first chart: the half-planes left of each opposite edge,
+/// clipped from a box round the link. True when it moved and the exact predicate finds its fan
+/// positive; otherwise its UVs are as before.
+bool place_in_kernel(TriMesh& m, const FreeFan& fan) {
+    std::vector<std::array<Vec2, 2>> edges;
+    double lo0 = std::numeric_limits<double>::infinity(), lo1 = lo0, hi0 = -lo0, hi1 = -lo0;
+    for (std::size_t k = 0; k < fan.corners.size(); ++k) {
+        const GridAutomorphism back = fan.to_c[k].inverse();
+        const int c = fan.corners[k];
+        const Vec2 a = back(m.uv[TriMesh::next(c)]), b = back(m.uv[TriMesh::prev(c)]);
+        edges.push_back({a, b});
+        for (const Vec2& q : {a, b})
+            lo0 = std::min(lo0, q[0]), hi0 = std::max(hi0, q[0]), lo1 = std::min(lo1, q[1]), hi1 = std::max(hi1, q[1]);
+    }
+    if (!(hi0 >= lo0 && hi1 >= lo1)) return false;
+    std::vector<Vec2> poly{{lo0, lo1}, {hi0, lo1}, {hi0, hi1}, {lo0, hi1}}, next;
+    for (const auto& [a, b] : edges) {
+        const auto side = [&](const Vec2& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
+        next.clear();
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const Vec2 &u = poly[i], &w = poly[(i + 1) % poly.size()];
+            const double su = side(u), sw = side(w);
+            if (su >= 0) next.push_back(u);
+            if ((su >= 0) != (sw >= 0)) {
+                const double t = su / (su - sw);
+                next.push_back({u[0] + t * (w[0] - u[0]), u[1] + t * (w[1] - u[1])});
+            }
+        }
+        poly.swap(next);
+        if (poly.size() < 3) return false;
+    }
+    double area = 0.0, cx = 0.0, cy = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Vec2 &u = poly[i], &w = poly[(i + 1) % poly.size()];
+        const double cross = u[0] * w[1] - w[0] * u[1];
+        area += cross, cx += (u[0] + w[0]) * cross, cy += (u[1] + w[1]) * cross;
+    }
+    if (!(area > 0.0)) return false;
+    std::vector<Point2> before;
+    for (const int c : fan.corners) before.push_back(m.uv[c]);
+    place(m, fan, {cx / (3.0 * area), cy / (3.0 * area)});
+    bool all = true;
+    for (const int c : fan.corners) all = all && positive(m, TriMesh::face(c));
+    if (all) return true;
+    for (std::size_t k = 0; k < fan.corners.size(); ++k) m.uv[fan.corners[k]] = before[k];
+    return false;
+}
+
+/// What the untangler left inverted, vertex by vertex: each free vertex of an inverted triangle
+/// is moved into the kernel of its link where it has one, for a few sweeps (in the region's
+/// canonical order). True when the region is then positive.
+bool kernel_sweeps(TriMesh& m, const Region& r) {
+    for (int sweep = 0; sweep < 4; ++sweep) {
+        bool any = false, moved = false;
+        for (const FreeFan& fan : r.fans) {
+            bool bad = false;
+            for (const int c : fan.corners) bad = bad || !positive(m, TriMesh::face(c));
+            if (!bad) continue;
+            any = true;
+            moved = place_in_kernel(m, fan) || moved;
+        }
+        if (!any) return true;
+        if (!moved) return false;
+    }
+    for (const int f : r.faces)
+        if (!positive(m, f)) return false;
+    return true;
+}
+
 /// Untangles the region in place; true when every triangle of it is positively oriented.
 bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
                      std::vector<GridAutomorphism>& corner_to, const std::vector<int>& barrier = {}) {
@@ -425,7 +495,7 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
         const double mu = (1.0 - sigma) * chi(lowest, eps);
         eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
     }
-    return false;
+    return kernel_sweeps(m, r);
 }
 
 /// The canonical key of a vertex: its smallest corner position in 3D, then its input index.
@@ -462,13 +532,16 @@ struct RegionMarks {
     std::vector<char> face;   ///< per triangle
     std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
     std::vector<int> fixed;
-    /// A singularity whose angle Gauss-Bonnet fixes otherwise than Algorithm 8 counted it (the
-    /// fold took a whole turn from its fan without flipping it), and that angle.
-    int cone = -1;
-    double cone_angle = 0.0;
+    /// Singularities whose angles Gauss-Bonnet fixes otherwise than Algorithm 8 counted them (the
+    /// fold took whole turns from their fans without flipping them), and those angles.
+    std::vector<std::pair<int, double>> cones;
 
     /// What v's angles sum to in an embedding of the region's map.
-    double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }
+    double target(const TriMesh& m, int v) const {
+        for (const auto& [cone, angle] : cones)
+            if (cone == v) return angle;
+        return target_angle(m, v);
+    }
 
     void mark(const TriMesh& m, const Region& r) {
         for (const int f : r.faces) face[f] = 1;
@@ -483,7 +556,7 @@ struct RegionMarks {
         for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
         for (const int v : fixed) vertex[v] = 0;
         fixed.clear();
-        cone = -1;
+        cones.clear();
     }
 };
 
@@ -505,10 +578,11 @@ void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& insid
 /// 0 and pi per region corner; and the angles of the region's triangles sum to pi each. Where
 /// these fail, no motion of the free vertices helps: the fold reaches past the region's
 /// boundary (its boundary winds wrongly), and the region must grow. A region that touches the
-/// mesh's boundary is judged by the first test only. When the sum misses whole turns and one
-/// singularity lies inside the region, the turns are that singularity's: Algorithm 8 counts a
-/// turn only for a flipped run of its fan, and a fold can take one without flipping any (Figure 2
-/// (d), the fan squeezed); the region is then admitted with that singularity's angle corrected.
+/// mesh's boundary is judged by the first test only. When the sum misses whole turns, they are
+/// those of singularities inside the region: Algorithm 8 counts a turn only for a flipped run of
+/// a fan, and a fold can take one without flipping any (Figure 2 (d), the fan squeezed). With one
+/// singularity inside, the turns are its own; with several, one each to those counted below
+/// valence 3, if they are as many. The region is then admitted with those angles corrected.
 bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, RegionMarks& marks) {
     double sum = 2.0 * M_PI * static_cast<double>(r.fans.size());
     bool open = false;
@@ -527,24 +601,35 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     const double missing = M_PI * static_cast<double>(r.faces.size()) - sum;
     if (open || std::abs(missing) < 1.0) return true;
     if (valences_given) return false; // the user's valences stand
-    // Whole turns missing: with one singularity inside the region, they are its own (Algorithm
-    // 8 finds no flipped run in a fan squeezed by the fold, Figure 2 (d)).
-    int cone = -1;
+    // Whole turns missing: they belong to singularities inside the region (Algorithm 8 finds no
+    // flipped run in a fan squeezed by the fold, Figure 2 (d)).
+    std::vector<int> inner;
     for (const int v : marks.fixed) {
         double inside = 0.0, outside = 0.0;
         int corners = 0;
         fan_angles(m, v, marks, inside, outside, corners);
-        if (corners < m.fan_size[v]) continue;
-        if (!m.map.singular[v] || cone >= 0) return false;
-        cone = v;
+        // Only singularities whose transitions turn: a branch point's turns are its own business.
+        if (corners == m.fan_size[v] && m.map.singular[v] && ((m.map.winding_valence[v] % 4) + 4) % 4 != 0)
+            inner.push_back(v);
     }
-    // Only a singularity whose transitions turn: a branch point's turns are its own business.
-    if (cone < 0 || ((m.map.winding_valence[cone] % 4) + 4) % 4 == 0) return false;
-    const double turns = std::nearbyint(missing / (2.0 * M_PI)), angle = target_angle(m, cone) + 2.0 * M_PI * turns;
-    if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0 || !(angle > 1.0 && angle < M_PI * m.fan_size[cone]))
-        return false;
-    marks.cone = cone;
-    marks.cone_angle = angle;
+    const double turns = std::nearbyint(missing / (2.0 * M_PI));
+    if (std::abs(missing - 2.0 * M_PI * turns) >= 1.0) return false;
+    const auto give = [&](int v, double angle) {
+        if (!(angle > 1.0 && angle < M_PI * m.fan_size[v])) return false;
+        marks.cones.push_back({v, angle});
+        return true;
+    };
+    // One singularity inside: the turns are its own.
+    if (inner.size() == 1) return give(inner[0], target_angle(m, inner[0]) + 2.0 * M_PI * turns);
+    // Several: a turn each to those counted at fewer than three quarter turns (no vertex of a
+    // quad mesh has fewer than three edges, and field-guided parametrizations make valences 3
+    // and 5), when there are exactly as many of them as turns missing.
+    std::vector<int> low;
+    for (const int v : inner)
+        if (m.map.valence[v] < 3) low.push_back(v);
+    if (turns < 1.0 || static_cast<double>(low.size()) != turns) return false;
+    for (const int v : low)
+        if (!give(v, target_angle(m, v) + 2.0 * M_PI)) return false;
     return true;
 }
 
@@ -578,14 +663,15 @@ int winding_excess(const TriMesh& m, int v, const RegionMarks& marks) {
     return std::isfinite(turns) ? static_cast<int>(std::lround(turns)) : 0;
 }
 
-/// A singularity whose fan a fold closed: one run of flipped or degenerate triangles, which the
-/// untangler tends to open by winding a neighbour twice instead (the cone then a turn short).
+/// A singularity whose fan a fold closed: one run of flipped or degenerate triangles (or none, the
+/// fan squeezed), which the untangler tends to open by winding a neighbour twice instead (the
+/// cone then a turn short).
 /// Lays the run's inner rim vertices (all free; the run grown by positive triangles beside it)
 /// out evenly, clockwise from the run's first rim vertex, over the angle that the cone's target
 /// leaves the run, each at its distance from the
 /// cone; the cone's fan is then positive and winds by its target, and its triangles are added
 /// to `barrier` (the untangler keeps them positive, so the cone keeps its winding).
-/// False, with nothing moved, for a fan with no or several runs, a fixed inner rim vertex, or
+/// False, with nothing moved, for a fan with several runs, a fixed inner rim vertex, or
 /// no room for the run (its angle not between 0 and pi per triangle).
 bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
                    const std::unordered_map<int, std::size_t>& slot, int cone, std::vector<int>& barrier) {
@@ -609,7 +695,12 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
         if (i == 0 || positive(m, TriMesh::face(fan[i - 1]))) ++runs, first = i;
         ++length;
     }
-    if (runs != 1) return false;
+    if (runs > 1) return false;
+    if (runs == 0) { // a squeezed fan, all positive (Figure 2 (d)): all but its first triangle open
+        first = 1;
+        length = n - 1;
+        kept = corner_angle(m, fan[0]);
+    }
     // The run takes in positive triangles beside it, alternately after and before it, until it
     // has at most a quarter turn per triangle (a run of one cannot open by more than half a
     // turn, and near-flat triangles are a poor start).
@@ -650,21 +741,22 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
     return true;
 }
 
-/// After an untangling that left singularities a turn short: the region again from its given
-/// UVs (`before`), those singularities' fans opened and kept open. True when that is certified.
+/// After an untangling that failed: the region again from its given UVs (`before`), with the fans
+/// of its singularities that wind short of their targets there (a run of flipped triangles, or a
+/// squeezed fan) opened and kept open. True when that is certified.
 bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
                               std::vector<RestShape>& rest, std::vector<int>& corner_slot,
                               std::vector<GridAutomorphism>& corner_to) {
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = before[i++];
     std::vector<int> short_cones;
     for (const int v : marks.fixed)
-        if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) == -1) short_cones.push_back(v);
+        if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) < 0) short_cones.push_back(v);
     if (short_cones.empty()) return false;
     // Neighbouring cones may share rim vertices: opened in an order that does not depend on the input's.
     std::sort(short_cones.begin(), short_cones.end(),
               [&](int a, int b) { return vertex_key(m, a) < vertex_key(m, b); });
-    std::size_t i = 0;
-    for (const FreeFan& fan : r.fans)
-        for (const int c : fan.corners) m.uv[c] = before[i++];
     std::unordered_map<int, std::size_t> slot;
     for (std::size_t k = 0; k < r.fans.size(); ++k) slot[r.fans[k].vertex] = k;
     std::vector<int> barrier;
@@ -1007,11 +1099,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             if (admits_embedding(m, r, valences_given, marks))
                 repaired = (untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks)) ||
                            untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
-            if (repaired && marks.cone >= 0) {
-                // The singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
-                const int valence = static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
-                m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] = valence;
-            }
+            // Each corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
+            for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
+                m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));
             marks.clear(r);
             if (repaired) continue;
             std::size_t i = 0;
