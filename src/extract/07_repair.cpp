@@ -1096,9 +1096,14 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
                 for (const int c : fan.corners) before.push_back(m.uv[c]);
             marks.mark(m, r);
             bool repaired = false;
-            if (admits_embedding(m, r, valences_given, marks))
-                repaired = (untangle_region(m, r, rest, corner_slot, corner_to) && windings_kept(m, r, marks)) ||
-                           untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
+            if (admits_embedding(m, r, valences_given, marks)) {
+                const bool untangled = untangle_region(m, r, rest, corner_slot, corner_to);
+                repaired = untangled && windings_kept(m, r, marks);
+                // Once more with cone fans opened, where that is what failed: the untangler wound
+                // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
+                if (!repaired && (untangled || !marks.cones.empty()))
+                    repaired = untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
+            }
             // Each corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
             for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
                 m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));
