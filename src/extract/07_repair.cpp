@@ -404,7 +404,8 @@ bool place_in_kernel(TriMesh& m, const FreeFan& fan) {
     }
     if (!(hi0 >= lo0 && hi1 >= lo1)) return false;
     std::vector<Vec2> poly{{lo0, lo1}, {hi0, lo1}, {hi0, hi1}, {lo0, hi1}}, next;
-    for (const auto& [a, b] : edges) {
+    for (const auto& edge : edges) {
+        const Vec2 &a = edge[0], &b = edge[1]; // named, not bound: clang 14 cannot capture bindings
         const auto side = [&](const Vec2& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
         next.clear();
         for (std::size_t i = 0; i < poly.size(); ++i) {
