@@ -61,7 +61,10 @@ struct Options {
     bool snap_boundary = false;
     /// Re-embed the regions of flipped and degenerate triangles before extraction (stage repair),
     /// keeping transitions, singularities, boundaries and everything outside them; the mesh
-    /// carries the repaired map and which triangles changed (QuadMesh::map_repaired).
+    /// carries the repaired map and which triangles changed (QuadMesh::map_repaired). The one
+    /// exception: two singularities of opposite index that a fold put on one grid point are
+    /// merged into regular vertices (the transitions of a short path between them change), each
+    /// merge named in the report (DefectKind::SingularitiesMerged).
     bool repair_fold_overs = true;
     /// A seam whose two UV copies no grid transition relates (more than 1/1024 of a cell apart
     /// after the nearest one) is an input error (ErrorCode::InconsistentMap, naming the seam).

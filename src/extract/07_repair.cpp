@@ -6,18 +6,23 @@
 // other vertices (singular, boundary, feature, or outside) stay fixed. The free vertices move to
 // minimise an energy that penalises inverted triangles through a regularised determinant, the
 // regularisation shrinking as the triangles untangle (the foldover-free energy of Garanzha et
-// al. 2021, minimised here vertex by vertex with damped Newton steps). Each vertex lives in the chart of one of its corners and is
-// written to the others through the exact transitions after truncation (as sanitize does),
-// so transitions and singularities are untouched. A region is attempted only when its fixed
-// vertices leave room for an embedding (their angles, Gauss-Bonnet), and counts as repaired only
-// when every one of its triangles is positively oriented by the exact predicate and every vertex
-// winds as it must (positive triangles can still wind twice round a vertex while a singularity
-// beside it is a turn short); otherwise its UVs are restored bit for bit, it grows, and it is
-// tried again, up to a budget. Where the untangler left a singularity a turn short, the region is
-// tried once more from its given UVs with that singularity's fan opened (laid out over its
-// angle) and kept open by a barrier. Before the regions are grown, co-located dipoles (two
-// singularities of opposite index on one grid point, which no fold-free map allows) are merged
-// into regular vertices, each merge named in the report.
+// al. 2021, minimised here with L-BFGS over the region's free vertices). Each vertex lives in the
+// chart of one of its corners and is written to the others through the exact transitions after
+// truncation (as sanitize does), so transitions and singularities are untouched. A region is
+// attempted only when its fixed vertices leave room for an embedding (their angles,
+// Gauss-Bonnet), and counts as repaired only when every one of its triangles is positively
+// oriented by the exact predicate and every vertex winds as it must (positive triangles can
+// still wind twice round a vertex while a singularity beside it is a turn short); otherwise its
+// UVs are restored bit for bit, it grows, and it is tried again, up to a budget. What the
+// untangler leaves inverted is moved vertex by vertex into the kernel of its link where it has
+// one. Where the untangler wound a region wrongly round its singularities, the region is tried
+// once more from its given UVs, with the fans of the singularities that wind short there opened
+// (laid out over their angles) and kept open by a barrier.
+//
+// The one change to transitions and singularities: before the regions are grown, co-located
+// dipoles (two singularities of opposite index on one grid point, which no fold-free map allows)
+// are merged into regular vertices, each merge named in the report and undone unless the repair
+// re-embeds it.
 #include "pipeline.h"
 
 #include <algorithm>
@@ -140,6 +145,21 @@ FreeFan free_fan(const TriMesh& m, int v) {
         sum += std::hypot(q[0] - p[0], q[1] - p[1]);
     }
     fan.length = sum / static_cast<double>(n);
+    return fan;
+}
+
+/// The corners of interior vertex v's fan, clockwise from the one whose next and previous
+/// corners have the smallest 3D positions: an order that depends neither on the input's order
+/// nor on its charts.
+std::vector<int> fan_in_3d_order(const TriMesh& m, int v) {
+    std::vector<int> fan;
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
+    const auto first = std::min_element(fan.begin(), fan.end(), [&](int a, int b) {
+        if (m.pos(TriMesh::next(a)) != m.pos(TriMesh::next(b)))
+            return less3(m.pos(TriMesh::next(a)), m.pos(TriMesh::next(b)));
+        return less3(m.pos(TriMesh::prev(a)), m.pos(TriMesh::prev(b)));
+    });
+    std::rotate(fan.begin(), first, fan.end());
     return fan;
 }
 
@@ -329,7 +349,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 /// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
 void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x, double eps,
-              double length, int iterations) {
+              double length, int iterations, double stall = 1e-12) {
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
@@ -381,7 +401,7 @@ void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& r
             if (ss.size() == kHistory) ss.erase(ss.begin()), ys.erase(ys.begin()), rho.erase(rho.begin());
             ss.push_back(std::move(s_k)), ys.push_back(std::move(y_k)), rho.push_back(1.0 / sy);
         }
-        const bool stalled = f - f_new <= 1e-12 * std::abs(f);
+        const bool stalled = f - f_new <= stall * std::abs(f);
         x.swap(x_new), g.swap(g_new), f = f_new;
         if (stalled) return;
     }
@@ -511,6 +531,39 @@ VertexKey vertex_key(const TriMesh& m, int v) {
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
         if (m.pos(h) < k.pos) k.pos = m.pos(h);
     return k;
+}
+
+/// Iterations of the final minimisation of a repaired region.
+constexpr int kPolishIterations = 2000;
+/// It stops when an iteration lowers the energy by less than this fraction of it.
+constexpr double kPolishStall = 1e-15;
+
+/// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
+/// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
+/// Where the untangler stops (the first iterate with nothing inverted) depends on rounding, so
+/// an integer translation or a re-charting of the map would move the result; the minimum does
+/// not. Kept only if the exact predicate still finds every triangle positive after placement.
+void polish_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
+                   std::vector<GridAutomorphism>& corner_to) {
+    if (!rest_shapes(m, r, rest)) return;
+    const Problem p = make_problem(m, r, rest, corner_slot, corner_to, {});
+    std::vector<double> x(p.unknowns);
+    std::vector<Point2> before;
+    double length = 0.0;
+    for (std::size_t i = 0; i < r.fans.size(); ++i) {
+        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        length += r.fans[i].length;
+        for (const int c : r.fans[i].corners) before.push_back(m.uv[c]);
+    }
+    minimise(p, r, rest, x, 0.0, length / static_cast<double>(r.fans.size()), kPolishIterations, kPolishStall);
+    for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
+    bool all = true;
+    for (const int f : r.faces) all = all && positive(m, f);
+    if (all) return;
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = before[i++];
 }
 
 // ============================================================================ the winding certificate
@@ -666,18 +719,19 @@ int winding_excess(const TriMesh& m, int v, const RegionMarks& marks) {
 
 /// A singularity whose fan a fold closed: one run of flipped or degenerate triangles (or none, the
 /// fan squeezed), which the untangler tends to open by winding a neighbour twice instead (the
-/// cone then a turn short).
-/// Lays the run's inner rim vertices (all free; the run grown by positive triangles beside it)
-/// out evenly, clockwise from the run's first rim vertex, over the angle that the cone's target
-/// leaves the run, each at its distance from the
-/// cone; the cone's fan is then positive and winds by its target, and its triangles are added
-/// to `barrier` (the untangler keeps them positive, so the cone keeps its winding).
-/// False, with nothing moved, for a fan with several runs, a fixed inner rim vertex, or
-/// no room for the run (its angle not between 0 and pi per triangle).
+/// cone then a turn short). Lays the run's inner rim vertices (all free; the run grown by
+/// positive triangles beside it) out evenly, clockwise from the run's first rim vertex, over the
+/// angle that the cone's target leaves the run, each at its distance from the cone. The cone's
+/// fan is then positive and winds by its target, and its triangles are added to `barrier` (the
+/// untangler keeps them positive, so the cone keeps its winding). False for a fan with several
+/// runs, a fixed inner rim vertex, or no room for the run (its angle not between 0 and pi per
+/// triangle), with nothing moved; or, after moving, when the cone still does not wind by its
+/// target (the caller restores the region's UVs).
 bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
                    const std::unordered_map<int, std::size_t>& slot, int cone, std::vector<int>& barrier) {
-    // From the fan's canonical corner: the sums below do not depend on the input's order.
-    std::vector<int> fan = free_fan(m, cone).corners;
+    // From a canonical corner: the sums and the choices below depend neither on the input's
+    // order nor on its charts.
+    std::vector<int> fan = fan_in_3d_order(m, cone);
     const std::size_t n = fan.size();
     std::size_t start = n;
     for (std::size_t i = 0; i < n && start == n; ++i)
@@ -891,9 +945,9 @@ bool folded_singularity(const TriMesh& m, int v) {
 bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pinned, DipoleMerge& merge) {
     const int ta = fan_turn_of(m, a);
     if (ta <= 0) return false;
-    // From a's canonical corner, so that the path found does not depend on the input's order:
-    // every other vertex's fan is walked from the corner it is reached by.
-    const int first = free_fan(m, a).corners[0];
+    // From a canonical corner of a's fan, so that the path found depends neither on the input's
+    // order nor on its charts: every other vertex's fan is walked from the corner it is reached by.
+    const int first = fan_in_3d_order(m, a)[0];
     const Point2 ua = m.uv[first];
     // Per reached vertex: the half-edge from its parent and its depth; per queued vertex, the
     // corner it was reached by and the map from a's chart to that corner's.
@@ -1105,6 +1159,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
                 if (!repaired && (untangled || !marks.cones.empty()))
                     repaired = untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
             }
+            if (repaired) polish_region(m, r, rest, corner_slot, corner_to);
             // Each corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
             for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
                 m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));

@@ -157,9 +157,12 @@ struct RepairOutcome {
 /// sanitized map. Each region's free vertices (interior, regular, not on a feature) move so
 /// that every triangle around them is positively oriented, decided exactly; singular,
 /// boundary and feature vertices and everything outside the regions keep their sanitized UVs
-/// bit for bit, and the transitions stay as they are. A region that does not untangle grows
-/// and is tried again, up to a budget; past it, its UVs are restored and the paper's local
-/// handling takes over there (named in report.explanations). Updates MapState::face_sign.
+/// bit for bit, and the transitions stay as they are, but for co-located dipoles next to a fold,
+/// which are merged first (the transitions of a path between them change; named in
+/// report.explanations, and undone unless their region is re-embedded). A region that does not
+/// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
+/// paper's local handling takes over there (named in report.explanations). Updates
+/// MapState::face_sign, and the valences of singularities it corrects or merges.
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
                      Report& report);
 
