@@ -246,10 +246,6 @@ TEST(RealMaps, MiqMapsEndValidOrWithLocatedDefects) {
     EXPECT_GE(valid, 24); // the tally recorded in the README; a regression fails here
 }
 
-/// fandisk's repaired output without provenance: a quad dropped, a vertex pinched or a face
-/// flipped where the repair moved the map (in a fold-over region, where vertices are judged on
-/// the surface only) is still rejected, and a vertex moved off the surface there too; outside
-/// the regions a vertex off its grid point still is.
 /// A paper map with its UVs x k, extracted and judged: valid by both checkers, every fold
 /// repaired, singularities gone only in the named merges of co-located dipoles, exactly the signed
 /// area's quads, the input's Euler characteristic. Returns the merges' explanations; nullopt when
@@ -302,6 +298,10 @@ TEST(RealMaps, FoldsClosingConesFansAreOpened) {
     if (!expect_scaled_map_repaired("duck_miq_8", 16)) GTEST_SKIP() << "no duck_miq_8 in " << QEX_SHARED_DIR;
 }
 
+/// fandisk's repaired output without provenance: a quad dropped, a vertex pinched or a face
+/// flipped where the repair moved the map (in a fold-over region, where vertices are judged on
+/// the surface only) is still rejected, and a vertex moved off the surface there too; outside
+/// the regions a vertex off its grid point still is.
 TEST(RealMaps, BrokenMeshInAFoldRegionIsRejected) {
     const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "fandisk_param.obj";
     Input in;

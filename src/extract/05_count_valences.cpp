@@ -130,10 +130,12 @@ void count_by_runs(TriMesh& m, int v, const std::vector<Corner>& corners, std::v
         }
         // The whole fan flipped: a fold covering every triangle of it. Its transitions still turn
         // by the signed sum, so once unfolded its angle is a positive number of quarter turns
-        // congruent to it: the fewest (a flipped run's angle phi counts as 2*pi*j - phi), not
-        // |winding| (a quarter turn for a mirrored fan of three, which its transitions forbid).
-        const int turn = ((m.map.winding_valence[v] % 4) + 4) % 4;
-        m.map.valence[v] = turn == 0 ? 4 : turn;
+        // congruent to it: the fewest (a flipped run's angle phi counts as 2*pi*j - phi). Not
+        // |winding|: a mirrored fan of -3 quarter turns has transitions that turn by +1, so it
+        // unfolds to 1 (or 5), never 3. Whole turns stay as the winding has them (a branch point
+        // of 8 stays 8; the winding decides those, see above).
+        const int winding = m.map.winding_valence[v], turn = ((winding % 4) + 4) % 4;
+        m.map.valence[v] = turn == 0 ? std::max(4, std::abs(winding)) : turn;
         return;
     }
     m.map.valence[v] = static_cast<int>(std::lround(2.0 * run_angle_sum(fan, start) / M_PI));

@@ -320,6 +320,7 @@ double region_energy(const Problem& p, const Region& r, const std::vector<RestSh
         }
         double e = eps;
         if (p.barrier[t]) {
+            // Never inverted at a start (the caller's), and not to be inverted by a step.
             const double twice = (u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0]);
             if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
             e = 0.0;
@@ -533,39 +534,6 @@ VertexKey vertex_key(const TriMesh& m, int v) {
     return k;
 }
 
-/// Iterations of the final minimisation of a repaired region.
-constexpr int kPolishIterations = 2000;
-/// It stops when an iteration lowers the energy by less than this fraction of it.
-constexpr double kPolishStall = 1e-15;
-
-/// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
-/// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
-/// Where the untangler stops (the first iterate with nothing inverted) depends on rounding, so
-/// an integer translation or a re-charting of the map would move the result; the minimum does
-/// not. Kept only if the exact predicate still finds every triangle positive after placement.
-void polish_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
-                   std::vector<GridAutomorphism>& corner_to) {
-    if (!rest_shapes(m, r, rest)) return;
-    const Problem p = make_problem(m, r, rest, corner_slot, corner_to, {});
-    std::vector<double> x(p.unknowns);
-    std::vector<Point2> before;
-    double length = 0.0;
-    for (std::size_t i = 0; i < r.fans.size(); ++i) {
-        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
-        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
-        length += r.fans[i].length;
-        for (const int c : r.fans[i].corners) before.push_back(m.uv[c]);
-    }
-    minimise(p, r, rest, x, 0.0, length / static_cast<double>(r.fans.size()), kPolishIterations, kPolishStall);
-    for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
-    bool all = true;
-    for (const int f : r.faces) all = all && positive(m, f);
-    if (all) return;
-    std::size_t i = 0;
-    for (const FreeFan& fan : r.fans)
-        for (const int c : fan.corners) m.uv[c] = before[i++];
-}
-
 // ============================================================================ the winding certificate
 
 /// The signed angle at corner h of its triangle (from the edge to its next corner to the edge to
@@ -705,6 +673,41 @@ bool windings_kept(const TriMesh& m, const Region& r, const RegionMarks& marks) 
     return true;
 }
 
+/// Iterations of the final minimisation of a repaired region.
+constexpr int kPolishIterations = 2000;
+/// It stops when an iteration lowers the energy by less than this fraction of it.
+constexpr double kPolishStall = 1e-15;
+
+/// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
+/// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
+/// Where the untangler stops (the first iterate with nothing inverted) depends on rounding, so
+/// an integer translation or a re-charting of the map would move the result; the minimum does
+/// not. Kept only if the exact predicate still finds every triangle positive after placement,
+/// and every vertex still winds as it must.
+void polish_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, std::vector<int>& corner_slot,
+                   std::vector<GridAutomorphism>& corner_to, const RegionMarks& marks) {
+    if (!rest_shapes(m, r, rest)) return;
+    const Problem p = make_problem(m, r, rest, corner_slot, corner_to, {});
+    std::vector<double> x(p.unknowns);
+    std::vector<Point2> before;
+    double length = 0.0;
+    for (std::size_t i = 0; i < r.fans.size(); ++i) {
+        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        length += r.fans[i].length;
+        for (const int c : r.fans[i].corners) before.push_back(m.uv[c]);
+    }
+    minimise(p, r, rest, x, 0.0, length / static_cast<double>(r.fans.size()), kPolishIterations, kPolishStall);
+    for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
+    bool all = true;
+    for (const int f : r.faces) all = all && positive(m, f);
+    // A line-search step is discrete: a triangle could pass through zero and back within one.
+    if (all && windings_kept(m, r, marks)) return;
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = before[i++];
+}
+
 // ============================================================================ opening a cone's fan
 
 /// By how many whole turns v's fan winds past its target (0 for a boundary vertex).
@@ -726,7 +729,7 @@ int winding_excess(const TriMesh& m, int v, const RegionMarks& marks) {
 /// untangler keeps them positive, so the cone keeps its winding). False for a fan with several
 /// runs, a fixed inner rim vertex, or no room for the run (its angle not between 0 and pi per
 /// triangle), with nothing moved; or, after moving, when the cone still does not wind by its
-/// target (the caller restores the region's UVs).
+/// target (the caller restores the UVs it had before).
 bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
                    const std::unordered_map<int, std::size_t>& slot, int cone, std::vector<int>& barrier) {
     // From a canonical corner: the sums and the choices below depend neither on the input's
@@ -814,9 +817,30 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
               [&](int a, int b) { return vertex_key(m, a) < vertex_key(m, b); });
     std::unordered_map<int, std::size_t> slot;
     for (std::size_t k = 0; k < r.fans.size(); ++k) slot[r.fans[k].vertex] = k;
-    std::vector<int> barrier;
-    for (const int cone : short_cones) open_cone_fan(m, r, marks, slot, cone, barrier);
+    // Each cone is opened on top of the ones before it, and kept only if every barrier triangle
+    // so far is still positive and every cone opened so far still winds by its target (cones
+    // can share rim vertices): the barrier must start positive.
+    std::vector<int> barrier, opened;
+    std::vector<Point2> snapshot;
+    for (const int cone : short_cones) {
+        snapshot.clear();
+        for (const FreeFan& fan : r.fans)
+            for (const int c : fan.corners) snapshot.push_back(m.uv[c]);
+        const std::size_t kept = barrier.size();
+        bool ok = open_cone_fan(m, r, marks, slot, cone, barrier);
+        for (std::size_t k = 0; ok && k < barrier.size(); ++k) ok = positive(m, barrier[k]);
+        for (std::size_t k = 0; ok && k < opened.size(); ++k) ok = winding_excess(m, opened[k], marks) == 0;
+        if (ok) {
+            opened.push_back(cone);
+            continue;
+        }
+        barrier.resize(kept);
+        std::size_t j = 0;
+        for (const FreeFan& fan : r.fans)
+            for (const int c : fan.corners) m.uv[c] = snapshot[j++];
+    }
     std::sort(barrier.begin(), barrier.end());
+    barrier.erase(std::unique(barrier.begin(), barrier.end()), barrier.end());
     return !barrier.empty() && untangle_region(m, r, rest, corner_slot, corner_to, barrier) &&
            windings_kept(m, r, marks);
 }
@@ -1102,9 +1126,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     bad_triangles(m, pinned_vertices(m, feature_edges), seeds_faces, stuck);
     if (seeds_faces.empty() && stuck.empty()) return out;
     // Co-located dipoles next to the fold-overs are merged first (their vertices become free),
-    // in an order that does not depend on the input's.
+    // in an order that does not depend on the input's; not against the user's valences.
     std::vector<DipoleMerge> merges;
-    {
+    if (!valences_given) {
         const std::vector<char> pinned0 = pinned_vertices(m, feature_edges);
         std::vector<std::pair<VertexKey, int>> cones;
         for (int v = 0; v < m.num_vertices; ++v)
@@ -1117,6 +1141,14 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         }
     }
     const std::vector<char> pinned = pinned_vertices(m, feature_edges);
+    if (!merges.empty()) bad_triangles(m, pinned, seeds_faces, stuck); // merged vertices are free now
+    // A merge stands only if every vertex of its path was re-embedded by a certified region.
+    std::vector<char> reembedded(static_cast<std::size_t>(m.num_vertices), 0);
+    const auto merge_reembedded = [&](const DipoleMerge& d) {
+        bool all = reembedded[d.b] != 0;
+        for (const int e : d.path) all = all && reembedded[m.origin(e)];
+        return all && dipole_embedded(m, d);
+    };
     const std::vector<Point2> sanitized = m.uv;
     std::vector<RestShape> rest(static_cast<std::size_t>(m.num_faces()));
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
@@ -1128,7 +1160,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
         for (const DipoleMerge& d : merges)
-            if (!dipole_embedded(m, d))
+            if (!merge_reembedded(d))
                 for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
         if (seeds_faces.empty()) break;
         std::vector<int> seeds;
@@ -1159,7 +1191,10 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
                 if (!repaired && (untangled || !marks.cones.empty()))
                     repaired = untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
             }
-            if (repaired) polish_region(m, r, rest, corner_slot, corner_to);
+            if (repaired) {
+                polish_region(m, r, rest, corner_slot, corner_to, marks);
+                for (const FreeFan& fan : r.fans) reembedded[fan.vertex] = 1;
+            }
             // Each corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
             for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
                 m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));
@@ -1171,11 +1206,11 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         }
         bad_triangles(m, pinned, seeds_faces, stuck);
     }
+    // Undone in reverse order (a later path may run along an earlier one's edges).
+    for (std::size_t k = merges.size(); k-- > 0;)
+        if (!merge_reembedded(merges[k])) unmerge_dipole(m, merges[k]);
     for (const DipoleMerge& d : merges) {
-        if (!dipole_embedded(m, d)) {
-            unmerge_dipole(m, d);
-            continue;
-        }
+        if (m.map.singular[d.a]) continue; // undone
         report.explanations.push_back(
             {DefectKind::SingularitiesMerged,
              "the singularities at input vertices " + std::to_string(m.input_vertex[d.a]) + " (valence " +
