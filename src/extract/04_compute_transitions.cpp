@@ -189,18 +189,6 @@ void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const 
     }
 }
 
-/// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
-/// an open fan.
-int fan_turn(const TriMesh& m, int v) {
-    if (m.fan_start[v] < 0 || m.on_boundary[v]) return -1;
-    int c = m.fan_start[v], sum = 0, n = 0;
-    do {
-        sum += m.map.transition[c].r;
-        c = m.cw(c);
-    } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
-    return c == m.fan_start[v] ? sum & 3 : -1;
-}
-
 /// Dipoles: noise can still turn a short edge by a quarter, which puts singularities of
 /// opposite index on its two ends. A short edge whose ends turn by opposite amounts takes the
 /// rotation that makes both regular. Shortest edges first, so the outcome does not depend on
@@ -225,6 +213,16 @@ void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
 }
 
 } // namespace
+
+int fan_turn(const TriMesh& m, int v) {
+    if (m.fan_start[v] < 0 || m.on_boundary[v]) return -1;
+    int c = m.fan_start[v], sum = 0, n = 0;
+    do {
+        sum += m.map.transition[c].r;
+        c = m.cw(c);
+    } while (c >= 0 && c != m.fan_start[v] && ++n <= m.fan_size[v]);
+    return c == m.fan_start[v] ? sum & 3 : -1;
+}
 
 void compute_transitions(TriMesh& m) {
     const int nh = 3 * m.num_faces();

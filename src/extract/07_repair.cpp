@@ -176,6 +176,32 @@ struct Region {
     std::vector<int> faces;    ///< canonical order (sort_canonically)
 };
 
+std::vector<Point2> region_uvs(const TriMesh& m, const Region& r) {
+    std::vector<Point2> uvs;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) uvs.push_back(m.uv[c]);
+    return uvs;
+}
+
+void restore_region_uvs(TriMesh& m, const Region& r, const std::vector<Point2>& uvs) {
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = uvs[i++];
+}
+
+/// The free vertices' UVs in their first charts (the unknowns), and their mean edge length.
+std::vector<double> region_point(const TriMesh& m, const Region& r, double& length) {
+    std::vector<double> x(2 * r.fans.size());
+    length = 0.0;
+    for (std::size_t i = 0; i < r.fans.size(); ++i) {
+        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        length += r.fans[i].length;
+    }
+    length /= static_cast<double>(r.fans.size());
+    return x;
+}
+
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
 /// the input's corner order does not matter.
 int canonical_base(const TriMesh& m, int f) {
@@ -484,14 +510,8 @@ bool untangle_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, 
                      std::vector<GridAutomorphism>& corner_to, const std::vector<int>& barrier = {}) {
     if (!rest_shapes(m, r, rest)) return false;
     const Problem p = make_problem(m, r, rest, corner_slot, corner_to, barrier);
-    std::vector<double> x(p.unknowns);
     double length = 0.0;
-    for (std::size_t i = 0; i < r.fans.size(); ++i) {
-        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
-        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
-        length += r.fans[i].length;
-    }
-    length /= static_cast<double>(r.fans.size());
+    std::vector<double> x = region_point(m, r, length);
     double lowest = 0.0;
     region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
     double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
@@ -679,24 +699,15 @@ void polish_region(TriMesh& m, const Region& r, std::vector<RestShape>& rest, st
                    std::vector<GridAutomorphism>& corner_to, const RegionMarks& marks) {
     if (!rest_shapes(m, r, rest)) return;
     const Problem p = make_problem(m, r, rest, corner_slot, corner_to, {});
-    std::vector<double> x(p.unknowns);
-    std::vector<Point2> before;
+    const std::vector<Point2> before = region_uvs(m, r);
     double length = 0.0;
-    for (std::size_t i = 0; i < r.fans.size(); ++i) {
-        x[2 * i] = m.uv[r.fans[i].corners[0]][0];
-        x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
-        length += r.fans[i].length;
-        for (const int c : r.fans[i].corners) before.push_back(m.uv[c]);
-    }
-    minimise(p, r, rest, x, 0.0, length / static_cast<double>(r.fans.size()), kPolishIterations, kPolishStall);
+    std::vector<double> x = region_point(m, r, length);
+    minimise(p, r, rest, x, 0.0, length, kPolishIterations, kPolishStall);
     for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
     bool all = true;
     for (const int f : r.faces) all = all && positive(m, f);
     // A line-search step is discrete: a triangle could pass through zero and back within one.
-    if (all && windings_kept(m, r, marks)) return;
-    std::size_t i = 0;
-    for (const FreeFan& fan : r.fans)
-        for (const int c : fan.corners) m.uv[c] = before[i++];
+    if (!(all && windings_kept(m, r, marks))) restore_region_uvs(m, r, before);
 }
 
 // ============================================================================ opening a cone's fan
@@ -796,9 +807,7 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
 bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
                               std::vector<RestShape>& rest, std::vector<int>& corner_slot,
                               std::vector<GridAutomorphism>& corner_to) {
-    std::size_t i = 0;
-    for (const FreeFan& fan : r.fans)
-        for (const int c : fan.corners) m.uv[c] = before[i++];
+    restore_region_uvs(m, r, before);
     std::vector<int> short_cones;
     for (const int v : marks.fixed)
         if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) < 0) short_cones.push_back(v);
@@ -812,11 +821,8 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
     // so far is still positive and every cone opened so far still winds by its target (cones
     // can share rim vertices): the barrier must start positive.
     std::vector<int> barrier, opened;
-    std::vector<Point2> snapshot;
     for (const int cone : short_cones) {
-        snapshot.clear();
-        for (const FreeFan& fan : r.fans)
-            for (const int c : fan.corners) snapshot.push_back(m.uv[c]);
+        const std::vector<Point2> snapshot = region_uvs(m, r);
         const std::size_t kept = barrier.size();
         bool ok = open_cone_fan(m, r, marks, slot, cone, barrier);
         for (std::size_t k = 0; ok && k < barrier.size(); ++k) ok = positive(m, barrier[k]);
@@ -826,9 +832,7 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
             continue;
         }
         barrier.resize(kept);
-        std::size_t j = 0;
-        for (const FreeFan& fan : r.fans)
-            for (const int c : fan.corners) m.uv[c] = snapshot[j++];
+        restore_region_uvs(m, r, snapshot);
     }
     std::sort(barrier.begin(), barrier.end());
     barrier.erase(std::unique(barrier.begin(), barrier.end()), barrier.end());
@@ -938,9 +942,6 @@ GridAutomorphism fan_holonomy(const TriMesh& m, int start) {
     return g;
 }
 
-/// The turn (quarter turns, 0..3) of interior vertex v's fan transitions.
-int fan_turn_of(const TriMesh& m, int v) { return fan_holonomy(m, m.fan_start[v]).r; }
-
 /// Whether v is an interior singularity next to a flipped or degenerate triangle.
 bool folded_singularity(const TriMesh& m, int v) {
     if (!m.map.singular[v] || m.on_boundary[v] || m.fan_start[v] < 0) return false;
@@ -958,7 +959,7 @@ bool folded_singularity(const TriMesh& m, int v) {
 /// the path keeps its fan closed), and the repair then re-embeds the region as a disk. Found
 /// breadth first from `a` over `pinned`-free vertices; true with the path in `merge`.
 bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pinned, DipoleMerge& merge) {
-    const int ta = fan_turn_of(m, a);
+    const int ta = fan_turn(m, a);
     if (ta <= 0) return false;
     // From a canonical corner of a's fan, so that the path found depends neither on the input's
     // order nor on its charts: every other vertex's fan is walked from the corner it is reached by.
@@ -980,7 +981,7 @@ bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pin
             if (!parent.count(x)) {
                 parent[x] = {h, depth + 1};
                 if (m.map.singular[x] && !m.on_boundary[x] && x != a) {
-                    const int tx = fan_turn_of(m, x);
+                    const int tx = fan_turn(m, x);
                     if (tx > 0 && ((ta + tx) & 3) == 0 && m.map.valence[a] + m.map.valence[x] == 8 &&
                         g.inverse()(m.uv[c]) == ua) {
                         merge.a = a, merge.b = x;
@@ -1147,6 +1148,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<GridAutomorphism> corner_to(corner_slot.size());
     RegionMarks marks{std::vector<char>(static_cast<std::size_t>(m.num_faces()), 0),
                       std::vector<char>(static_cast<std::size_t>(m.num_vertices), 0),
+                      {},
                       {}};
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
@@ -1169,9 +1171,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         });
         for (const Region& r : regions) {
             if (r.fans.size() > kMaxRegionVertices) continue;
-            std::vector<Point2> before;
-            for (const FreeFan& fan : r.fans)
-                for (const int c : fan.corners) before.push_back(m.uv[c]);
+            const std::vector<Point2> before = region_uvs(m, r);
             marks.mark(m, r);
             bool repaired = false;
             if (admits_embedding(m, r, valences_given, marks)) {
@@ -1190,10 +1190,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
                 m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));
             marks.clear(r);
-            if (repaired) continue;
-            std::size_t i = 0;
-            for (const FreeFan& fan : r.fans)
-                for (const int c : fan.corners) m.uv[c] = before[i++];
+            if (!repaired) restore_region_uvs(m, r, before);
         }
         bad_triangles(m, pinned, seeds_faces, stuck);
     }

@@ -153,6 +153,10 @@ struct RepairOutcome {
     std::int64_t regions_repaired = 0, regions_failed = 0;
 };
 
+/// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
+/// an open fan.
+int fan_turn(const TriMesh& m, int v);
+
 /// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
 /// sanitized map. Each region's free vertices (interior, regular, not on a feature) move so
 /// that every triangle around them is positively oriented, decided exactly; singular,
