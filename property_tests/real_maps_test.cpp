@@ -1,6 +1,7 @@
 // Real parametrizations from ../shared (skipped with a message where absent): the paper's six
 // maps must extract to valid quad meshes; the 25 MIQ maps must end valid or with located defects.
 #include "map_transforms.h"
+#include "pipeline.h"
 #include "result_checks.h"
 #include "test_support.h"
 
@@ -286,6 +287,46 @@ TEST(RealMaps, CoLocatedDipoleIsMergedNamedAndItsFoldRepaired) {
         EXPECT_NE(d.message.find("valence 5"), std::string::npos) << d.message;
         EXPECT_NE(d.message.find("valence 3"), std::string::npos) << d.message;
     }
+}
+
+/// The merge of a co-located dipole changes two singularities' valences, which the user's valences
+/// forbid: fandisk x 8 with the valences the pipeline counts on its sanitized map given as the
+/// user's is extracted
+/// without a merge (the pair stays, and the result says what that leaves), and with the same
+/// valences computed instead, with one.
+TEST(RealMaps, NoDipoleIsMergedAgainstGivenValences) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "fandisk_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    ASSERT_EQ(transforms::scale_uvs(in, 8), 0);
+    // The valences the repaired rung starts from: counted on the collapsed, sanitized map.
+    detail::TriMesh m;
+    ASSERT_EQ(detail::validate(in, 1, m).code, ErrorCode::None);
+    std::int64_t collapsed = 0;
+    ASSERT_EQ(detail::collapse(m, collapsed).code, ErrorCode::None);
+    Report report;
+    detail::StageTimer timer(report);
+    ASSERT_EQ(detail::sanitize_until_stable(m, in, {}, report, timer).code, ErrorCode::None);
+    detail::count_valences(m, true);
+    std::vector<int> valences(in.positions.size(), 4);
+    for (int v = 0; v < m.num_vertices; ++v) valences[m.input_vertex[v]] = m.map.valence[v];
+    const auto merges = [](const Result& r) {
+        return std::count_if(r.report.explanations.begin(), r.report.explanations.end(),
+                             [](const Defect& d) { return d.kind == DefectKind::SingularitiesMerged; });
+    };
+    Options one_rung; // the repaired rung alone, at the map's own scale: the merge is its business
+    one_rung.fallback_ladder = false;
+    const Result computed = extract(in, one_rung);
+    ASSERT_TRUE(computed.ok()) << computed.error.message;
+    ASSERT_GT(merges(computed), 0) << "no dipole merged on fandisk x 8: pick another map";
+    in.valences = valences;
+    const Result given = extract(in, one_rung);
+    ASSERT_TRUE(given.ok()) << given.error.message;
+    EXPECT_EQ(merges(given), 0);
+    // Whatever that leaves, the verdict is the checker's and every defect is located.
+    const VerifyResult v = verify(in, given.mesh);
+    EXPECT_EQ(result_inconsistency(in, given, &v), "");
+    if (!v.valid) { EXPECT_FALSE(given.report.defects.empty()); }
 }
 
 /// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of

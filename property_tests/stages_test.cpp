@@ -2,6 +2,7 @@
 #include "pipeline.h"
 #include "test_support.h"
 
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -63,6 +64,39 @@ TEST(Valences, WhollyFlippedFanCountsAsItsTransitionsTurn) {
         EXPECT_EQ(m.map.valence[centre], mirrored ? 1 : 3);
         EXPECT_EQ(((m.map.valence[centre] - m.map.winding_valence[centre]) % 4 + 4) % 4, 0);
     }
+}
+
+TEST(Valences, WhollyFlippedFanWhoseTransitionsDoNotTurnKeepsItsWholeTurns) {
+    // n unit right corners round vertex 0 (ring 1..n on the boundary), each in its own chart: the
+    // transitions across the n inner edges turn by n quarters, a whole number of turns for n = 4,
+    // 8, 12. Mirrored (u and v swapped), the whole fan is one flipped run with signed sum -n
+    // quarter turns and transitions that do not turn: the turns are the winding's to decide, so
+    // a mirrored branch point of 8 stays 8 (the fewest positive quarter turns congruent to 0
+    // would make it 4, regular), and a mirrored regular vertex stays 4.
+    for (const int n : {4, 8, 12})
+        for (const bool mirrored : {false, true}) {
+            Input in;
+            in.positions.push_back({0, 0, 1});
+            for (int i = 0; i < n; ++i) {
+                const double a = 2.0 * M_PI * i / n;
+                in.positions.push_back({std::cos(a), std::sin(a), 0});
+            }
+            for (int i = 0; i < n; ++i) {
+                in.triangles.push_back({0, 1 + i, 1 + (i + 1) % n});
+                for (const auto& uv : {std::array<double, 2>{0, 0}, {1, 0}, {0, 1}})
+                    in.uvs.push_back(mirrored ? std::array<double, 2>{uv[1], uv[0]} : uv);
+            }
+            detail::TriMesh m = detail::make_mesh(in);
+            ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+            detail::compute_transitions(m);
+            detail::count_valences(m);
+            int centre = -1;
+            for (int v = 0; v < m.num_vertices; ++v)
+                if (m.input_vertex[v] == 0) centre = v;
+            ASSERT_GE(centre, 0);
+            EXPECT_EQ(m.map.winding_valence[centre], mirrored ? -n : n) << n << (mirrored ? " mirrored" : "");
+            EXPECT_EQ(m.map.valence[centre], n) << n << (mirrored ? " mirrored" : "");
+        }
 }
 
 TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
