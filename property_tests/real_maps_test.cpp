@@ -291,9 +291,8 @@ TEST(RealMaps, CoLocatedDipoleIsMergedNamedAndItsFoldRepaired) {
 
 /// The merge of a co-located dipole changes two singularities' valences, which the user's valences
 /// forbid: fandisk x 8 with the valences the pipeline counts on its sanitized map given as the
-/// user's is extracted
-/// without a merge (the pair stays, and the result says what that leaves), and with the same
-/// valences computed instead, with one.
+/// user's is extracted without a merge (the pair stays, and the result says what that leaves),
+/// and with the same valences computed instead, with one.
 TEST(RealMaps, NoDipoleIsMergedAgainstGivenValences) {
     const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "fandisk_param.obj";
     Input in;
