@@ -135,5 +135,56 @@ TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
     EXPECT_GT(boundary, 0);
     EXPECT_EQ(missing, 6); // the triangle's three half-edges and their three opposites
 }
+TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
+    // A cube corner s (valence 3) and a vertex w inserted into one of its triangles a little off
+    // s in that triangle's chart: the edge s-w is about as long as the difference of its two
+    // copies, so its rotation is undetermined, and closing s's fan (s regular, the singularity
+    // moves to w) and closing w's fan (s stays singular) disagree. Which end decides must not
+    // depend on the input's order.
+    Input base = make_map(cube_layout(), 2, 2);
+    std::size_t f = 0, corner = 0;
+    for (std::size_t c = 0; c < 3 * base.triangles.size(); ++c) {
+        const auto& p = base.positions[static_cast<std::size_t>(base.triangles[c / 3][c % 3])];
+        if ((p[0] == 0 || p[0] == 1) && (p[1] == 0 || p[1] == 1) && (p[2] == 0 || p[2] == 1)) {
+            f = c / 3, corner = c % 3;
+            break;
+        }
+    }
+    const int sv = base.triangles[f][corner];
+    const auto s = base.positions[static_cast<std::size_t>(sv)];
+    const auto s_uv = base.uvs[3 * f + corner]; // the three new triangles keep f's chart
+    insert_collapsed_edge(base, static_cast<int>(f), static_cast<int>(corner));
+    const int w = static_cast<int>(base.positions.size()) - 1;
+    const auto w_position = base.positions.back();
+    // w's corners: s + (d, 0), but s + (d, d) in the triangle where the edge runs from w to s.
+    const double d = std::ldexp(1.0, -20);
+    for (std::size_t g = 0; g < base.triangles.size(); ++g)
+        for (std::size_t k = 0; k < 3; ++k)
+            if (base.triangles[g][k] == w)
+                base.uvs[3 * g + k] = {s_uv[0] + d, s_uv[1] + (base.triangles[g][(k + 1) % 3] == sv ? d : 0.0)};
+    // The turns round s and w, found by their 3D positions.
+    const auto turns = [&](const Input& in) {
+        detail::TriMesh m = detail::make_mesh(in);
+        EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+        detail::compute_transitions(m);
+        std::array<int, 2> out{-9, -9};
+        for (int v = 0; v < m.num_vertices; ++v) {
+            const auto& p = in.positions[static_cast<std::size_t>(m.input_vertex[v])];
+            if (p == s) out[0] = detail::fan_turn(m, v);
+            if (p == w_position) out[1] = detail::fan_turn(m, v);
+        }
+        return out;
+    };
+    const std::array<int, 2> expected = turns(base);
+    EXPECT_TRUE((expected[0] == 0) != (expected[1] == 0)) << expected[0] << " " << expected[1];
+    for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+        std::mt19937 rng(seed);
+        Input shuffled = base;
+        shuffle(shuffled, rng);
+        const std::array<int, 2> got = turns(shuffled);
+        EXPECT_EQ(got[0], expected[0]) << "seed " << seed;
+        EXPECT_EQ(got[1], expected[1]) << "seed " << seed;
+    }
+}
 } // namespace
 } // namespace qex::testing

@@ -9,6 +9,7 @@
 #include "pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -175,10 +176,14 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
     return -1;
 }
 
-/// Undetermined edges, in index order: the rotation that closes the fan round the edge's start
-/// (a: corner h in face(h), corner next(o) in face(o)), else its end; else the nearest stands.
+/// Undetermined edges: the rotation that closes the fan round the edge's end with the smaller 3D
+/// position (canonical_half_edge; a: corner h in face(h), corner next(o) in face(o)), else its
+/// other end; else the nearest stands. When both fans close but disagree, which end is tried
+/// first decides, so it must not be the input's order. Each edge's walks cross determined edges
+/// only, so the order of the edges does not matter.
 void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const std::vector<int>& undetermined) {
-    for (const int h : undetermined) {
+    for (const int listed : undetermined) {
+        const int h = canonical_half_edge(m, listed);
         const int o = m.opp[h];
         int r = closing_rotation(m, determined, h, TriMesh::next(o));
         if (r < 0) {
@@ -191,8 +196,8 @@ void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const 
 
 /// Dipoles: noise can still turn a short edge by a quarter, which puts singularities of
 /// opposite index on its two ends. A short edge whose ends turn by opposite amounts takes the
-/// rotation that makes both regular. Shortest edges first, so the outcome does not depend on
-/// the input's order.
+/// rotation that makes both regular. Shortest edges first, edges of one length by their ends'
+/// 3D positions, so the outcome does not depend on the input's order.
 void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
     // The turn of each short edge's ends, walked when first needed (-2: not yet walked).
     std::vector<int> turns(static_cast<std::size_t>(m.num_vertices), -2);
@@ -201,7 +206,19 @@ void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
         if (t == -2) t = fan_turn(m, v);
         return t;
     };
-    std::sort(short_edges.begin(), short_edges.end());
+    const auto at = [&](int v) -> const std::array<double, 3>& {
+        return (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])];
+    };
+    using Ends = std::array<std::array<double, 3>, 2>;
+    const auto ends = [&](int h) {
+        const auto &a = at(m.origin(h)), &b = at(m.target(h));
+        return a < b ? Ends{a, b} : Ends{b, a};
+    };
+    std::sort(short_edges.begin(), short_edges.end(), [&](const auto& x, const auto& y) {
+        if (x.first != y.first) return x.first < y.first;
+        const Ends ex = ends(x.second), ey = ends(y.second);
+        return ex != ey ? ex < ey : x.second < y.second; // two edges at the same points: index order
+    });
     for (const auto& [l, h] : short_edges) {
         int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
         if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite

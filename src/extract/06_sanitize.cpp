@@ -99,7 +99,7 @@ Point2 fixed_point(const GridAutomorphism& g) {
 
 /// A vertex's fan and the transitions between its charts.
 struct Fan {
-    std::vector<int> corners;           ///< clockwise; a closed fan starts at its smallest UV
+    std::vector<int> corners;           ///< clockwise; a closed fan starts at fan_corner_less's first
     std::vector<GridAutomorphism> to_c; ///< chart of corners[0] -> chart of corners[i]
     GridAutomorphism loop;              ///< once round a closed fan; the identity for an open one
     bool closed = false;                ///< interior vertex
@@ -111,12 +111,15 @@ void walk_fan(const TriMesh& m, int v, Fan& fan) {
     corners.clear();
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) corners.push_back(h);
     fan.closed = !m.on_boundary[v];
-    // Start at the corner with the smallest UV, so the result does not depend on input order.
-    if (fan.closed) {
-        const auto first =
-            std::min_element(corners.begin(), corners.end(), [&](int a, int b) { return m.uv[a] < m.uv[b]; });
-        std::rotate(corners.begin(), first, corners.end());
-    }
+    // Start at the canonical corner, so the result does not depend on input order: the truncated
+    // or snapped UV is computed in the start's chart, and corners in different charts can carry
+    // one UV (charts turned about a point within noise of the vertex), so the smallest UV alone
+    // does not decide.
+    if (fan.closed)
+        std::rotate(
+            corners.begin(),
+            std::min_element(corners.begin(), corners.end(), [&](int a, int b) { return fan_corner_less(m, a, b); }),
+            corners.end());
     const std::size_t n = corners.size();
     fan.to_c.assign(n, GridAutomorphism{});
     for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[corners[i - 1]].after(fan.to_c[i - 1]);
@@ -243,6 +246,15 @@ void set_face_signs(TriMesh& m) {
 }
 
 } // namespace
+
+bool fan_corner_less(const TriMesh& m, int a, int b) {
+    if (m.uv[a] != m.uv[b]) return m.uv[a] < m.uv[b];
+    const int na = TriMesh::next(a), nb = TriMesh::next(b), pa = TriMesh::prev(a), pb = TriMesh::prev(b);
+    if (m.pos(na) != m.pos(nb)) return m.pos(na) < m.pos(nb);
+    if (m.pos(pa) != m.pos(pb)) return m.pos(pa) < m.pos(pb);
+    if (m.uv[na] != m.uv[nb]) return m.uv[na] < m.uv[nb];
+    return m.uv[pa] < m.uv[pb];
+}
 
 Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
                          Point2 u0) {

@@ -136,6 +136,12 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
                Report& report, bool branch_points = true, std::int64_t* deferred = nullptr);
 
+/// The order in which a closed fan's corners compete to start it (corner a before corner b, both
+/// of one vertex): by UV, then the 3D positions of their next and previous corners, then those
+/// corners' UVs; all of it the input's data, none of it its order. Two corners tie only if their
+/// triangles agree in every 3D position and UV.
+bool fan_corner_less(const TriMesh& m, int a, int b);
+
 /// u0 (in the chart of corners[0]) truncated to a power of two at least as large as every
 /// coordinate of the fan's corners, before and after propagation through `to_c` (chart of
 /// corners[0] -> chart of corners[i]): truncated to it, u0 propagates exactly. u0 itself if the
