@@ -126,16 +126,12 @@ FreeFan free_fan(const TriMesh& m, int v) {
     FreeFan fan;
     fan.vertex = v;
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.corners.push_back(h);
-    // The start: smallest UV, then smallest 3D position of the next and previous corners.
-    auto key_less = [&](int a, int b) {
-        if (m.uv[a] != m.uv[b]) return m.uv[a] < m.uv[b];
-        if (m.pos(TriMesh::next(a)) != m.pos(TriMesh::next(b)))
-            return less3(m.pos(TriMesh::next(a)), m.pos(TriMesh::next(b)));
-        return less3(m.pos(TriMesh::prev(a)), m.pos(TriMesh::prev(b)));
-    };
+    // The start: the canonical corner sanitize starts the fan at too. The fan is closed (the
+    // vertex is interior): rotating it keeps its order.
     std::vector<int>& walk = fan.corners;
-    // The fan is closed (the vertex is interior): rotating it keeps its order.
-    std::rotate(walk.begin(), std::min_element(walk.begin(), walk.end(), key_less), walk.end());
+    std::rotate(walk.begin(),
+                std::min_element(walk.begin(), walk.end(), [&](int a, int b) { return fan_corner_less(m, a, b); }),
+                walk.end());
     const std::size_t n = walk.size();
     fan.to_c.assign(n, GridAutomorphism{});
     for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[walk[i - 1]].after(fan.to_c[i - 1]);
