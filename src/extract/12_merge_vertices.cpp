@@ -167,6 +167,7 @@ bool split_lost_edge(const TriMesh& m, const QState& q, const Loop& l, int pass,
 std::vector<Loop> recover_lost_edges(const TriMesh& m, const QState& q, FaceWalks& faces, const Options& opt,
                                      Report& report) {
     std::vector<Loop> work = take_loops(faces), loops;
+    loops.reserve(work.size());
     Loop a, b;
     while (!work.empty()) {
         Loop l = std::move(work.back());
@@ -412,19 +413,25 @@ void report_non_quad(const TriMesh& m, const QState& q, const Loop& l, std::size
 }
 
 /// 5. Output: one vertex per class of merged clones (choose_clones), numbered in the order the
-///    faces first use them; the faces with their local UVs.
-void write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& simple, UnionFind& sets, QuadMesh& out,
-                  Report& report) {
+///    faces first use them; the faces with their local UVs, flat (merge_vertices).
+FaceWalks write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& simple, UnionFind& sets,
+                       QuadMesh& out, Report& report) {
     const int nq = static_cast<int>(q.qvertices.size());
     std::vector<int> chosen, count;
     choose_clones(q, sets, chosen, count);
     std::vector<int> out_id(nq, -1);
     out = QuadMesh{};
+    // Reserved at a bound (a vertex per q-vertex): capacity left untouched costs no memory, where
+    // growing by doubling touched up to twice the mesh's size.
+    out.positions.reserve(static_cast<std::size_t>(nq));
+    out.provenance.reserve(static_cast<std::size_t>(nq));
+    FaceWalks faces;
+    std::size_t corners = 0;
+    for (const Loop& l : simple) corners += l.size();
+    faces.first.reserve(simple.size() + 1);
+    faces.qv.reserve(corners);
+    faces.uv.reserve(corners);
     for (const Loop& l : simple) {
-        std::vector<int> face;
-        std::vector<std::array<std::int64_t, 2>> uvs;
-        face.reserve(l.size());
-        uvs.reserve(l.size());
         for (const Corner& c : l) {
             if (out_id[c.v] < 0) {
                 out_id[c.v] = static_cast<int>(out.positions.size());
@@ -432,25 +439,25 @@ void write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& si
                 out.positions.push_back(v.position);
                 out.provenance.push_back(provenance_of(m, v, count[c.v]));
             }
-            face.push_back(out_id[c.v]);
-            uvs.push_back({c.uv[0], c.uv[1]});
+            faces.qv.push_back(out_id[c.v]);
+            faces.uv.push_back(c.uv);
         }
-        if (face.size() != 4) report_non_quad(m, q, l, face.size(), out.faces.size(), report);
-        out.faces.push_back(std::move(face));
-        out.face_uvs.push_back(std::move(uvs));
+        if (l.size() != 4) report_non_quad(m, q, l, l.size(), faces.size(), report);
+        faces.first.push_back(faces.qv.size());
     }
+    return faces;
 }
 
 } // namespace
 
-void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
-                    Report& report) {
+FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
+                         Report& report) {
     std::vector<Loop> loops = recover_lost_edges(m, q, faces, opt, report);
     UnionFind sets(q.qvertices.size());
     if (opt.merge_vertices) merge_clones(q, loops, sets, report);
     std::vector<Loop> simple = simplify_faces(m, q, loops, sets, report);
     cancel_ghost_faces(m, q, simple, report);
-    write_output(m, q, simple, sets, out, report);
+    return write_output(m, q, simple, sets, out, report);
 }
 
 } // namespace qex::detail
