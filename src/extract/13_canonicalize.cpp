@@ -2,9 +2,12 @@
 // vertex with local UVs relative to that corner (and turned so its first edge runs along +u), faces sorted by their vertex lists. Positions are
 // computed order-independently upstream, so any vertex, face or corner order of the input gives
 // the identical mesh.
+#include "parallel.h"
 #include "pipeline.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstddef>
 #include <numeric>
 
@@ -12,14 +15,42 @@ namespace qex::detail {
 
 namespace {
 
+/// Sorts `v` by `less`, a total order (so the result is unique): on two threads, each half
+/// sorted on its own and the halves merged, from 2^16 elements.
+template <class T, class Less>
+void sort_total(std::vector<T>& v, Less less, int threads) {
+    if (!run_parallel(threads, static_cast<std::int64_t>(v.size()))) {
+        std::sort(v.begin(), v.end(), less);
+        return;
+    }
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static, 1) num_threads(2)
+#endif
+    for (int half = 0; half < 2; ++half) std::sort(half == 0 ? v.begin() : mid, half == 0 ? mid : v.end(), less);
+    std::vector<T> merged(v.size());
+    std::merge(v.begin(), mid, mid, v.end(), merged.begin(), less);
+    v.swap(merged);
+}
+
 /// Output vertices by position (ties by index).
-std::vector<int> vertex_order(const QuadMesh& mesh) {
-    std::vector<int> order(mesh.positions.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
-        if (mesh.positions[a] != mesh.positions[b]) return mesh.positions[a] < mesh.positions[b];
-        return a < b;
-    });
+std::vector<int> vertex_order(const QuadMesh& mesh, int threads) {
+    // Sorted as keys that carry their positions: comparisons then read no other memory.
+    struct Key {
+        std::array<double, 3> p;
+        int index;
+    };
+    std::vector<Key> keys(mesh.positions.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) keys[i] = {mesh.positions[i], static_cast<int>(i)};
+    sort_total(
+        keys,
+        [](const Key& a, const Key& b) {
+            if (a.p != b.p) return a.p < b.p;
+            return a.index < b.index;
+        },
+        threads);
+    std::vector<int> order(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].index;
     return order;
 }
 
@@ -54,7 +85,7 @@ void normalize_faces(FaceWalks& faces, const std::vector<int>& rank) {
 /// Faces in the order of their vertex lists (as std::vector's operator< orders them). The first
 /// four entries, padded with -1, are compared in place; longer faces that tie on them are
 /// compared in full.
-std::vector<int> face_order(const FaceWalks& faces) {
+std::vector<int> face_order(const FaceWalks& faces, int threads) {
     struct FaceKey {
         std::array<int, 4> head;
         int face;
@@ -65,17 +96,21 @@ std::vector<int> face_order(const FaceWalks& faces) {
         for (std::size_t k = 0; k < 4 && faces.first[f] + k < faces.first[f + 1]; ++k)
             fkeys[f].head[k] = faces.qv[faces.first[f] + k];
     }
-    std::sort(fkeys.begin(), fkeys.end(), [&](const FaceKey& a, const FaceKey& b) {
-        if (a.head != b.head) return a.head < b.head;
-        const auto fa = static_cast<std::size_t>(a.face), fb = static_cast<std::size_t>(b.face);
-        const std::size_t na = faces.first[fa + 1] - faces.first[fa], nb = faces.first[fb + 1] - faces.first[fb];
-        if (na > 4 || nb > 4) {
-            const int* x = faces.qv.data() + faces.first[fa];
-            const int* y = faces.qv.data() + faces.first[fb];
-            if (na != nb || !std::equal(x, x + na, y)) return std::lexicographical_compare(x, x + na, y, y + nb);
-        }
-        return a.face < b.face;
-    });
+    sort_total(
+        fkeys,
+        [&](const FaceKey& a, const FaceKey& b) {
+            for (std::size_t k = 0; k < 4; ++k)
+                if (a.head[k] != b.head[k]) return a.head[k] < b.head[k];
+            const auto fa = static_cast<std::size_t>(a.face), fb = static_cast<std::size_t>(b.face);
+            const std::size_t na = faces.first[fa + 1] - faces.first[fa], nb = faces.first[fb + 1] - faces.first[fb];
+            if (na > 4 || nb > 4) {
+                const int* x = faces.qv.data() + faces.first[fa];
+                const int* y = faces.qv.data() + faces.first[fb];
+                if (na != nb || !std::equal(x, x + na, y)) return std::lexicographical_compare(x, x + na, y, y + nb);
+            }
+            return a.face < b.face;
+        },
+        threads);
     std::vector<int> order(faces.size());
     for (std::size_t i = 0; i < fkeys.size(); ++i) order[i] = fkeys[i].face;
     return order;
@@ -109,10 +144,10 @@ void set_faces(QuadMesh& mesh, const FaceWalks& faces) {
     fill_faces(mesh, faces, order);
 }
 
-std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces) {
+std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces, int threads) {
     std::vector<int> rank;
     {
-        const std::vector<int> order = vertex_order(mesh);
+        const std::vector<int> order = vertex_order(mesh, threads);
         rank.resize(order.size());
         for (std::size_t i = 0; i < order.size(); ++i) rank[order[i]] = static_cast<int>(i);
         std::vector<std::array<double, 3>> positions;
@@ -127,7 +162,7 @@ std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces) {
         mesh.provenance.swap(provenance);
     }
     normalize_faces(faces, rank);
-    const std::vector<int> order = face_order(faces);
+    const std::vector<int> order = face_order(faces, threads);
     std::vector<int> new_index(faces.size());
     for (std::size_t i = 0; i < order.size(); ++i) new_index[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
     fill_faces(mesh, faces, order);

@@ -251,7 +251,7 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     if (options.canonical_order) {
-        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces));
+        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
         for (Defect& d : report.defects)
             if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
     } else {

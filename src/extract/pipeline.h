@@ -278,8 +278,8 @@ GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int
 
 /// Sorts output vertices and faces canonically (so any input order gives the same mesh) and
 /// sets the mesh's faces from `faces` (merge_vertices'), in that order; returns, per old face
-/// index, its new index.
-std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces);
+/// index, its new index. `threads` for its sorts (the order is the same for any).
+std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces, int threads);
 
 /// Sets the mesh's faces from `faces` (merge_vertices'), in their order (no canonical order).
 void set_faces(QuadMesh& mesh, const FaceWalks& faces);
