@@ -318,7 +318,7 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
     // canonical order, the first to arrive at a port winning it.
     std::vector<TraceEnd> ends(later.size());
     std::vector<int> target(later.size(), -1);
-    std::vector<int> slot(static_cast<std::size_t>(np), -1);
+    std::vector<int> slot(later.empty() ? 0 : static_cast<std::size_t>(np), -1); // read only for later ports
     for (std::size_t i = 0; i < later.size(); ++i) {
         const int p = later[i];
         slot[static_cast<std::size_t>(p)] = static_cast<int>(i);

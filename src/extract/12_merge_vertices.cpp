@@ -279,20 +279,6 @@ private:
     std::vector<std::size_t> first_{0};
 };
 
-/// The first face in `order` (sorted keys) whose key is `rev` and that is not dropped, or order.end().
-std::vector<std::size_t>::const_iterator unpaired_reverse(const CycleKeys& keys, const std::vector<std::size_t>& order,
-                                                          const std::vector<char>& drop, const std::vector<int>& rev) {
-    auto it = std::lower_bound(order.begin(), order.end(), std::size_t{0}, [&](std::size_t x, std::size_t) {
-        return CycleKeys::less(keys.key(x), keys.size(x), rev.data(), rev.size());
-    });
-    auto is_rev = [&](std::size_t x) {
-        return keys.size(x) == rev.size() && std::equal(rev.begin(), rev.end(), keys.key(x));
-    };
-    while (it != order.end() && is_rev(*it) && drop[*it]) ++it;
-    if (it == order.end() || !is_rev(*it)) return order.end();
-    return it;
-}
-
 /// The explanation of a face and its reverse cancelled, near the first corner of `face`.
 void explain_ghosts(const TriMesh& m, const QState& q, const Loop& face, Report& report) {
     const QVertex& v = q.qvertices[face[0].v];
@@ -314,17 +300,33 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
     const std::vector<std::size_t> order = keys.sorted();
     std::vector<char> drop(simple.size(), 0);
     std::vector<int> rev;
-    for (const std::size_t i : order) {
-        if (drop[i]) continue;
-        // The reverse cycle, rotated to start at the same (smallest) vertex.
+    // A face's reverse has its length and starts at its smallest vertex: it lies in the face's
+    // group, the run of `order` whose keys share both (a few faces), searched in order.
+    std::size_t group_begin = 0, group_end = 0;
+    for (std::size_t at = 0; at < order.size(); ++at) {
+        const std::size_t i = order[at];
         const int* key = keys.key(i);
         const std::size_t n = keys.size(i);
+        if (at == group_end) {
+            group_begin = at;
+            for (group_end = at + 1; group_end < order.size(); ++group_end) {
+                const std::size_t x = order[group_end];
+                if (keys.size(x) != n || keys.key(x)[0] != key[0]) break;
+            }
+        }
+        if (drop[i]) continue;
+        // The reverse cycle, rotated to start at the same (smallest) vertex.
         rev.assign(1, key[0]);
         for (std::size_t j = n - 1; j >= 1; --j) rev.push_back(key[j]);
         if (std::equal(rev.begin(), rev.end(), key)) continue;
-        const auto it = unpaired_reverse(keys, order, drop, rev);
-        if (it == order.end()) continue;
-        drop[i] = drop[*it] = 1;
+        // The first face of the group (in key order) whose key is `rev` and that is not dropped.
+        std::size_t match = order.size();
+        for (std::size_t g = group_begin; g < group_end && match == order.size(); ++g) {
+            const std::size_t x = order[g];
+            if (!drop[x] && std::equal(rev.begin(), rev.end(), keys.key(x))) match = x;
+        }
+        if (match == order.size()) continue;
+        drop[i] = drop[match] = 1;
         report.ghost_faces_cancelled += 2;
         explain_ghosts(m, q, simple[i], report);
     }
