@@ -42,7 +42,8 @@ IoError read_obj(const std::string& path, Input& out, int threads = 0);
 IoError read_vval(const std::string& path, std::vector<int>& valences);
 IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences);
 /// Writes the quad mesh as OBJ (local UVs as `vt`), through a temporary file renamed into place.
-IoError write_obj(const std::string& path, const QuadMesh& mesh);
+/// `threads` format large meshes in blocks (0: every core, 1: serial); the file is the same.
+IoError write_obj(const std::string& path, const QuadMesh& mesh, int threads = 0);
 /// Reads a polygon OBJ (v and f records; vt ignored) as a QuadMesh without UVs or provenance.
 IoError read_polygon_obj(const std::string& path, QuadMesh& out);
 

@@ -34,8 +34,9 @@ bool is_ply(const std::string& path);
 int read_map(const std::string& path, Input& input, int threads = 0);
 /// Reads a polygon mesh (OBJ or PLY by extension); on a problem prints it and returns its exit code.
 int read_quads(const std::string& path, QuadMesh& mesh);
-/// Writes the quad mesh (OBJ or PLY by extension) through a temporary file renamed into place.
-IoError write_quads(const std::string& path, const QuadMesh& mesh);
+/// Writes the quad mesh (OBJ or PLY by extension) through a temporary file renamed into place;
+/// `threads` format an OBJ's records (0: every core; the file is the same).
+IoError write_quads(const std::string& path, const QuadMesh& mesh, int threads = 0);
 /// Writes `text` to `path` through a temporary file renamed into place.
 bool write_text(const std::string& path, const std::string& text);
 /// Reads a feature-edge file (`i j` per line, 0-based vertex indices, `#` comments) into

@@ -39,8 +39,8 @@ int read_quads(const std::string& path, QuadMesh& mesh) {
     return io_exit(e);
 }
 
-IoError write_quads(const std::string& path, const QuadMesh& mesh) {
-    return is_ply(path) ? qex::write_ply(path, mesh) : qex::write_obj(path, mesh);
+IoError write_quads(const std::string& path, const QuadMesh& mesh, int threads) {
+    return is_ply(path) ? qex::write_ply(path, mesh) : qex::write_obj(path, mesh, threads);
 }
 
 bool write_text(const std::string& path, const std::string& text) {

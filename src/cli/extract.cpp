@@ -46,7 +46,7 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
                   << defects[i].message << "\n";
     print_violations(check);
     if (a.poly) {
-        if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
+        if (const auto e = write_quads(a.out_path, result.mesh, a.threads); !e.ok()) {
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
@@ -92,7 +92,7 @@ int run_extract(const ExtractArgs& a) {
         progress.stop();
         return reject(a, result); // the checker's verdict, taken inside extract()
     }
-    if (const auto e = write_quads(a.out_path, result.mesh); !e.ok()) {
+    if (const auto e = write_quads(a.out_path, result.mesh, a.threads); !e.ok()) {
         std::cerr << "qex: " << e.message << "\n";
         return kIo;
     }

@@ -87,6 +87,14 @@ void edge_ports(const TriMesh& m, int i, const QVertex& qv, std::vector<Port>& p
 
 void enumerate_ports(const TriMesh& m, QState& q) {
     q.ports.clear();
+    // Reserved at a bound (a corner gives at most 3 ports, a face-q-vertex 4): capacity left
+    // untouched costs no memory, where growing by doubling touched up to twice the ports' size.
+    std::size_t bound = 0;
+    for (const QVertex& qv : q.qvertices)
+        bound += qv.kind == QVertexKind::Face   ? 4
+                 : qv.kind == QVertexKind::Edge ? 6
+                                                : 3 * static_cast<std::size_t>(m.fan_size[qv.element]);
+    q.ports.reserve(bound);
     for (int i = 0; i < static_cast<int>(q.qvertices.size()); ++i) {
         QVertex& qv = q.qvertices[i];
         qv.first_port = static_cast<int>(q.ports.size());

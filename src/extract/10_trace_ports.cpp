@@ -64,10 +64,21 @@ int qvertex_at(const TriMesh& m, const QState& q, int f, const IPoint& b) {
         return it != last && it->grid == bc ? static_cast<int>(it - q.qvertices.begin()) : -1;
     }
     // A triangle's q-vertices ascend by (u, v), as generate_qvertices scans it (u outer): a binary
-    // search, where a scan cost the square of the q-vertices on maps with large triangles.
-    const auto first = q.qvertices.begin() + q.face_first[f], last = q.qvertices.begin() + q.face_first[f + 1];
-    const auto it = std::lower_bound(first, last, b, [](const QVertex& v, const IPoint& g) { return v.grid < g; });
-    return it != last && it->grid == b ? static_cast<int>(it - q.qvertices.begin()) : -1;
+    // search, where a scan cost the square of the q-vertices on maps with large triangles. It
+    // halves the range without a branch on the comparison, which a trace cannot predict.
+    const QVertex* base = q.qvertices.data() + q.face_first[f];
+    const QVertex* const last = q.qvertices.data() + q.face_first[f + 1];
+    auto less = [&b](const QVertex& v) {
+        return static_cast<int>(v.grid[0] < b[0]) |
+               (static_cast<int>(v.grid[0] == b[0]) & static_cast<int>(v.grid[1] < b[1]));
+    };
+    for (std::ptrdiff_t len = last - base; len > 1;) {
+        const std::ptrdiff_t half = len / 2;
+        base += half * less(base[half - 1]);
+        len -= half;
+    }
+    if (base != last && less(*base)) ++base; // the first q-vertex not below b
+    return base != last && base->grid == b ? static_cast<int>(base - q.qvertices.data()) : -1;
 }
 
 /// The port of q-vertex qv in corner `corner` with direction dir, or -1.
@@ -318,7 +329,7 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
     // canonical order, the first to arrive at a port winning it.
     std::vector<TraceEnd> ends(later.size());
     std::vector<int> target(later.size(), -1);
-    std::vector<int> slot(static_cast<std::size_t>(np), -1);
+    std::vector<int> slot(later.empty() ? 0 : static_cast<std::size_t>(np), -1); // read only for later ports
     for (std::size_t i = 0; i < later.size(); ++i) {
         const int p = later[i];
         slot[static_cast<std::size_t>(p)] = static_cast<int>(i);

@@ -177,6 +177,11 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report) {
     // that ran into the boundary (a later walk joining it ends at the boundary too).
     std::vector<char> visited(np, 0);
     FaceWalks faces;
+    // Every port is on one walk at most: reserved at that bound, whose untouched rest costs no
+    // memory (growing by doubling touched up to twice the walks' size, and copied them).
+    faces.first.reserve(static_cast<std::size_t>(np) + 1);
+    faces.qv.reserve(static_cast<std::size_t>(np));
+    faces.uv.reserve(static_cast<std::size_t>(np));
     Walk w;
     // Closed walks are cycles of the port graph: found from any of their ports. A walk that does
     // not close ends where it meets another walk or the boundary, so what it holds depends on

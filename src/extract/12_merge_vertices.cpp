@@ -167,6 +167,7 @@ bool split_lost_edge(const TriMesh& m, const QState& q, const Loop& l, int pass,
 std::vector<Loop> recover_lost_edges(const TriMesh& m, const QState& q, FaceWalks& faces, const Options& opt,
                                      Report& report) {
     std::vector<Loop> work = take_loops(faces), loops;
+    loops.reserve(work.size());
     Loop a, b;
     while (!work.empty()) {
         Loop l = std::move(work.back());
@@ -278,20 +279,6 @@ private:
     std::vector<std::size_t> first_{0};
 };
 
-/// The first face in `order` (sorted keys) whose key is `rev` and that is not dropped, or order.end().
-std::vector<std::size_t>::const_iterator unpaired_reverse(const CycleKeys& keys, const std::vector<std::size_t>& order,
-                                                          const std::vector<char>& drop, const std::vector<int>& rev) {
-    auto it = std::lower_bound(order.begin(), order.end(), std::size_t{0}, [&](std::size_t x, std::size_t) {
-        return CycleKeys::less(keys.key(x), keys.size(x), rev.data(), rev.size());
-    });
-    auto is_rev = [&](std::size_t x) {
-        return keys.size(x) == rev.size() && std::equal(rev.begin(), rev.end(), keys.key(x));
-    };
-    while (it != order.end() && is_rev(*it) && drop[*it]) ++it;
-    if (it == order.end() || !is_rev(*it)) return order.end();
-    return it;
-}
-
 /// The explanation of a face and its reverse cancelled, near the first corner of `face`.
 void explain_ghosts(const TriMesh& m, const QState& q, const Loop& face, Report& report) {
     const QVertex& v = q.qvertices[face[0].v];
@@ -313,17 +300,33 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
     const std::vector<std::size_t> order = keys.sorted();
     std::vector<char> drop(simple.size(), 0);
     std::vector<int> rev;
-    for (const std::size_t i : order) {
-        if (drop[i]) continue;
-        // The reverse cycle, rotated to start at the same (smallest) vertex.
+    // A face's reverse has its length and starts at its smallest vertex: it lies in the face's
+    // group, the run of `order` whose keys share both (a few faces), searched in order.
+    std::size_t group_begin = 0, group_end = 0;
+    for (std::size_t at = 0; at < order.size(); ++at) {
+        const std::size_t i = order[at];
         const int* key = keys.key(i);
         const std::size_t n = keys.size(i);
+        if (at == group_end) {
+            group_begin = at;
+            for (group_end = at + 1; group_end < order.size(); ++group_end) {
+                const std::size_t x = order[group_end];
+                if (keys.size(x) != n || keys.key(x)[0] != key[0]) break;
+            }
+        }
+        if (drop[i]) continue;
+        // The reverse cycle, rotated to start at the same (smallest) vertex.
         rev.assign(1, key[0]);
         for (std::size_t j = n - 1; j >= 1; --j) rev.push_back(key[j]);
         if (std::equal(rev.begin(), rev.end(), key)) continue;
-        const auto it = unpaired_reverse(keys, order, drop, rev);
-        if (it == order.end()) continue;
-        drop[i] = drop[*it] = 1;
+        // The first face of the group (in key order) whose key is `rev` and that is not dropped.
+        std::size_t match = order.size();
+        for (std::size_t g = group_begin; g < group_end && match == order.size(); ++g) {
+            const std::size_t x = order[g];
+            if (!drop[x] && std::equal(rev.begin(), rev.end(), keys.key(x))) match = x;
+        }
+        if (match == order.size()) continue;
+        drop[i] = drop[match] = 1;
         report.ghost_faces_cancelled += 2;
         explain_ghosts(m, q, simple[i], report);
     }
@@ -412,19 +415,25 @@ void report_non_quad(const TriMesh& m, const QState& q, const Loop& l, std::size
 }
 
 /// 5. Output: one vertex per class of merged clones (choose_clones), numbered in the order the
-///    faces first use them; the faces with their local UVs.
-void write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& simple, UnionFind& sets, QuadMesh& out,
-                  Report& report) {
+///    faces first use them; the faces with their local UVs, flat (merge_vertices).
+FaceWalks write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& simple, UnionFind& sets,
+                       QuadMesh& out, Report& report) {
     const int nq = static_cast<int>(q.qvertices.size());
     std::vector<int> chosen, count;
     choose_clones(q, sets, chosen, count);
     std::vector<int> out_id(nq, -1);
     out = QuadMesh{};
+    // Reserved at a bound (a vertex per q-vertex): capacity left untouched costs no memory, where
+    // growing by doubling touched up to twice the mesh's size.
+    out.positions.reserve(static_cast<std::size_t>(nq));
+    out.provenance.reserve(static_cast<std::size_t>(nq));
+    FaceWalks faces;
+    std::size_t corners = 0;
+    for (const Loop& l : simple) corners += l.size();
+    faces.first.reserve(simple.size() + 1);
+    faces.qv.reserve(corners);
+    faces.uv.reserve(corners);
     for (const Loop& l : simple) {
-        std::vector<int> face;
-        std::vector<std::array<std::int64_t, 2>> uvs;
-        face.reserve(l.size());
-        uvs.reserve(l.size());
         for (const Corner& c : l) {
             if (out_id[c.v] < 0) {
                 out_id[c.v] = static_cast<int>(out.positions.size());
@@ -432,25 +441,25 @@ void write_output(const TriMesh& m, const QState& q, const std::vector<Loop>& si
                 out.positions.push_back(v.position);
                 out.provenance.push_back(provenance_of(m, v, count[c.v]));
             }
-            face.push_back(out_id[c.v]);
-            uvs.push_back({c.uv[0], c.uv[1]});
+            faces.qv.push_back(out_id[c.v]);
+            faces.uv.push_back(c.uv);
         }
-        if (face.size() != 4) report_non_quad(m, q, l, face.size(), out.faces.size(), report);
-        out.faces.push_back(std::move(face));
-        out.face_uvs.push_back(std::move(uvs));
+        if (l.size() != 4) report_non_quad(m, q, l, l.size(), faces.size(), report);
+        faces.first.push_back(faces.qv.size());
     }
+    return faces;
 }
 
 } // namespace
 
-void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
-                    Report& report) {
+FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
+                         Report& report) {
     std::vector<Loop> loops = recover_lost_edges(m, q, faces, opt, report);
     UnionFind sets(q.qvertices.size());
     if (opt.merge_vertices) merge_clones(q, loops, sets, report);
     std::vector<Loop> simple = simplify_faces(m, q, loops, sets, report);
     cancel_ghost_faces(m, q, simple, report);
-    write_output(m, q, simple, sets, out, report);
+    return write_output(m, q, simple, sets, out, report);
 }
 
 } // namespace qex::detail

@@ -195,8 +195,9 @@ Error extract_geometry(const TriMesh& m, const Options& options, QState& q, Repo
 }
 
 /// Connectivity extraction (Section 5): stages trace_ports, extract_faces and merge_vertices.
-void extract_connectivity(const TriMesh& m, const Options& options, QState& q, QuadMesh& mesh, Report& report,
-                          StageTimer& timer) {
+/// Returns the output faces, flat (merge_vertices).
+FaceWalks extract_connectivity(const TriMesh& m, const Options& options, QState& q, QuadMesh& mesh, Report& report,
+                               StageTimer& timer) {
     trace_ports(m, options, q, report);
     timer.done(Stage::trace_ports);
     FaceWalks faces = extract_faces(m, q, report);
@@ -208,8 +209,9 @@ void extract_connectivity(const TriMesh& m, const Options& options, QState& q, Q
     std::vector<char>().swap(q.into_boundary);
     std::vector<int>().swap(q.edge_first);
     std::vector<int>().swap(q.face_first);
-    merge_vertices(m, q, std::move(faces), options, mesh, report);
+    FaceWalks out = merge_vertices(m, q, std::move(faces), options, mesh, report);
     timer.done(Stage::merge_vertices);
+    return out;
 }
 
 /// The sanitized map, per input corner, for the checker (NaN for triangles collapsed away).
@@ -244,14 +246,16 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     QState q;
     if ((result.error = extract_geometry(m, options, q, report, timer)).code != ErrorCode::None) return false;
-    extract_connectivity(m, options, q, result.mesh, report, timer);
+    FaceWalks faces = extract_connectivity(m, options, q, result.mesh, report, timer);
     q = QState{};
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     if (options.canonical_order) {
-        const std::vector<int> new_index = canonicalize(result.mesh);
+        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
         for (Defect& d : report.defects)
             if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
+    } else {
+        set_faces(result.mesh, faces);
     }
     timer.done(Stage::canonicalize);
     return true;

@@ -239,10 +239,11 @@ void trace_ports(const TriMesh& m, const Options& opt, QState& q, Report& report
 // ============================================================================ faces
 
 /// The closed face walks, stored flat (one allocation for all of them, not two per face):
-/// walk i is corners [first[i], first[i + 1]) of `qv` and `uv`.
+/// walk i is corners [first[i], first[i + 1]) of `qv` and `uv`. merge_vertices hands the output
+/// faces on in this form too (`qv` then holds output vertices).
 struct FaceWalks {
     std::vector<std::size_t> first{0};
-    std::vector<int> qv;    ///< q-vertices
+    std::vector<int> qv;    ///< q-vertices (output vertices after merge_vertices)
     std::vector<IPoint> uv; ///< local UVs in the chart of the walk's first port's triangle
     std::size_t size() const { return first.size() - 1; }
 };
@@ -281,15 +282,20 @@ std::size_t canonical_start(const QState& q, const int* qv, std::size_t n);
 /// clockwise around the q-vertex; `ok` is false if the step would cross the mesh boundary.
 GridAutomorphism fan_transition_cw(const TriMesh& m, const QState& q, int a, int b, bool& ok);
 
-/// Sorts output vertices and faces canonically (so any input order gives the same mesh); returns,
-/// per old face index, its new index.
-std::vector<int> canonicalize(QuadMesh& mesh);
+/// Sorts output vertices and faces canonically (so any input order gives the same mesh) and
+/// sets the mesh's faces from `faces` (merge_vertices'), in that order; returns, per old face
+/// index, its new index. `threads` for its sorts (the order is the same for any).
+std::vector<int> canonicalize(QuadMesh& mesh, FaceWalks faces, int threads);
+
+/// Sets the mesh's faces from `faces` (merge_vertices'), in their order (no canonical order).
+void set_faces(QuadMesh& mesh, const FaceWalks& faces);
 
 /// Recovers lost q-edges (Section 5.5), merges q-vertex clones (Algorithm 7) and simplifies faces;
-/// fills the output mesh. Of `q` it reads only the q-vertices (the driver releases the ports and
-/// traces before calling it).
-void merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
-                    Report& report);
+/// fills the output mesh's vertices and returns its faces, flat (canonicalize or set_faces
+/// puts them in the mesh). Of `q` it reads only the q-vertices (the driver releases the ports
+/// and traces before calling it).
+FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, const Options& opt, QuadMesh& out,
+                         Report& report);
 
 // ============================================================================ after the check
 

@@ -28,7 +28,8 @@ Orientation orient2d(const Point2& a, const Point2& b, const Point2& c) {
 }
 
 bool on_segment(const Point2& x, const Point2& p, const Point2& q) {
-    return orient2d(p, q, x) == Orientation::Collinear && between(x[0], p[0], q[0]) && between(x[1], p[1], q[1]);
+    // The box test first: it is exact too, and it spares most calls the orientation test.
+    return between(x[0], p[0], q[0]) && between(x[1], p[1], q[1]) && orient2d(p, q, x) == Orientation::Collinear;
 }
 
 bool in_closed_triangle(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {

@@ -1,91 +1,36 @@
-// Writing a quad mesh as OBJ: records formatted into a block buffer and written to a temporary
-// file, which is renamed into place once complete (and removed on a problem), so no partial file
-// is ever left at the path.
+// Writing a quad mesh as OBJ: records formatted into blocks (which a second thread writes out while
+// the next is formatted, on large meshes) and written to a temporary file, which is renamed into
+// place once complete (and removed on a problem), so no partial file is ever left at the path.
 #include "qex/io.h"
 
+#include "extract/parallel.h"
 #include "io/file_io.h"
 
+#include <algorithm>
 #include <charconv>
+#include <condition_variable>
 #include <cstdio>
+#include <mutex>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 namespace qex {
 namespace {
 
-/// An OBJ file being written through a block buffer. Numbers go through std::to_chars: the
-/// shortest text that reads back to the same double, and plain decimals for integers.
-class ObjWriter {
+/// Text formatted into a growing buffer. Numbers go through std::to_chars: the shortest text
+/// that reads back to the same double, and plain decimals for integers.
+class alignas(64) Text {
 public:
-    explicit ObjWriter(std::FILE* f) : f_(f), buf_(kBlock + kRecord), p_(buf_.data()) {}
-
-    /// The comment line with the mesh's vertex and face counts.
-    void header(const QuadMesh& mesh) {
-        put("# qex quad mesh: ");
-        number(mesh.positions.size());
-        put(" vertices, ");
-        number(mesh.faces.size());
-        put(" faces\n");
+    /// Room for `bytes` more characters.
+    void reserve(std::size_t bytes) {
+        const auto used = static_cast<std::size_t>(p_ - buf_.data());
+        if (buf_.size() - used >= bytes) return;
+        buf_.resize(std::max(2 * buf_.size(), used + bytes));
+        p_ = buf_.data() + used;
     }
-
-    /// A `v` record per vertex.
-    void positions(const QuadMesh& mesh) {
-        for (const auto& x : mesh.positions) {
-            put("v");
-            for (double c : x) *p_++ = ' ', number(c);
-            *p_++ = '\n';
-            flush(false);
-        }
-    }
-
-    /// A `vt` record per face corner, faces in order, if every face has its UVs.
-    void corner_uvs(const QuadMesh& mesh) {
-        const bool uvs = with_uvs(mesh);
-        for (std::size_t i = 0; uvs && i < mesh.faces.size(); ++i)
-            for (const auto& t : mesh.face_uvs[i]) {
-                put("vt ");
-                number(static_cast<long long>(t[0]));
-                *p_++ = ' ';
-                number(static_cast<long long>(t[1]));
-                *p_++ = '\n';
-                flush(false);
-            }
-    }
-
-    /// An `f` record per face; its corners name their `vt` records (in the order corner_uvs()
-    /// wrote them) if every face has its UVs.
-    void faces(const QuadMesh& mesh) {
-        const bool uvs = with_uvs(mesh);
-        std::size_t t = 1;
-        for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-            *p_++ = 'f';
-            for (std::size_t k = 0; k < mesh.faces[i].size(); ++k) {
-                *p_++ = ' ';
-                number(mesh.faces[i][k] + 1);
-                if (uvs && k < mesh.face_uvs[i].size()) *p_++ = '/', number(t++);
-                flush(false); // a face may have many corners
-            }
-            *p_++ = '\n';
-            flush(false);
-        }
-    }
-
-    /// Writes out what the buffer holds.
-    void finish() { flush(true); }
-
-private:
-    static constexpr std::size_t kBlock = std::size_t{1} << 16, kRecord = 512; // a record is far shorter
-
-    /// Whether the mesh has UVs for every face (else no `vt` records are written).
-    static bool with_uvs(const QuadMesh& mesh) { return mesh.face_uvs.size() == mesh.faces.size(); }
-
-    /// Writes out the buffer once it holds a block, or whatever it holds if `force`.
-    void flush(bool force) {
-        if (static_cast<std::size_t>(p_ - buf_.data()) >= kBlock || force) {
-            std::fwrite(buf_.data(), 1, static_cast<std::size_t>(p_ - buf_.data()), f_);
-            p_ = buf_.data();
-        }
-    }
+    void put(char c) { *p_++ = c; }
     void put(const char* text) {
         while (*text) *p_++ = *text++;
     }
@@ -93,11 +38,162 @@ private:
     void number(T x) {
         p_ = std::to_chars(p_, buf_.data() + buf_.size(), x).ptr;
     }
+    const char* data() const { return buf_.data(); }
+    std::size_t size() const { return static_cast<std::size_t>(p_ - buf_.data()); }
+    void clear() { p_ = buf_.data(); }
+
+private:
+    std::vector<char> buf_;
+    char* p_ = nullptr;
+};
+
+/// Meshes from this many faces on are written on two threads (about 9 MB of OBJ).
+constexpr std::size_t kOverlapFaces = std::size_t{1} << 16;
+
+/// The longest text of one number: a double's shortest form (24 characters) or a 64-bit integer.
+constexpr std::size_t kNumber = 32;
+
+/// Text formatted into blocks, written to a file in order. With `overlap`, a block is written
+/// on a second thread while the next one is formatted (the two alternate between two buffers),
+/// so the kernel's copy of the text costs no formatting time.
+class BlockWriter {
+public:
+    BlockWriter(std::FILE* f, bool overlap) : f_(f) {
+        if (overlap)
+            for (Text& text : texts_) text.reserve(kBlock + 4096); // else grown as needed (small files)
+        if (overlap) try {
+                writer_ = std::thread([this] { write_loop(); });
+            } catch (const std::system_error&) { // no thread to be had: written serially
+            }
+    }
+    ~BlockWriter() { finish(); }
+
+    /// The block being formatted; `ready()` after each record.
+    Text& text() { return texts_[current_]; }
+
+    /// Hands the block on once it holds kBlock characters.
+    void ready() {
+        if (texts_[current_].size() >= kBlock) hand_on();
+    }
+
+    /// Writes out what is left and waits for the writes to end.
+    void finish() {
+        hand_on();
+        if (!writer_.joinable()) return;
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        changed_.notify_all();
+        writer_.join();
+    }
+
+private:
+    static constexpr std::size_t kBlock = std::size_t{1} << 22;
+
+    /// Writes the current block (on the writer thread, if any) and switches to the other buffer,
+    /// once the writer is done with it.
+    void hand_on() {
+        if (!writer_.joinable()) {
+            std::fwrite(texts_[current_].data(), 1, texts_[current_].size(), f_);
+            texts_[current_].clear();
+            return;
+        }
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait(lock, [this] { return pending_ < 0; });
+        pending_ = current_;
+        current_ = 1 - current_;
+        texts_[current_].clear();
+        lock.unlock();
+        changed_.notify_all();
+    }
+
+    void write_loop() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            changed_.wait(lock, [this] { return pending_ >= 0 || stop_; });
+            if (pending_ < 0) return; // stopped with nothing left
+            const Text& text = texts_[pending_];
+            lock.unlock();
+            std::fwrite(text.data(), 1, text.size(), f_);
+            lock.lock();
+            pending_ = -1;
+            changed_.notify_all();
+        }
+    }
 
     std::FILE* f_;
-    std::vector<char> buf_;
-    char* p_; ///< where the next character goes
+    Text texts_[2];
+    int current_ = 0;
+    int pending_ = -1; ///< the buffer the writer thread is to write, or -1
+    bool stop_ = false;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::thread writer_;
 };
+
+/// Whether the mesh has UVs for every face (else no `vt` records are written).
+bool with_uvs(const QuadMesh& mesh) { return mesh.face_uvs.size() == mesh.faces.size(); }
+
+/// The comment line with the mesh's vertex and face counts.
+void header(BlockWriter& w, const QuadMesh& mesh) {
+    Text& text = w.text();
+    text.reserve(128);
+    text.put("# qex quad mesh: ");
+    text.number(mesh.positions.size());
+    text.put(" vertices, ");
+    text.number(mesh.faces.size());
+    text.put(" faces\n");
+}
+
+/// A `v` record per vertex.
+void positions(BlockWriter& w, const QuadMesh& mesh) {
+    for (const auto& x : mesh.positions) {
+        Text& text = w.text();
+        text.reserve(4 * kNumber);
+        text.put('v');
+        for (double c : x) text.put(' '), text.number(c);
+        text.put('\n');
+        w.ready();
+    }
+}
+
+/// A `vt` record per face corner, faces in order, if every face has its UVs.
+void corner_uvs(BlockWriter& w, const QuadMesh& mesh) {
+    if (!with_uvs(mesh)) return;
+    for (const auto& uvs : mesh.face_uvs) {
+        Text& text = w.text();
+        text.reserve(uvs.size() * (2 * kNumber + 8));
+        for (const auto& t : uvs) {
+            text.put("vt ");
+            text.number(static_cast<long long>(t[0]));
+            text.put(' ');
+            text.number(static_cast<long long>(t[1]));
+            text.put('\n');
+        }
+        w.ready();
+    }
+}
+
+/// An `f` record per face; its corners name their `vt` records (in the order corner_uvs() wrote
+/// them) if every face has its UVs.
+void faces(BlockWriter& w, const QuadMesh& mesh) {
+    const bool uvs = with_uvs(mesh);
+    std::size_t t = 1;
+    for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+        const auto& face = mesh.faces[i];
+        Text& text = w.text();
+        text.reserve(face.size() * (2 * kNumber + 2) + 2);
+        text.put('f');
+        for (std::size_t k = 0; k < face.size(); ++k) {
+            text.put(' ');
+            text.number(face[k] + 1);
+            if (uvs && k < mesh.face_uvs[i].size()) text.put('/'), text.number(t++);
+        }
+        text.put('\n');
+        w.ready();
+    }
+}
 
 } // namespace
 
@@ -118,16 +214,19 @@ IoError close_and_rename(std::FILE* f, const std::string& tmp, const std::string
 
 } // namespace io_detail
 
-IoError write_obj(const std::string& path, const QuadMesh& mesh) {
+IoError write_obj(const std::string& path, const QuadMesh& mesh, int threads) {
     const std::string tmp = path + ".tmp";
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) return {IoError::Code::CannotWrite, "cannot write '" + tmp + "'", 0};
-    ObjWriter w(f);
-    w.header(mesh);
-    w.positions(mesh);
-    w.corner_uvs(mesh);
-    w.faces(mesh);
-    w.finish();
+    {
+        // A second thread pays only on large meshes.
+        const bool overlap = detail::thread_count(threads) > 1 && mesh.faces.size() >= kOverlapFaces;
+        BlockWriter w(f, overlap);
+        header(w, mesh);
+        positions(w, mesh);
+        corner_uvs(w, mesh);
+        faces(w, mesh);
+    }
     return io_detail::close_and_rename(f, tmp, path);
 }
 

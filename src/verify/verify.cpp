@@ -99,11 +99,10 @@ bool too_large(const Input& input, const QuadMesh& mesh) {
 void check_mesh_topology(const QuadMesh& mesh, int threads, VerifyResult& r, std::vector<Violation>& out) {
     const std::size_t nv = mesh.positions.size();
     std::vector<std::size_t> offset(mesh.faces.size() + 1, 0);
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) offset[f + 1] = offset[f] + mesh.faces[f].size();
     std::vector<int> corners;
-    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-        offset[f + 1] = offset[f] + mesh.faces[f].size();
-        corners.insert(corners.end(), mesh.faces[f].begin(), mesh.faces[f].end());
-    }
+    corners.reserve(offset.back()); // grown by doubling, it touched and copied up to twice that
+    for (const auto& face : mesh.faces) corners.insert(corners.end(), face.begin(), face.end());
     const Topology t = analyse(nv, offset, corners, &out, threads);
     r.faces = t.faces;
     r.vertices = t.vertices;
