@@ -36,66 +36,55 @@ TEST(Extraction, SanitizationIsIdempotent) {
     EXPECT_EQ(rep2.max_sanitization_displacement, 0.0);
 }
 
+/// n unit right corners round vertex 0 (ring 1..n on the boundary), each triangle in its own
+/// chart, so the transitions across the n inner edges turn by n quarters; mirrored: u and v
+/// swapped in every triangle, the whole fan one flipped run. Vertex 0's winding valence and
+/// Algorithm 8's valence.
+std::array<int, 2> counted_fan(int n, bool mirrored) {
+    Input in;
+    in.positions.push_back({0, 0, 1});
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * M_PI * i / n;
+        in.positions.push_back({std::cos(a), std::sin(a), 0});
+    }
+    for (int i = 0; i < n; ++i) {
+        in.triangles.push_back({0, 1 + i, 1 + (i + 1) % n});
+        for (const auto& uv : {std::array<double, 2>{0, 0}, {1, 0}, {0, 1}})
+            in.uvs.push_back(mirrored ? std::array<double, 2>{uv[1], uv[0]} : uv);
+    }
+    detail::TriMesh m = detail::make_mesh(in);
+    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    for (int v = 0; v < m.num_vertices; ++v)
+        if (m.input_vertex[v] == 0) return {m.map.winding_valence[v], m.map.valence[v]};
+    ADD_FAILURE() << "vertex 0 is not in the working mesh";
+    return {0, 0};
+}
+
 TEST(Valences, WhollyFlippedFanCountsAsItsTransitionsTurn) {
-    // A cone of three quarter turns round vertex 0 (ring 1, 2, 3 on the boundary), each triangle
-    // a unit right corner in its own chart; the transitions across its three edges turn by a
-    // quarter. Given as is, or with every triangle mirrored (u and v swapped): then the whole fan
-    // is one flipped run, the signed sum -3 quarter turns and the transitions turn by +1, so an
-    // unfolded fan must span 1 (or 5, ...) quarter turns, never |sum| = 3. Algorithm 8's valence
-    // must agree with the turn modulo 4 in both.
+    // A cone of three quarter turns, given as is or mirrored: mirrored, the signed sum is -3
+    // quarter turns and the transitions turn by +1, so an unfolded fan must span 1 (or 5, ...)
+    // quarter turns, never |sum| = 3. Algorithm 8's valence must agree with the turn modulo 4
+    // in both.
     for (const bool mirrored : {false, true}) {
-        Input in;
-        in.positions = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
-        in.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
-        for (int f = 0; f < 3; ++f)
-            for (const auto& uv : {std::array<double, 2>{0, 0}, {1, 0}, {0, 1}})
-                in.uvs.push_back(mirrored ? std::array<double, 2>{uv[1], uv[0]} : uv);
-        detail::TriMesh m = detail::make_mesh(in);
-        ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
-        detail::compute_transitions(m);
-        detail::count_valences(m);
-        const int centre = [&] {
-            for (int v = 0; v < m.num_vertices; ++v)
-                if (m.input_vertex[v] == 0) return v;
-            return -1;
-        }();
-        ASSERT_GE(centre, 0);
-        EXPECT_EQ(m.map.winding_valence[centre], mirrored ? -3 : 3);
-        EXPECT_EQ(m.map.valence[centre], mirrored ? 1 : 3);
-        EXPECT_EQ(((m.map.valence[centre] - m.map.winding_valence[centre]) % 4 + 4) % 4, 0);
+        const auto [winding, valence] = counted_fan(3, mirrored);
+        EXPECT_EQ(winding, mirrored ? -3 : 3);
+        EXPECT_EQ(valence, mirrored ? 1 : 3);
+        EXPECT_EQ(((valence - winding) % 4 + 4) % 4, 0);
     }
 }
 
 TEST(Valences, WhollyFlippedFanWhoseTransitionsDoNotTurnKeepsItsWholeTurns) {
-    // n unit right corners round vertex 0 (ring 1..n on the boundary), each in its own chart: the
-    // transitions across the n inner edges turn by n quarters, a whole number of turns for n = 4,
-    // 8, 12. Mirrored (u and v swapped), the whole fan is one flipped run with signed sum -n
-    // quarter turns and transitions that do not turn: the turns are the winding's to decide, so
-    // a mirrored branch point of 8 stays 8 (the fewest positive quarter turns congruent to 0
-    // would make it 4, regular), and a mirrored regular vertex stays 4.
+    // n = 4, 8, 12: the transitions turn by whole turns. Mirrored, the whole fan is one flipped
+    // run with signed sum -n quarter turns and transitions that do not turn: the turns are the
+    // winding's to decide, so a mirrored branch point of 8 stays 8 (the fewest positive quarter
+    // turns congruent to 0 would make it 4, regular), and a mirrored regular vertex stays 4.
     for (const int n : {4, 8, 12})
         for (const bool mirrored : {false, true}) {
-            Input in;
-            in.positions.push_back({0, 0, 1});
-            for (int i = 0; i < n; ++i) {
-                const double a = 2.0 * M_PI * i / n;
-                in.positions.push_back({std::cos(a), std::sin(a), 0});
-            }
-            for (int i = 0; i < n; ++i) {
-                in.triangles.push_back({0, 1 + i, 1 + (i + 1) % n});
-                for (const auto& uv : {std::array<double, 2>{0, 0}, {1, 0}, {0, 1}})
-                    in.uvs.push_back(mirrored ? std::array<double, 2>{uv[1], uv[0]} : uv);
-            }
-            detail::TriMesh m = detail::make_mesh(in);
-            ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
-            detail::compute_transitions(m);
-            detail::count_valences(m);
-            int centre = -1;
-            for (int v = 0; v < m.num_vertices; ++v)
-                if (m.input_vertex[v] == 0) centre = v;
-            ASSERT_GE(centre, 0);
-            EXPECT_EQ(m.map.winding_valence[centre], mirrored ? -n : n) << n << (mirrored ? " mirrored" : "");
-            EXPECT_EQ(m.map.valence[centre], n) << n << (mirrored ? " mirrored" : "");
+            const auto [winding, valence] = counted_fan(n, mirrored);
+            EXPECT_EQ(winding, mirrored ? -n : n) << n << (mirrored ? " mirrored" : "");
+            EXPECT_EQ(valence, n) << n << (mirrored ? " mirrored" : "");
         }
 }
 
