@@ -42,7 +42,9 @@ IoError read_obj(const std::string& path, Input& out, int threads = 0);
 IoError read_vval(const std::string& path, std::vector<int>& valences);
 IoError parse_vval(const char* data, std::size_t size, std::vector<int>& valences);
 /// Writes the quad mesh as OBJ (local UVs as `vt`), through a temporary file renamed into place.
-/// `threads` format large meshes in blocks (0: every core, 1: serial); the file is the same.
+/// With `threads` other than 1 (0: when the machine has several cores) a large mesh's text is
+/// written out on a second thread while the next block is formatted; the file is the same.
+/// Memory stays bounded by the blocks, however many corners a face has.
 IoError write_obj(const std::string& path, const QuadMesh& mesh, int threads = 0);
 /// Reads a polygon OBJ (v and f records; vt ignored) as a QuadMesh without UVs or provenance.
 IoError read_polygon_obj(const std::string& path, QuadMesh& out);

@@ -3,7 +3,6 @@
 // place once complete (and removed on a problem), so no partial file is ever left at the path.
 #include "qex/io.h"
 
-#include "extract/parallel.h"
 #include "io/file_io.h"
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
+#include <new>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -95,7 +95,8 @@ private:
     /// once the writer is done with it.
     void hand_on() {
         if (!writer_.joinable()) {
-            std::fwrite(texts_[current_].data(), 1, texts_[current_].size(), f_);
+            // After a write error (a full disk) nothing more is written: the caller reports it.
+            if (!std::ferror(f_)) std::fwrite(texts_[current_].data(), 1, texts_[current_].size(), f_);
             texts_[current_].clear();
             return;
         }
@@ -115,7 +116,7 @@ private:
             if (pending_ < 0) return; // stopped with nothing left
             const Text& text = texts_[pending_];
             lock.unlock();
-            std::fwrite(text.data(), 1, text.size(), f_);
+            if (!std::ferror(f_)) std::fwrite(text.data(), 1, text.size(), f_);
             lock.lock();
             pending_ = -1;
             changed_.notify_all();
@@ -161,18 +162,17 @@ void positions(BlockWriter& w, const QuadMesh& mesh) {
 /// A `vt` record per face corner, faces in order, if every face has its UVs.
 void corner_uvs(BlockWriter& w, const QuadMesh& mesh) {
     if (!with_uvs(mesh)) return;
-    for (const auto& uvs : mesh.face_uvs) {
-        Text& text = w.text();
-        text.reserve(uvs.size() * (2 * kNumber + 8));
+    for (const auto& uvs : mesh.face_uvs)
         for (const auto& t : uvs) {
+            Text& text = w.text();
+            text.reserve(2 * kNumber + 8);
             text.put("vt ");
             text.number(static_cast<long long>(t[0]));
             text.put(' ');
             text.number(static_cast<long long>(t[1]));
             text.put('\n');
+            w.ready();
         }
-        w.ready();
-    }
 }
 
 /// An `f` record per face; its corners name their `vt` records (in the order corner_uvs() wrote
@@ -181,16 +181,20 @@ void faces(BlockWriter& w, const QuadMesh& mesh) {
     const bool uvs = with_uvs(mesh);
     std::size_t t = 1;
     for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+        // Block by block within a face too, so memory does not grow with the longest face.
         const auto& face = mesh.faces[i];
-        Text& text = w.text();
-        text.reserve(face.size() * (2 * kNumber + 2) + 2);
-        text.put('f');
+        w.text().reserve(1);
+        w.text().put('f');
         for (std::size_t k = 0; k < face.size(); ++k) {
+            Text& text = w.text();
+            text.reserve(2 * kNumber + 2);
             text.put(' ');
             text.number(face[k] + 1);
             if (uvs && k < mesh.face_uvs[i].size()) text.put('/'), text.number(t++);
+            w.ready();
         }
-        text.put('\n');
+        w.text().reserve(1);
+        w.text().put('\n');
         w.ready();
     }
 }
@@ -218,14 +222,18 @@ IoError write_obj(const std::string& path, const QuadMesh& mesh, int threads) {
     const std::string tmp = path + ".tmp";
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) return {IoError::Code::CannotWrite, "cannot write '" + tmp + "'", 0};
-    {
-        // A second thread pays only on large meshes.
-        const bool overlap = detail::thread_count(threads) > 1 && mesh.faces.size() >= kOverlapFaces;
-        BlockWriter w(f, overlap);
+    try {
+        // A second thread pays only on large meshes (std::thread: with or without OpenMP).
+        const bool cores = threads == 0 ? std::thread::hardware_concurrency() > 1 : threads > 1;
+        BlockWriter w(f, cores && mesh.faces.size() >= kOverlapFaces);
         header(w, mesh);
         positions(w, mesh);
         corner_uvs(w, mesh);
         faces(w, mesh);
+    } catch (const std::bad_alloc&) { // the blocks' memory: no file, an error
+        std::fclose(f);
+        std::remove(tmp.c_str());
+        return {IoError::Code::CannotWrite, "out of memory while writing '" + tmp + "'", 0};
     }
     return io_detail::close_and_rename(f, tmp, path);
 }
