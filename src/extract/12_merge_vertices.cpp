@@ -301,7 +301,8 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
     std::vector<char> drop(simple.size(), 0);
     std::vector<int> rev;
     // A face's reverse has its length and starts at its smallest vertex: it lies in the face's
-    // group, the run of `order` whose keys share both (a few faces), searched in order.
+    // group, the run of `order` whose keys share both, and is found there by binary search (a
+    // group can be large: many faces of one length at a vertex of high valence).
     std::size_t group_begin = 0, group_end = 0;
     for (std::size_t at = 0; at < order.size(); ++at) {
         const std::size_t i = order[at];
@@ -320,11 +321,17 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
         for (std::size_t j = n - 1; j >= 1; --j) rev.push_back(key[j]);
         if (std::equal(rev.begin(), rev.end(), key)) continue;
         // The first face of the group (in key order) whose key is `rev` and that is not dropped.
+        const auto group_first = order.begin() + static_cast<std::ptrdiff_t>(group_begin);
+        const auto group_last = order.begin() + static_cast<std::ptrdiff_t>(group_end);
+        auto it = std::lower_bound(group_first, group_last, rev, [&](std::size_t x, const std::vector<int>& r) {
+            return CycleKeys::less(keys.key(x), n, r.data(), n);
+        });
         std::size_t match = order.size();
-        for (std::size_t g = group_begin; g < group_end && match == order.size(); ++g) {
-            const std::size_t x = order[g];
-            if (!drop[x] && std::equal(rev.begin(), rev.end(), keys.key(x))) match = x;
-        }
+        for (; it != group_last && std::equal(rev.begin(), rev.end(), keys.key(*it)); ++it)
+            if (!drop[*it]) {
+                match = *it;
+                break;
+            }
         if (match == order.size()) continue;
         drop[i] = drop[match] = 1;
         report.ghost_faces_cancelled += 2;
