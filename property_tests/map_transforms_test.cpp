@@ -181,6 +181,9 @@ Input one_uv_in_several_charts() {
                 fan.push_back(f);
                 p = in.uvs[3 * f + k];
             }
+    // The generator's contract: the torus has a vertex inside one layout quad, with a fan.
+    EXPECT_LT(static_cast<std::size_t>(v), single_chart.size());
+    EXPECT_GE(fan.size(), 3u);
     const double offset = std::ldexp(1.0, -20);
     for (std::size_t i = 0; i < fan.size(); ++i)
         for (std::size_t k = 0; k < 3; ++k) {

@@ -124,6 +124,35 @@ TEST(Transitions, EveryHalfEdgeIsWrittenEvenOverStaleEntries) {
     EXPECT_GT(boundary, 0);
     EXPECT_EQ(missing, 6); // the triangle's three half-edges and their three opposites
 }
+TEST(Transitions, ATieBetweenTwoRotationsIsBrokenTheSameInAnyOrder) {
+    // Two triangles on edge 0-1, whose copies run (1, 0) and (-1, 1): rotations by 1 and by 2
+    // quarters fit them equally well (by 3 and 2 seen from the other side, so "the first of the
+    // best" depends on the side), and no fan closes round the edge (both ends are on the
+    // boundary), so the nearest rotation stands. With the triangles in either order, the edge
+    // must turn the same way from the first triangle's chart to the second's.
+    std::array<int, 2> turns{};
+    for (const bool swapped : {false, true}) {
+        Input in;
+        in.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, -1, 0}};
+        const std::array<int, 3> first{0, 1, 2}, second{1, 0, 3};
+        const std::vector<std::array<double, 2>> first_uv{{0, 0}, {1, 0}, {0, 1}}, second_uv{{-1, 1}, {0, 0}, {0, 2}};
+        in.triangles =
+            swapped ? std::vector<std::array<int, 3>>{second, first} : std::vector<std::array<int, 3>>{first, second};
+        for (const auto* uvs : swapped ? std::array{&second_uv, &first_uv} : std::array{&first_uv, &second_uv})
+            in.uvs.insert(in.uvs.end(), uvs->begin(), uvs->end());
+        detail::TriMesh m = detail::make_mesh(in);
+        ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+        detail::compute_transitions(m);
+        // The first triangle's half-edge 0 -> 1, and the rotation from its chart to the other's.
+        int h = -1;
+        for (int c = 0; c < 3 * m.num_faces(); ++c)
+            if (m.input_vertex[m.origin(c)] == 0 && m.input_vertex[m.target(c)] == 1) h = c;
+        ASSERT_GE(h, 0);
+        turns[swapped] = m.map.transition[h].r;
+    }
+    EXPECT_EQ(turns[0], turns[1]);
+}
+
 TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
     // A cube corner s (valence 3) and a vertex w inserted into one of its triangles a little off
     // s in that triangle's chart: the edge s-w is about as long as the difference of its two

@@ -94,8 +94,9 @@ struct Listed {
 };
 
 /// The first pass at half-edge h: a boundary half-edge gets the identity (it is never read); an
-/// interior edge is set from its smaller half-edge, writing only its own two entries, with the
-/// nearest rotation, and listed in `mine` if undetermined or short. An edge with a missing UV
+/// interior edge is visited at its smaller half-edge, writing only its own two entries, with the
+/// nearest rotation seen from its canonical half-edge, and listed in `mine` if undetermined or
+/// short. An edge with a missing UV
 /// (a collapsed triangle's) gets the identity both ways and is undetermined but not listed.
 void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std::vector<char>& determined,
                      Listed& mine) {
@@ -117,8 +118,17 @@ void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std:
         determined[h] = determined[o] = 0;
         return;
     }
-    const int best = nearest_rotation(e, e2);
-    set_transition(m, h, best);
+    // Seen from the edge's canonical half-edge: a tie (the copies 45 degrees apart) resolves to
+    // the first rotation from that side, whatever the input's numbering.
+    int best = 0;
+    if (canonical_half_edge(m, h) == h) {
+        best = nearest_rotation(e, e2);
+        set_transition(m, h, best);
+    } else {
+        const int from_o = nearest_rotation(e2, e);
+        set_transition(m, o, from_o);
+        best = (4 - from_o) & 3;
+    }
     const Point2 re = GridAutomorphism::rotate(e, best);
     // Determined: the rotated copies differ by less than half the shorter one's length.
     if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
