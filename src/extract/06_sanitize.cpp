@@ -107,23 +107,14 @@ struct Fan {
 
 /// Walks the fan of vertex v (fan_start[v] >= 0) into `fan`.
 void walk_fan(const TriMesh& m, int v, Fan& fan) {
-    std::vector<int>& corners = fan.corners;
-    corners.clear();
-    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) corners.push_back(h);
     fan.closed = !m.on_boundary[v];
     // Start at the canonical corner, so the result does not depend on input order: the truncated
     // or snapped UV is computed in the start's chart, and corners in different charts can carry
     // one UV (charts turned about a point within noise of the vertex), so the smallest UV alone
     // does not decide.
-    if (fan.closed)
-        std::rotate(
-            corners.begin(),
-            std::min_element(corners.begin(), corners.end(), [&](int a, int b) { return fan_corner_less(m, a, b); }),
-            corners.end());
-    const std::size_t n = corners.size();
-    fan.to_c.assign(n, GridAutomorphism{});
-    for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[corners[i - 1]].after(fan.to_c[i - 1]);
-    fan.loop = fan.closed ? m.map.transition[corners[n - 1]].after(fan.to_c[n - 1]) : GridAutomorphism{};
+    walk_fan_corners(m, v, fan.closed, fan.corners, fan.to_c);
+    const std::size_t n = fan.corners.size();
+    fan.loop = fan.closed ? m.map.transition[fan.corners[n - 1]].after(fan.to_c[n - 1]) : GridAutomorphism{};
 }
 
 /// u0 (in the chart of the fan's first corner) moved onto the iso-lines of the constraints.
@@ -254,6 +245,19 @@ bool fan_corner_less(const TriMesh& m, int a, int b) {
     if (m.pos(pa) != m.pos(pb)) return m.pos(pa) < m.pos(pb);
     if (m.uv[na] != m.uv[nb]) return m.uv[na] < m.uv[nb];
     return m.uv[pa] < m.uv[pb];
+}
+
+void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector<int>& corners,
+                      std::vector<GridAutomorphism>& to_c) {
+    corners.clear();
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) corners.push_back(h);
+    if (canonical_start)
+        std::rotate(
+            corners.begin(),
+            std::min_element(corners.begin(), corners.end(), [&](int a, int b) { return fan_corner_less(m, a, b); }),
+            corners.end());
+    to_c.assign(corners.size(), GridAutomorphism{});
+    for (std::size_t i = 1; i < corners.size(); ++i) to_c[i] = m.map.transition[corners[i - 1]].after(to_c[i - 1]);
 }
 
 Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,

@@ -125,16 +125,10 @@ struct FreeFan {
 FreeFan free_fan(const TriMesh& m, int v) {
     FreeFan fan;
     fan.vertex = v;
-    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.corners.push_back(h);
-    // The start: the canonical corner sanitize starts the fan at too. The fan is closed (the
-    // vertex is interior): rotating it keeps its order.
-    std::vector<int>& walk = fan.corners;
-    std::rotate(walk.begin(),
-                std::min_element(walk.begin(), walk.end(), [&](int a, int b) { return fan_corner_less(m, a, b); }),
-                walk.end());
+    // Started at the canonical corner sanitize starts the fan at too (the vertex is interior).
+    walk_fan_corners(m, v, true, fan.corners, fan.to_c);
+    const std::vector<int>& walk = fan.corners;
     const std::size_t n = walk.size();
-    fan.to_c.assign(n, GridAutomorphism{});
-    for (std::size_t i = 1; i < n; ++i) fan.to_c[i] = m.map.transition[walk[i - 1]].after(fan.to_c[i - 1]);
     double sum = 0.0;
     for (const int c : walk) {
         const Vec2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];

@@ -142,6 +142,11 @@ Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::ve
 /// triangles agree in every 3D position and UV.
 bool fan_corner_less(const TriMesh& m, int a, int b);
 
+/// The corners of v's fan, clockwise from fan_start[v] or (`canonical_start`, a closed fan) from
+/// fan_corner_less's first, and the transitions from the first corner's chart to each corner's.
+void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector<int>& corners,
+                      std::vector<GridAutomorphism>& to_c);
+
 /// u0 (in the chart of corners[0]) truncated to a power of two at least as large as every
 /// coordinate of the fan's corners, before and after propagation through `to_c` (chart of
 /// corners[0] -> chart of corners[i]): truncated to it, u0 propagates exactly. u0 itself if the
