@@ -87,7 +87,8 @@ void edge_ports(const TriMesh& m, int i, const QVertex& qv, std::vector<Port>& p
 
 void enumerate_ports(const TriMesh& m, QState& q) {
     q.ports.clear();
-    // Reserved at a bound (a corner gives at most 3 ports, a face-q-vertex 4): capacity left
+    // Reserved at a bound (a q-vertex on a vertex gives at most 3 ports per corner of its fan, one
+    // on an edge at most 3 in each of its two triangles, one in a face 4): capacity left
     // untouched costs no memory, where growing by doubling touched up to twice the ports' size.
     std::size_t bound = 0;
     for (const QVertex& qv : q.qvertices)
