@@ -55,8 +55,7 @@ Gluing::Gluing(const TriMesh& m) : m_(m), sets_(static_cast<std::size_t>(m.num_v
     // A vertex glued by an earlier round of collapses has corners of several input vertices: its
     // own input vertex (the survivor's) is the one that counts.
     vpos_.resize(static_cast<std::size_t>(m.num_vertices));
-    for (int v = 0; v < m.num_vertices; ++v)
-        vpos_[static_cast<std::size_t>(v)] = (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])];
+    for (int v = 0; v < m.num_vertices; ++v) vpos_[static_cast<std::size_t>(v)] = m.vertex_pos(v);
     for (int f = 0; f < m.num_faces(); ++f)
         for (int k = 0; k < 3; ++k) faces_of_[m.tri[f][k]].push_back(f);
     dead_.assign(m.num_faces(), 0);

@@ -96,8 +96,8 @@ struct Listed {
 /// The first pass at half-edge h: a boundary half-edge gets the identity (it is never read); an
 /// interior edge is visited at its smaller half-edge, writing only its own two entries, with the
 /// nearest rotation seen from its canonical half-edge, and listed in `mine` if undetermined or
-/// short. An edge with a missing UV
-/// (a collapsed triangle's) gets the identity both ways and is undetermined but not listed.
+/// short. An edge with a missing UV (a collapsed triangle's) gets the identity both ways and is
+/// undetermined but not listed.
 void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std::vector<char>& determined,
                      Listed& mine) {
     const int o = m.opp[h];
@@ -216,12 +216,9 @@ void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
         if (t == -2) t = fan_turn(m, v);
         return t;
     };
-    const auto at = [&](int v) -> const std::array<double, 3>& {
-        return (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])];
-    };
     using Ends = std::array<std::array<double, 3>, 2>;
     const auto ends = [&](int h) {
-        const auto &a = at(m.origin(h)), &b = at(m.target(h));
+        const auto &a = m.vertex_pos(m.origin(h)), &b = m.vertex_pos(m.target(h));
         return a < b ? Ends{a, b} : Ends{b, a};
     };
     std::sort(short_edges.begin(), short_edges.end(), [&](const auto& x, const auto& y) {

@@ -97,9 +97,19 @@ Point2 fixed_point(const GridAutomorphism& g) {
     }
 }
 
+/// The order in which a closed fan's corners compete to start it (walk_fan_corners).
+bool fan_corner_less(const TriMesh& m, int a, int b) {
+    if (m.uv[a] != m.uv[b]) return m.uv[a] < m.uv[b];
+    const int na = TriMesh::next(a), nb = TriMesh::next(b), pa = TriMesh::prev(a), pb = TriMesh::prev(b);
+    if (m.pos(na) != m.pos(nb)) return m.pos(na) < m.pos(nb);
+    if (m.pos(pa) != m.pos(pb)) return m.pos(pa) < m.pos(pb);
+    if (m.uv[na] != m.uv[nb]) return m.uv[na] < m.uv[nb];
+    return m.uv[pa] < m.uv[pb];
+}
+
 /// A vertex's fan and the transitions between its charts.
 struct Fan {
-    std::vector<int> corners;           ///< clockwise; a closed fan starts at fan_corner_less's first
+    std::vector<int> corners;           ///< clockwise; a closed fan starts at its canonical corner
     std::vector<GridAutomorphism> to_c; ///< chart of corners[0] -> chart of corners[i]
     GridAutomorphism loop;              ///< once round a closed fan; the identity for an open one
     bool closed = false;                ///< interior vertex
@@ -237,15 +247,6 @@ void set_face_signs(TriMesh& m) {
 }
 
 } // namespace
-
-bool fan_corner_less(const TriMesh& m, int a, int b) {
-    if (m.uv[a] != m.uv[b]) return m.uv[a] < m.uv[b];
-    const int na = TriMesh::next(a), nb = TriMesh::next(b), pa = TriMesh::prev(a), pb = TriMesh::prev(b);
-    if (m.pos(na) != m.pos(nb)) return m.pos(na) < m.pos(nb);
-    if (m.pos(pa) != m.pos(pb)) return m.pos(pa) < m.pos(pb);
-    if (m.uv[na] != m.uv[nb]) return m.uv[na] < m.uv[nb];
-    return m.uv[pa] < m.uv[pb];
-}
 
 void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector<int>& corners,
                       std::vector<GridAutomorphism>& to_c) {

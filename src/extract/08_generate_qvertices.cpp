@@ -90,7 +90,7 @@ void add_vertex_qvertices(const TriMesh& m, QState& q) {
                                // A vertex glued by collapsing UV-degenerate edges sits at its own input
                                // vertex (the collapse chose it canonically), not at whichever glued
                                // vertex's corner starts its fan.
-                               (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])],
+                               m.vertex_pos(v),
                                w});
     }
 }

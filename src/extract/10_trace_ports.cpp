@@ -262,10 +262,7 @@ int canonical_half_edge(const TriMesh& m, int h) {
     if (o < 0) return h;
     // The half-edge that runs from the end with the smaller position; a vertex glued by collapses
     // is at its own input vertex on both sides. (Two vertices at one point: index order.)
-    const auto& at = [&](int v) -> const std::array<double, 3>& {
-        return (*m.positions)[static_cast<std::size_t>(m.input_vertex[v])];
-    };
-    const auto &from = at(m.origin(h)), &to = at(m.target(h));
+    const auto &from = m.vertex_pos(m.origin(h)), &to = m.vertex_pos(m.target(h));
     if (from != to) return from < to ? h : o;
     return std::min(h, o);
 }

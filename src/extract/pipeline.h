@@ -136,14 +136,11 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 Error sanitize(TriMesh& m, const std::vector<int>& given_valences, const std::vector<std::array<int, 2>>& feature_edges,
                Report& report, bool branch_points = true, std::int64_t* deferred = nullptr);
 
-/// The order in which a closed fan's corners compete to start it (corner a before corner b, both
-/// of one vertex): by UV, then the 3D positions of their next and previous corners, then those
-/// corners' UVs; all of it the input's data, none of it its order. Two corners tie only if their
-/// triangles agree in every 3D position and UV.
-bool fan_corner_less(const TriMesh& m, int a, int b);
-
 /// The corners of v's fan, clockwise from fan_start[v] or (`canonical_start`, a closed fan) from
-/// fan_corner_less's first, and the transitions from the first corner's chart to each corner's.
+/// the canonical corner: the smallest UV, then the 3D positions of its next and previous
+/// corners, then those corners' UVs (all of it the input's data, none of it its order; two
+/// corners tie only if their triangles agree in every 3D position and UV). And the transitions
+/// from the first corner's chart to each corner's.
 void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector<int>& corners,
                       std::vector<GridAutomorphism>& to_c);
 

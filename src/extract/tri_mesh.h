@@ -71,6 +71,10 @@ struct TriMesh {
     const std::array<double, 3>& pos(int c) const { return (*positions)[static_cast<std::size_t>(corner_vertex[c])]; }
     std::vector<int> input_triangle; ///< per triangle: index in the input
     std::vector<int> input_vertex;   ///< per vertex: a representative input vertex
+    /// Vertex v's 3D position: its representative input vertex's.
+    const std::array<double, 3>& vertex_pos(int v) const {
+        return (*positions)[static_cast<std::size_t>(input_vertex[static_cast<std::size_t>(v)])];
+    }
 
     // connectivity (build_topology)
     std::vector<int> opp;          ///< per half-edge: opposite half-edge, -1 on the boundary
