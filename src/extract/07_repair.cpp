@@ -108,9 +108,6 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
 
 bool positive(const TriMesh& m, int f) { return sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])) > 0; }
 
-/// Lexicographic order of 3D points.
-bool less3(const std::array<double, 3>& a, const std::array<double, 3>& b) { return a < b; }
-
 // ============================================================================ a free vertex
 
 /// A free vertex's fan, starting at a canonical corner (so the sums below do not depend on the
@@ -146,8 +143,8 @@ std::vector<int> fan_in_3d_order(const TriMesh& m, int v) {
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
     const auto first = std::min_element(fan.begin(), fan.end(), [&](int a, int b) {
         if (m.pos(TriMesh::next(a)) != m.pos(TriMesh::next(b)))
-            return less3(m.pos(TriMesh::next(a)), m.pos(TriMesh::next(b)));
-        return less3(m.pos(TriMesh::prev(a)), m.pos(TriMesh::prev(b)));
+            return m.pos(TriMesh::next(a)) < m.pos(TriMesh::next(b));
+        return m.pos(TriMesh::prev(a)) < m.pos(TriMesh::prev(b));
     });
     std::rotate(fan.begin(), first, fan.end());
     return fan;
@@ -197,7 +194,7 @@ std::vector<double> region_point(const TriMesh& m, const Region& r, double& leng
 int canonical_base(const TriMesh& m, int f) {
     int base = 3 * f;
     for (int c = 3 * f + 1; c < 3 * f + 3; ++c)
-        if (m.pos(c) != m.pos(base) ? less3(m.pos(c), m.pos(base)) : m.uv[c] < m.uv[base]) base = c;
+        if (m.pos(c) != m.pos(base) ? m.pos(c) < m.pos(base) : m.uv[c] < m.uv[base]) base = c;
     return base;
 }
 
@@ -564,16 +561,13 @@ struct RegionMarks {
     std::vector<char> face;   ///< per triangle
     std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
     std::vector<int> fixed;
-    /// Singularities whose angles Gauss-Bonnet fixes otherwise than Algorithm 8 counted them (the
-    /// fold took whole turns from their fans without flipping them), and those angles.
-    std::vector<std::pair<int, double>> cones;
+    /// A singularity whose angle Gauss-Bonnet fixes otherwise than Algorithm 8 counted it (the
+    /// fold took whole turns from its fan without flipping any), and that angle.
+    int cone = -1;
+    double cone_angle = 0.0;
 
     /// What v's angles sum to in an embedding of the region's map.
-    double target(const TriMesh& m, int v) const {
-        for (const auto& [cone, angle] : cones)
-            if (cone == v) return angle;
-        return target_angle(m, v);
-    }
+    double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }
 
     void mark(const TriMesh& m, const Region& r) {
         for (const int f : r.faces) face[f] = 1;
@@ -588,7 +582,7 @@ struct RegionMarks {
         for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
         for (const int v : fixed) vertex[v] = 0;
         fixed.clear();
-        cones.clear();
+        cone = -1;
     }
 };
 
@@ -652,7 +646,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     if (inner.size() != 1) return false;
     const double angle = target_angle(m, inner[0]) + 2.0 * M_PI * turns;
     if (!(angle > 1.0 && angle < M_PI * m.fan_size[inner[0]])) return false;
-    marks.cones.push_back({inner[0], angle});
+    marks.cone = inner[0];
+    marks.cone_angle = angle;
     return true;
 }
 
@@ -992,6 +987,14 @@ bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pin
     return false;
 }
 
+/// The path's transitions as they were before merge_dipole (its edges are distinct: any order).
+void restore_path_transitions(TriMesh& m, const DipoleMerge& merge) {
+    for (std::size_t i = 0; i < merge.old.size(); ++i) {
+        m.map.transition.set(static_cast<std::size_t>(merge.path[i]), merge.old[i]);
+        m.map.transition.set(static_cast<std::size_t>(m.opp[merge.path[i]]), merge.old[i].inverse());
+    }
+}
+
 /// Changes the path's transitions so that every fan along it closes: a's, each regular vertex's
 /// on the way, and (the pair being a dipole on one grid point) b's. False, with nothing changed,
 /// when b's does not.
@@ -1006,10 +1009,7 @@ bool merge_dipole(TriMesh& m, DipoleMerge& merge) {
     for (const int e : merge.path) closed = closed && fan_holonomy(m, e).is_identity();
     closed = closed && fan_holonomy(m, m.opp[merge.path.back()]).is_identity();
     if (!closed) {
-        for (std::size_t i = merge.path.size(); i-- > 0;) {
-            m.map.transition.set(static_cast<std::size_t>(merge.path[i]), merge.old[i]);
-            m.map.transition.set(static_cast<std::size_t>(m.opp[merge.path[i]]), merge.old[i].inverse());
-        }
+        restore_path_transitions(m, merge);
         return false;
     }
     for (const int v : {merge.a, merge.b}) {
@@ -1031,10 +1031,7 @@ bool dipole_embedded(const TriMesh& m, const DipoleMerge& merge) {
 }
 
 void unmerge_dipole(TriMesh& m, const DipoleMerge& merge) {
-    for (std::size_t i = 0; i < merge.path.size(); ++i) {
-        m.map.transition.set(static_cast<std::size_t>(merge.path[i]), merge.old[i]);
-        m.map.transition.set(static_cast<std::size_t>(m.opp[merge.path[i]]), merge.old[i].inverse());
-    }
+    restore_path_transitions(m, merge);
     m.map.singular[merge.a] = m.map.singular[merge.b] = 1;
     m.map.valence[merge.a] = merge.valences[0];
     m.map.valence[merge.b] = merge.valences[1];
@@ -1105,25 +1102,27 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
                      Report& report) {
     RepairOutcome out;
     std::vector<int> seeds_faces, stuck;
-    bad_triangles(m, pinned_vertices(m, feature_edges), seeds_faces, stuck);
+    std::vector<char> pinned = pinned_vertices(m, feature_edges);
+    bad_triangles(m, pinned, seeds_faces, stuck);
     if (seeds_faces.empty() && stuck.empty()) return out;
     // Co-located dipoles next to the fold-overs are merged first (their vertices become free),
     // in an order that does not depend on the input's; not against the user's valences.
     std::vector<DipoleMerge> merges;
     if (!valences_given) {
-        const std::vector<char> pinned0 = pinned_vertices(m, feature_edges);
         std::vector<std::pair<VertexKey, int>> cones;
         for (int v = 0; v < m.num_vertices; ++v)
             if (folded_singularity(m, v)) cones.push_back({vertex_key(m, v), v});
         std::sort(cones.begin(), cones.end());
         for (const auto& kv : cones) {
             DipoleMerge d;
-            if (m.map.singular[kv.second] && find_colocated_dipole(m, kv.second, pinned0, d) && merge_dipole(m, d))
+            if (m.map.singular[kv.second] && find_colocated_dipole(m, kv.second, pinned, d) && merge_dipole(m, d))
                 merges.push_back(std::move(d));
         }
     }
-    const std::vector<char> pinned = pinned_vertices(m, feature_edges);
-    if (!merges.empty()) bad_triangles(m, pinned, seeds_faces, stuck); // merged vertices are free now
+    if (!merges.empty()) { // merged vertices are free now
+        pinned = pinned_vertices(m, feature_edges);
+        bad_triangles(m, pinned, seeds_faces, stuck);
+    }
     // A merge stands only if every vertex of its path was re-embedded by a certified region.
     std::vector<char> reembedded(static_cast<std::size_t>(m.num_vertices), 0);
     const auto merge_reembedded = [&](const DipoleMerge& d) {
@@ -1136,10 +1135,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
     std::vector<int> corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1);
     std::vector<GridAutomorphism> corner_to(corner_slot.size());
-    RegionMarks marks{std::vector<char>(static_cast<std::size_t>(m.num_faces()), 0),
-                      std::vector<char>(static_cast<std::size_t>(m.num_vertices), 0),
-                      {},
-                      {}};
+    RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
+    marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
+    marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
         for (const DipoleMerge& d : merges)
@@ -1169,16 +1167,17 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
                 repaired = untangled && windings_kept(m, r, marks);
                 // Once more with cone fans opened, where that is what failed: the untangler wound
                 // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
-                if (!repaired && (untangled || !marks.cones.empty()))
+                if (!repaired && (untangled || marks.cone >= 0))
                     repaired = untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
             }
             if (repaired) {
                 polish_region(m, r, rest, corner_slot, corner_to, marks);
                 for (const FreeFan& fan : r.fans) reembedded[fan.vertex] = 1;
             }
-            // Each corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
-            for (const auto& [cone, angle] : repaired ? marks.cones : std::vector<std::pair<int, double>>{})
-                m.map.valence[cone] = m.map.winding_valence[cone] = static_cast<int>(std::lround(angle / (0.5 * M_PI)));
+            // A corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
+            if (repaired && marks.cone >= 0)
+                m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] =
+                    static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
             marks.clear(r);
             if (!repaired) restore_region_uvs(m, r, before);
         }
