@@ -26,7 +26,8 @@ inline bool is_whole_mesh_violation(ViolationKind k) {
 inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
-           k == DefectKind::MapRefined || k == DefectKind::SeamRounded || k == DefectKind::SingularitiesMerged;
+           k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
+           k == DefectKind::SingularitiesMerged;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
@@ -107,10 +108,10 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d, 
     if (d.kind == DefectKind::NonQuadFace &&
         (d.output_face < 0 || r.mesh.faces[static_cast<std::size_t>(d.output_face)].size() == 4))
         return what + ": does not name a face with other than 4 vertices";
-    // A refinement names the first failure at scale 1, which may be one of the whole mesh.
+    // A refinement or coarsening names the first failure at scale 1, which may be one of the whole mesh.
+    const bool rescaled = d.kind == DefectKind::MapRefined || d.kind == DefectKind::MapCoarsened;
     if (d.kind != DefectKind::CheckerViolation)
-        return d.input_element < 0 && d.kind != DefectKind::MapRefined ? what + ": names no input triangle"
-                                                                       : std::string();
+        return d.input_element < 0 && !rescaled ? what + ": names no input triangle" : std::string();
     const ViolationElement element = element_kind(*d.violation);
     if (is_whole_mesh_violation(*d.violation) != (element == ViolationElement::None))
         return what + ": element_kind disagrees with the kind's scope";
@@ -151,7 +152,7 @@ inline std::string place_inconsistency(const Input& in, const Result& r) {
 /// "" when a valid result keeps the area promise of Report::signed_uv_area and
 /// Report::explanations, else what breaks it: a quad count below the signed UV area of the map
 /// the mesh carries (sanitized and repaired; a repair keeps the area) has an explanation other
-/// than MapRefined (which explains the scale, not a loss); and once that map has no flipped or
+/// than MapRefined or MapCoarsened (which explain the scale, not a loss); and once that map has no flipped or
 /// degenerate triangle left (Report::flipped_after_repair == 0) and nothing is explained, the
 /// quad count is that area, rounded. The promise is for maps without boundaries or whose
 /// boundaries lie on iso-lines; the caller decides that it applies.
@@ -160,7 +161,8 @@ inline std::string area_inconsistency(const Result& r) {
     const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());
     const std::int64_t area = std::llround(r.report.signed_uv_area);
     bool explained = false;
-    for (const Defect& d : r.report.explanations) explained = explained || d.kind != DefectKind::MapRefined;
+    for (const Defect& d : r.report.explanations)
+        explained = explained || (d.kind != DefectKind::MapRefined && d.kind != DefectKind::MapCoarsened);
     const std::string about = std::to_string(quads) + " quads on a map of signed UV area " +
                               std::to_string(r.report.signed_uv_area) + " (rung " + r.report.rung + ", grid scale " +
                               std::to_string(r.mesh.grid_scale) + ", " + std::to_string(r.report.flipped_after_repair) +

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <algorithm>
 #include <random>
 
 namespace qex::testing {
@@ -202,6 +203,75 @@ TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
         const std::array<int, 2> got = turns(shuffled);
         EXPECT_EQ(got[0], expected[0]) << "seed " << seed;
         EXPECT_EQ(got[1], expected[1]) << "seed " << seed;
+    }
+}
+
+// ---------------------------------------------------------------------------- coarsening
+
+/// The map sanitized (stages transitions, valences, sanitize), ready for map_divisible_by.
+detail::TriMesh sanitized(const Input& in) {
+    detail::TriMesh m = detail::make_mesh(in);
+    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    Report rep;
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    EXPECT_EQ(detail::sanitize(m, {}, {}, rep).code, ErrorCode::None);
+    detail::compute_transitions(m);
+    return m;
+}
+
+Input times(Input in, std::int64_t k) {
+    for (auto& uv : in.uvs) uv = {uv[0] * static_cast<double>(k), uv[1] * static_cast<double>(k)};
+    return in;
+}
+
+TEST(Coarsening, OnlyAMapTwiceAnIntegerGridMapIsOneWhenHalved) {
+    // A map times 2 halves back to an integer-grid map; moved by one cell it does not (its
+    // singularities, or the boundary's iso-lines, then lie on odd grid points); times 2 it does
+    // not halve twice unless the map itself halves.
+    for (const QuadLayout& layout : {icosahedron_layout(), cube_layout(), torus_layout(), disk_layout(3)}) {
+        std::mt19937 rng(3);
+        Input base = make_map(layout, 1, 2);
+        rechart(base, rng, 8);
+        const bool base_halves = detail::map_divisible_by(sanitized(base), {}, 2);
+        const Input twice = times(base, 2);
+        EXPECT_TRUE(detail::map_divisible_by(sanitized(twice), {}, 2)) << layout.name;
+        EXPECT_EQ(detail::map_divisible_by(sanitized(twice), {}, 4), base_halves) << layout.name;
+        Input moved = twice;
+        translate(moved, 1, 0);
+        EXPECT_FALSE(detail::map_divisible_by(sanitized(moved), {}, 2)) << layout.name;
+    }
+}
+
+TEST(Coarsening, ASplitMeshIsTheFineMeshOfAFoldFreeMap) {
+    // The mesh of a map split k x k onto the map times k: valid there, k^2 times the quads, and
+    // the vertices of the fine map's own mesh, where each is found on its grid point.
+    for (const QuadLayout& layout : {icosahedron_layout(), cube_layout(), torus_layout(), disk_layout(3)}) {
+        std::mt19937 rng(7);
+        Input in = make_map(layout, 2, 3);
+        rechart(in, rng, 8);
+        const Result coarse = extract_valid(in);
+        for (const int k : {2, 4}) {
+            const Input fine = times(in, k);
+            std::vector<std::array<double, 2>> map = coarse.mesh.map_uvs;
+            for (auto& uv : map) uv = {uv[0] * k, uv[1] * k};
+            QuadMesh split;
+            ASSERT_TRUE(detail::split_onto_map(fine, map, coarse.mesh, k, split)) << layout.name << " x" << k;
+            const VerifyResult v = verify(fine, split);
+            EXPECT_TRUE(v.valid) << layout.name << " x" << k << ": " << (v.violations.empty() ? std::string() : v.violations[0].message);
+            EXPECT_EQ(split.faces.size(), static_cast<std::size_t>(k * k) * coarse.mesh.faces.size());
+            const Result direct = extract_valid(fine);
+            ASSERT_EQ(direct.mesh.positions.size(), split.positions.size()) << layout.name << " x" << k;
+            // Every vertex of the one mesh has a vertex of the other where it is (up to rounding).
+            double worst = 0.0;
+            for (const auto& p : direct.mesh.positions) {
+                double nearest = INFINITY;
+                for (const auto& q : split.positions)
+                    nearest = std::min(nearest, std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+                worst = std::max(worst, nearest);
+            }
+            EXPECT_LT(worst, 1e-9) << layout.name << " x" << k;
+        }
     }
 }
 } // namespace

@@ -86,6 +86,18 @@ struct Options {
     /// the checker judges it against the map scaled by K. Needs fallback_ladder. Not tried past
     /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse.
     int max_refinement = 16;
+    /// When the map gives no valid mesh at its own scale (fold-overs that cover many cells, as on
+    /// a map whose UVs were multiplied to make the quads smaller), and the map with its UVs
+    /// divided by 2 is an integer-grid map too (every transition's translation and singularity's
+    /// grid point even, every boundary or feature edge on an iso-line on an even one), the ladder
+    /// runs on that map, then on the map divided by 4, ... up to this factor K (a power of two;
+    /// 1 disables). Its sanitized map must be the given map's, divided by K, exactly (outside
+    /// the triangles its repair changed). The first valid mesh there has each quad split into
+    /// K x K on the given map, every new vertex on a preimage of its grid point, and is judged
+    /// against the given map (the coarse map times K) like any other: the report says so
+    /// (Report::coarsening, and an explanation naming what failed at scale 1). Tried before
+    /// refinement. Needs fallback_ladder.
+    int max_coarsening = 16;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own
     /// scale). For progress display; it must not throw. Empty: not called.
@@ -120,6 +132,10 @@ enum class DefectKind {
     /// Two singularities of opposite index on one grid point, with a fold between them (solver
     /// rounding), were merged into regular vertices before the fold was re-embedded; names both.
     SingularitiesMerged,
+    /// No valid mesh at the map's own scale, but the map with its UVs divided by
+    /// Report::coarsening is an integer-grid map too and gives one: each of its quads is split
+    /// into that many by that many (Options::max_coarsening); names the first failure at scale 1.
+    MapCoarsened,
 };
 const char* to_string(DefectKind kind);
 
@@ -186,6 +202,11 @@ struct Report {
     int grid_scale = 1;
     /// Refinement factors tried after scale 1 failed (0 when scale 1 succeeded or refinement is off).
     std::int64_t refinements_tried = 0;
+    /// 1, or the factor K the map's UVs were divided by to give a valid mesh, whose quads were
+    /// then split into K x K (Options::max_coarsening). The rest of the report describes the
+    /// extraction at that scale, but for signed_uv_area (the given map's, as the mesh's quads
+    /// are); `explanations` names what failed at scale 1.
+    int coarsening = 1;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
     /// name; see the README's pipeline table), summed over every run of the stage in this
     /// extraction (sanitize rounds, and every rung tried), in first-run order.

@@ -51,6 +51,7 @@ struct ExtractArgs {
     bool poly = false, quiet = false, snap_boundary = false, round_seams = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
+    int max_coarsening = Options{}.max_coarsening;
 };
 CLI::App* add_extract(CLI::App& app, ExtractArgs& a);
 int run_extract(const ExtractArgs& a);

@@ -69,6 +69,7 @@ int run_extract(const ExtractArgs& a) {
     options.snap_boundary = a.snap_boundary;
     options.round_inconsistent_seams = a.round_seams;
     options.max_refinement = a.max_refinement;
+    options.max_coarsening = a.max_coarsening;
     options.on_stage = [&progress](const char* stage, int grid_scale) {
         progress.detail(std::string("stage ") + stage + " done" +
                         (grid_scale > 1 ? " (map refined x" + std::to_string(grid_scale) + ")" : ""));
@@ -101,6 +102,7 @@ int run_extract(const ExtractArgs& a) {
     if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
         std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
                   << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
+    if (r.coarsening != 1 && !a.quiet) std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message << "\n";
     const auto is_rounded = [](const Defect& d) { return d.kind == DefectKind::SeamRounded; };
     const auto first = std::find_if(r.explanations.begin(), r.explanations.end(), is_rounded);
     if (first != r.explanations.end()) { // said even with -q: the map moved by up to half a cell there
@@ -112,10 +114,11 @@ int run_extract(const ExtractArgs& a) {
     if (!a.quiet)
         std::printf(
             "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
-            "%lld recovered edges, map %s, grid scale %d) -> %s\n",
+            "%lld recovered edges, map %s, grid scale %d%s) -> %s\n",
             result.mesh.faces.size(), result.mesh.positions.size(), r.signed_uv_area,
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
-            static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale, a.out_path.c_str());
+            static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
+            r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
     return kOk;
 }
 
@@ -139,6 +142,11 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
         ->add_option("--max-refinement", a.max_refinement,
                      "when the map gives no valid mesh at its own scale, retry with its UVs x2, x4, ... up to this "
                      "power of two (1: never; default 16)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    extract
+        ->add_option("--max-coarsening", a.max_coarsening,
+                     "when the map gives no valid mesh at its own scale and its UVs /2, /4, ... (up to this power of "
+                     "two) are an integer-grid map too, extract there and split each quad back (1: never; default 16)")
         ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;

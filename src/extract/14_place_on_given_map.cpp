@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <map>
 
 namespace qex::detail {
 namespace {
@@ -165,6 +167,326 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
     }
     mesh.map_uvs = given;
     return unplaced;
+}
+
+} // namespace qex::detail
+
+// ============================================================================ a coarse mesh, split
+
+namespace qex::detail {
+namespace {
+
+/// Whether triangle (a, b, c) and the open box (lo, hi) share a point, by separating axes: the
+/// box's two and the triangle's three edges (a side that only touches separates). A degenerate
+/// triangle is judged by its bounding box.
+bool meets_open_box(const Point2& a, const Point2& b, const Point2& c, const IPoint& lo, const IPoint& hi) {
+    const auto [x0, x1] = std::minmax({a[0], b[0], c[0]});
+    const auto [y0, y1] = std::minmax({a[1], b[1], c[1]});
+    if (!(x1 > static_cast<double>(lo[0]) && x0 < static_cast<double>(hi[0]) && y1 > static_cast<double>(lo[1]) &&
+          y0 < static_cast<double>(hi[1])))
+        return false;
+    const int s = sign(orient2d(a, b, c));
+    if (s == 0) return true;
+    const std::array<Point2, 4> box{{{static_cast<double>(lo[0]), static_cast<double>(lo[1])},
+                                     {static_cast<double>(hi[0]), static_cast<double>(lo[1])},
+                                     {static_cast<double>(hi[0]), static_cast<double>(hi[1])},
+                                     {static_cast<double>(lo[0]), static_cast<double>(hi[1])}}};
+    const std::array<const Point2*, 3> t{&a, &b, &c};
+    for (std::size_t e = 0; e < 3; ++e) {
+        bool separated = true;
+        for (const Point2& p : box) separated = separated && sign(orient2d(*t[e], *t[(e + 1) % 3], p)) * s <= 0;
+        if (separated) return false;
+    }
+    return true;
+}
+
+/// The triangles of the given map that a grid cell covers: those reachable from seed triangles
+/// through triangles that meet the cell's interior, each with the transition from the seeds'
+/// chart to its own. Kept inside the cell, the search cannot wind round a singularity at one of
+/// its corners into another sheet of the same grid points.
+class CellSearch {
+public:
+    explicit CellSearch(const TriMesh& g)
+        : g_(g), stamp_(static_cast<std::size_t>(g.num_faces()), 0), to_(static_cast<std::size_t>(g.num_faces())) {}
+
+    /// Lists the triangles of the cell (lo, hi), in the seeds' chart. False past the budget.
+    bool run(const std::vector<std::pair<int, GridAutomorphism>>& seeds, const IPoint& lo, const IPoint& hi) {
+        ++generation_;
+        listed_.clear();
+        for (const auto& [t, to] : seeds) visit(t, to, lo, hi);
+        for (std::size_t head = 0; head < listed_.size(); ++head) {
+            if (listed_.size() > kMaxCellTriangles) return false;
+            const int t = listed_[head];
+            // Neighbours in canonical order (as the preimage search takes them).
+            std::array<int, 3> ks{0, 1, 2};
+            auto neighbour = [&](int k) { return g_.opp[3 * t + k] < 0 ? -1 : TriMesh::face(g_.opp[3 * t + k]); };
+            std::sort(ks.begin(), ks.end(), [&](int a, int b) {
+                const int na = neighbour(a), nb = neighbour(b);
+                if (na < 0 || nb < 0) return na > nb;
+                return triangle_less(g_, na, nb);
+            });
+            for (const int k : ks)
+                if (g_.opp[3 * t + k] >= 0) visit(neighbour(k), g_.map.transition[3 * t + k].after(to(t)), lo, hi);
+        }
+        return true;
+    }
+    bool listed(int t) const { return stamp_[static_cast<std::size_t>(t)] == generation_; }
+    const GridAutomorphism& to(int t) const { return to_[static_cast<std::size_t>(t)]; }
+    const std::vector<int>& triangles() const { return listed_; }
+
+    /// The first listed triangle that holds q (seeds' chart), positive before flipped; -1 if none.
+    int holder(const IPoint& q) const {
+        int flipped = -1;
+        for (const int t : listed_) {
+            const Point2 x = to_point(to(t)(q));
+            const Point2 &a = g_.uv[3 * t], &b = g_.uv[3 * t + 1], &c = g_.uv[3 * t + 2];
+            const int s = sign(orient2d(a, b, c));
+            if (s == 0) continue;
+            const int o0 = sign(orient2d(a, b, x)), o1 = sign(orient2d(b, c, x)), o2 = sign(orient2d(c, a, x));
+            if (!((o0 == s || o0 == 0) && (o1 == s || o1 == 0) && (o2 == s || o2 == 0))) continue;
+            if (s > 0) return t;
+            if (flipped < 0) flipped = t;
+        }
+        return flipped;
+    }
+
+private:
+    static constexpr std::size_t kMaxCellTriangles = std::size_t{1} << 16;
+
+    void visit(int t, const GridAutomorphism& to, const IPoint& lo, const IPoint& hi) {
+        if (t < 0 || listed(t) || !std::isfinite(g_.uv[3 * t][0])) return;
+        // The cell in t's chart: a box again (the transition turns by quarter turns).
+        const IPoint p = to(lo), q = to(hi);
+        const IPoint l{std::min(p[0], q[0]), std::min(p[1], q[1])}, h{std::max(p[0], q[0]), std::max(p[1], q[1])};
+        if (!meets_open_box(g_.uv[3 * t], g_.uv[3 * t + 1], g_.uv[3 * t + 2], l, h)) return;
+        stamp_[static_cast<std::size_t>(t)] = generation_;
+        to_[static_cast<std::size_t>(t)] = to;
+        listed_.push_back(t);
+    }
+
+    const TriMesh& g_;
+    std::vector<std::uint32_t> stamp_;
+    std::vector<GridAutomorphism> to_;
+    std::vector<int> listed_;
+    std::uint32_t generation_ = 0;
+};
+
+/// The triangles a provenance's grid point is on, each with the transition from the chart of
+/// its triangle `chart_triangle` to its own: that triangle; with the neighbour across the edge;
+/// or the vertex's whole fan, walked clockwise. Empty if a triangle of it was collapsed away.
+std::vector<std::pair<int, GridAutomorphism>> triangles_at(const TriMesh& g, const Provenance& p) {
+    std::vector<std::pair<int, GridAutomorphism>> at;
+    const int t0 = p.chart_triangle;
+    if (p.kind == QVertexKind::Face) return {{t0, GridAutomorphism{}}};
+    if (p.kind == QVertexKind::Edge) {
+        const int h = 3 * t0 + p.local_edge, o = g.opp[h];
+        at.push_back({t0, GridAutomorphism{}});
+        if (o >= 0) at.push_back({TriMesh::face(o), g.map.transition[h]});
+        return at;
+    }
+    // The fan from its first corner, then re-based on t0's chart.
+    const int v = p.element;
+    GridAutomorphism to_h, to_t0;
+    bool seen = false;
+    for (int h = g.fan_start[v], n = 0; h >= 0 && n < g.fan_size[v]; h = g.cw(h), ++n) {
+        if (!std::isfinite(g.uv[h][0])) return {};
+        at.push_back({TriMesh::face(h), to_h});
+        if (TriMesh::face(h) == t0 && !seen) to_t0 = to_h, seen = true;
+        to_h = g.map.transition[h].after(to_h);
+    }
+    if (!seen) return {};
+    const GridAutomorphism back = to_t0.inverse();
+    for (auto& [t, to] : at) to = to.after(back);
+    return at;
+}
+
+/// Where the cell search has a corner of the cell: 1 when grid point q (seeds' chart) is on the
+/// corner's vertex, edge or triangle, at its grid point there; -1 when the search holds one of
+/// those triangles with q elsewhere; 0 when it holds none (a fold can keep a corner's own
+/// triangles out of the cell).
+int corner_found(const TriMesh& g, const CellSearch& search, const Provenance& p, const IPoint& q) {
+    const IPoint expected{p.grid[0], p.grid[1]};
+    int found = 0;
+    for (const auto& [t, to] : triangles_at(g, p))
+        if (search.listed(t)) {
+            if (search.to(t)(q) == to(expected)) return 1;
+            found = -1;
+        }
+    return found;
+}
+
+/// A coarse face's cell on the given map: the triangles it covers (listed by `search`), and how
+/// its local frame lies in their chart.
+struct CellFrame {
+    std::array<int, 4> corners; ///< the face's vertices, from the corner the frame is anchored at
+    IPoint origin, e1, e2;      ///< that corner's grid point (times k), the sides' unit steps
+    int turn = 0;               ///< quarter turns from the face's local frame to the chart
+    int start = -1;             ///< a triangle the search started from, and the transition
+    GridAutomorphism to_start;  ///< from the chart of the points to its chart
+    /// Grid point (i, j) of the split cell (0..k each), in the chart of the search's start.
+    IPoint point(int i, int j) const {
+        const IPoint off = GridAutomorphism::rotate(IPoint{i * e1[0] + j * e2[0], i * e1[1] + j * e2[1]}, turn);
+        return {origin[0] + off[0], origin[1] + off[1]};
+    }
+};
+
+/// Finds face f's cell anchored at its corner `a`, for splitting it into k x k: the start and
+/// quarter turn under which the cell's triangles hold the most of its other corners where the
+/// coarse mesh has them, and none elsewhere. On success, `search` lists that cell.
+bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, const std::vector<int>& face,
+               const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, CellSearch& search, CellFrame& frame) {
+    for (int i = 0; i < 4; ++i) frame.corners[static_cast<std::size_t>(i)] = face[static_cast<std::size_t>((a + i) % 4)];
+    const auto at = [&](int i) { return uv[static_cast<std::size_t>((a + i) % 4)]; };
+    frame.e1 = {at(1)[0] - at(0)[0], at(1)[1] - at(0)[1]};
+    frame.e2 = {at(3)[0] - at(0)[0], at(3)[1] - at(0)[1]};
+    const Provenance& p0 = provenance[static_cast<std::size_t>(frame.corners[0])];
+    frame.origin = {p0.grid[0], p0.grid[1]};
+    // Where the search starts: the triangle of the corner (with the neighbour across its edge);
+    // on a vertex, each triangle of its fan on its own (their charts, walked round a
+    // singularity, differ by its turn: together they would mix two sheets of the cell).
+    const std::vector<std::pair<int, GridAutomorphism>> around = triangles_at(g, p0);
+    std::vector<std::vector<std::pair<int, GridAutomorphism>>> starts;
+    if (p0.kind == QVertexKind::Vertex)
+        for (const auto& seed : around) starts.push_back({seed});
+    else if (!around.empty())
+        starts.push_back(around);
+    const auto run = [&](std::size_t start, int r) {
+        frame.turn = r;
+        const IPoint lo = frame.point(0, 0), hi = frame.point(k, k);
+        return search.run(starts[start], {std::min(lo[0], hi[0]), std::min(lo[1], hi[1])},
+                          {std::max(lo[0], hi[0]), std::max(lo[1], hi[1])}) &&
+               !search.triangles().empty();
+    };
+    int best = 0, turn = -1;
+    std::size_t from = 0;
+    for (std::size_t start = 0; start < starts.size(); ++start)
+        for (int r = 0; r < 4; ++r) {
+            if (!run(start, r)) continue;
+            int matched = 0;
+            bool contradicted = false;
+            const std::array<std::pair<int, int>, 3> ij{{{k, 0}, {k, k}, {0, k}}};
+            for (std::size_t j = 0; j < 3; ++j) {
+                const int found = corner_found(g, search, provenance[static_cast<std::size_t>(frame.corners[j + 1])],
+                                               frame.point(ij[j].first, ij[j].second));
+                matched += found > 0;
+                contradicted = contradicted || found < 0;
+            }
+            // Starts in one sector find the same cell (their charts differ by the singularity's
+            // turn about the corner, and so do their quarter turns): the first is taken.
+            if (!contradicted && matched > best) best = matched, turn = r, from = start;
+        }
+    if (turn < 0 || !run(from, turn)) return false;
+    frame.start = starts[from][0].first;
+    frame.to_start = starts[from][0].second;
+    return true;
+}
+
+} // namespace
+
+bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>& map, const QuadMesh& coarse, int k,
+                    QuadMesh& out) {
+    TriMesh g = make_mesh(input);
+    if (build_topology(g, "input").code != ErrorCode::None) return false;
+    g.uv = map;
+    compute_transitions(g);
+    CellSearch search(g);
+    PreimageSearch wide(g);
+    const auto nv = coarse.positions.size();
+    out = QuadMesh{};
+    out.map_uvs = map;
+    out.map_repaired = coarse.map_repaired;
+    // The coarse vertices, on the same elements: their grid points times k.
+    out.provenance.reserve(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Provenance& p = coarse.provenance[v];
+        if (p.chart_triangle < 0 || p.chart_triangle >= g.num_faces()) return false;
+        out.provenance.push_back(located(input, g, p.chart_triangle, {p.grid[0] * k, p.grid[1] * k}, p.merged));
+        out.positions.push_back(position_of(input, out.provenance.back()));
+    }
+    // Per coarse edge (its vertices, smaller first): the first of its k - 1 new vertices,
+    // numbered from the smaller vertex on.
+    std::map<std::pair<int, int>, int> side_first;
+    std::vector<int> at(static_cast<std::size_t>((k + 1) * (k + 1)));
+    for (std::size_t f = 0; f < coarse.faces.size(); ++f) {
+        const std::vector<int>& face = coarse.faces[f];
+        if (face.size() != 4 || coarse.face_uvs[f].size() != 4) return false;
+        // Anchored at a corner inside a triangle if it has one, else on an edge, else on a vertex
+        // (the fewer triangles round the anchor, the fewer starts).
+        std::array<int, 4> anchors{0, 1, 2, 3};
+        std::stable_sort(anchors.begin(), anchors.end(), [&](int x, int y) {
+            const auto rank = [](QVertexKind kind) { return kind == QVertexKind::Face ? 0 : kind == QVertexKind::Edge ? 1 : 2; };
+            return rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(x)])].kind) <
+                   rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(y)])].kind);
+        });
+        CellFrame frame;
+        bool found = false;
+        for (std::size_t n = 0; n < 4 && !found; ++n)
+            found = find_cell(g, out.provenance, face, coarse.face_uvs[f], anchors[n], k, search, frame);
+        if (!found) return false;
+        const std::array<int, 4>& c = frame.corners;
+        auto place = [&](int i, int j) -> int {
+            const IPoint q = frame.point(i, j);
+            int t = search.holder(q);
+            IPoint at_t = t >= 0 ? search.to(t)(q) : IPoint{};
+            if (t < 0) {
+                // A fold can cut the cell's triangles in parts: the one that holds q is not
+                // reached inside the cell. It is searched for from the start, unbounded.
+                const IPoint from_start = frame.to_start(q);
+                t = wide.find(frame.start, from_start);
+                at_t = t >= 0 ? wide.to(t)(from_start) : IPoint{};
+                for (std::size_t n = 0; t < 0 && n < search.triangles().size(); n += 8) {
+                    const int s0 = search.triangles()[n];
+                    const IPoint from = search.to(s0)(q);
+                    t = wide.find(s0, from);
+                    if (t >= 0) at_t = wide.to(t)(from);
+                }
+                if (t < 0) return -1;
+            }
+            out.provenance.push_back(located(input, g, t, at_t, 1));
+            out.positions.push_back(position_of(input, out.provenance.back()));
+            return static_cast<int>(out.positions.size()) - 1;
+        };
+        // The vertex at (i, j), 0..k each, of the split cell.
+        auto slot = [&](int i, int j) -> int& { return at[static_cast<std::size_t>(j * (k + 1) + i)]; };
+        slot(0, 0) = c[0], slot(k, 0) = c[1], slot(k, k) = c[2], slot(0, k) = c[3];
+        // The sides, each from its first corner to its second, and the (i, j) of step s along it.
+        const std::array<std::array<int, 2>, 4> ends{{{c[0], c[1]}, {c[1], c[2]}, {c[3], c[2]}, {c[0], c[3]}}};
+        const auto step = [k](int side, int s) {
+            return side == 0 ? std::pair{s, 0} : side == 1 ? std::pair{k, s} : side == 2 ? std::pair{s, k} : std::pair{0, s};
+        };
+        for (int side = 0; side < 4; ++side) {
+            const int a = ends[static_cast<std::size_t>(side)][0], b = ends[static_cast<std::size_t>(side)][1];
+            const auto key = std::minmax(a, b);
+            // A side's new vertices are numbered from its smaller corner, so the face across it
+            // finds them in that order.
+            const auto it = side_first.find(key);
+            if (it != side_first.end()) {
+                for (int s = 1; s < k; ++s) {
+                    const auto [i, j] = step(side, s);
+                    slot(i, j) = it->second + (a < b ? s : k - s) - 1;
+                }
+                continue;
+            }
+            side_first.emplace(key, static_cast<int>(out.positions.size()));
+            for (int t = 1; t < k; ++t) {
+                const auto [i, j] = step(side, a < b ? t : k - t);
+                if ((slot(i, j) = place(i, j)) < 0) return false;
+            }
+        }
+        for (int j = 1; j < k; ++j)
+            for (int i = 1; i < k; ++i)
+                if ((slot(i, j) = place(i, j)) < 0) return false;
+        for (int j = 0; j < k; ++j)
+            for (int i = 0; i < k; ++i) {
+                out.faces.push_back({slot(i, j), slot(i + 1, j), slot(i + 1, j + 1), slot(i, j + 1)});
+                std::vector<std::array<std::int64_t, 2>> local;
+                for (const auto& [di, dj] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}})
+                    local.push_back({(i + di) * frame.e1[0] + (j + dj) * frame.e2[0],
+                                     (i + di) * frame.e1[1] + (j + dj) * frame.e2[1]});
+                out.face_uvs.push_back(std::move(local));
+            }
+    }
+    return true;
 }
 
 } // namespace qex::detail

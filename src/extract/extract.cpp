@@ -67,6 +67,34 @@ Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<st
     }
 }
 
+// ============================================================================ coarsening
+
+bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& features, std::int64_t k) {
+    const auto multiple = [k](double x) { return std::fmod(x, static_cast<double>(k)) == 0.0; };
+    std::vector<std::array<int, 2>> feature_set;
+    for (const auto& e : features) feature_set.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+    std::sort(feature_set.begin(), feature_set.end());
+    for (int h = 0; h < 3 * m.num_faces(); ++h) {
+        if (m.opp[h] >= 0) {
+            const GridAutomorphism& t = m.map.transition[h];
+            if (t.tx % k != 0 || t.ty % k != 0) return false;
+        }
+        const int a = m.input_vertex[m.origin(h)], b = m.input_vertex[m.target(h)];
+        const bool feature = std::binary_search(feature_set.begin(), feature_set.end(),
+                                                std::array<int, 2>{std::min(a, b), std::max(a, b)});
+        if (m.opp[h] >= 0 && !feature) continue;
+        const Point2 &p = m.uv[h], &q = m.uv[TriMesh::next(h)];
+        for (int d = 0; d < 2; ++d)
+            if (p[d] == q[d] && p[d] == std::floor(p[d]) && !multiple(p[d])) return false;
+    }
+    for (int v = 0; v < m.num_vertices; ++v)
+        if (m.map.singular[v] && m.fan_start[v] >= 0) {
+            const Point2& u = m.uv[m.fan_start[v]];
+            if (!multiple(u[0]) || !multiple(u[1])) return false;
+        }
+    return true;
+}
+
 namespace {
 
 // ============================================================================ one rung
@@ -379,9 +407,10 @@ void add_stage_seconds(const Report& from, Report& to) {
     }
 }
 
-/// The explanation of a refined mesh: what failed at the map's own scale, and where.
-Defect refinement_explanation(const Result& at_scale_one, int scale) {
-    Defect d{DefectKind::MapRefined, "", -1, -1, {0, 0}, std::nullopt};
+/// The explanation of a mesh extracted at another scale: what failed at the map's own scale,
+/// and where, then `how`.
+Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how) {
+    Defect d{kind, "", -1, -1, {0, 0}, std::nullopt};
     std::string what = std::to_string(at_scale_one.check.violations.size()) + " checker violations";
     if (!at_scale_one.report.defects.empty()) {
         const Defect& first = at_scale_one.report.defects.front();
@@ -389,11 +418,93 @@ Defect refinement_explanation(const Result& at_scale_one, int scale) {
         d.grid = first.grid;
         what += "; the first: " + first.message;
     }
-    const std::string k = std::to_string(scale);
-    d.message = "the map gives no valid quad mesh at its own scale (" + what +
-                "); the mesh is extracted on the map with its UVs multiplied by " + k +
-                ", so each quad of the map's own size is " + k + " x " + k + " quads";
+    d.message = "the map gives no valid quad mesh at its own scale (" + what + "); " + how;
     return d;
+}
+
+/// The explanation of a refined mesh.
+Defect refinement_explanation(const Result& at_scale_one, int scale) {
+    const std::string k = std::to_string(scale);
+    return scale_explanation(DefectKind::MapRefined, at_scale_one,
+                             "the mesh is extracted on the map with its UVs multiplied by " + k +
+                                 ", so each quad of the map's own size is " + k + " x " + k + " quads");
+}
+
+// ============================================================================ coarsening
+
+/// The map as given, sanitized (stages validate and collapse, then sanitize's rounds), in `m`.
+bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m) {
+    Report report;
+    if (prepare_mesh(input, options, m, report).code != ErrorCode::None) return false;
+    StageTimer timer(report);
+    std::vector<int> unused;
+    return prepare_map(m, input, options, kLadder[1], report, timer, unused).code == ErrorCode::None;
+}
+
+/// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid:
+/// the ladder on the map with its UVs divided by 2, 4, ... while that is an integer-grid map, and
+/// the first valid mesh there split back onto the given map. Replaces `result` and returns true
+/// when that mesh passes the checker against the given map.
+bool extract_coarsened(const Input& input, const Options& options, Result& result) {
+    TriMesh m;
+    if (!sanitize_as_given(input, options, m)) return false;
+    int largest = 1;
+    {
+        const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
+        while (largest < options.max_coarsening && map_divisible_by(m, features, 2 * largest)) largest *= 2;
+    }
+    if (largest == 1) return false;
+    const std::vector<std::array<double, 2>> given = take_map(m, input);
+    Input coarse = input;
+    for (int k = 2; k <= largest; k *= 2) {
+        for (auto& uv : coarse.uvs) uv = {0.5 * uv[0], 0.5 * uv[1]}; // exact (a power of two)
+        StageTimer::hook_scale = 1;
+        Result attempt = extract_at_scale(coarse, options);
+        if (!attempt.ok() || !attempt.check.valid) {
+            add_stage_seconds(attempt.report, result.report);
+            if (!attempt.ok()) return false;
+            continue;
+        }
+        // Its sanitized map must be the given map's, divided by k, outside what its repair changed.
+        std::vector<std::array<double, 2>> map = attempt.mesh.map_uvs;
+        for (auto& uv : map) uv = {k * uv[0], k * uv[1]};
+        std::vector<char> repaired(map.size() / 3, 0);
+        for (const std::int32_t t : attempt.mesh.map_repaired) repaired[static_cast<std::size_t>(t)] = 1;
+        bool same = map.size() == given.size();
+        for (std::size_t c = 0; c < map.size() && same; ++c) {
+            const bool both_nan = std::isnan(map[c][0]) && std::isnan(given[c][0]);
+            same = repaired[c / 3] || both_nan || map[c] == given[c];
+        }
+        StageTimer timer(attempt.report);
+        QuadMesh split;
+        VerifyResult check;
+        if (same && split_onto_map(input, map, attempt.mesh, k, split)) {
+            timer.done(Stage::place_on_given_map);
+            VerifyOptions verify_options;
+            verify_options.threads = options.threads;
+            check = verify(input, split, verify_options);
+            timer.done(Stage::check);
+        }
+        add_stage_seconds(attempt.report, result.report);
+        if (!check.valid) continue;
+        attempt.mesh = std::move(split);
+        attempt.check = std::move(check);
+        attempt.report.coarsening = k;
+        attempt.report.signed_uv_area *= static_cast<double>(k) * k; // the given map's, as the quads are
+        attempt.report.check_violations = 0;
+        const std::string f = std::to_string(k);
+        attempt.report.explanations.insert(
+            attempt.report.explanations.begin(),
+            scale_explanation(DefectKind::MapCoarsened, result,
+                              "the map with its UVs divided by " + f +
+                                  " is an integer-grid map too (its sanitized map is this one's, divided by " + f +
+                                  "), and gives one: each of its quads is split into " + f + " x " + f +
+                                  ", every new vertex on its grid point of this map"));
+        attempt.report.stage_seconds = std::move(result.report.stage_seconds);
+        result = std::move(attempt);
+        return true;
+    }
+    return false;
 }
 
 } // namespace
@@ -412,7 +523,9 @@ Result extract(const Input& input, const Options& options) {
         ~Hook() { StageTimer::hook = nullptr; }
     } hook(options);
     Result result = extract_at_scale(input, options);
-    if (!result.ok() || result.check.valid || !options.fallback_ladder || options.max_refinement < 2) return result;
+    if (!result.ok() || result.check.valid || !options.fallback_ladder) return result;
+    if (options.max_coarsening >= 2 && extract_coarsened(input, options, result)) return result;
+    if (options.max_refinement < 2) return result;
     // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
     // that would leave the range integer transitions need comes back as an input error, and ends
     // the refinement with the scale-1 result.

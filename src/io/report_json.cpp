@@ -117,7 +117,8 @@ nlohmann::json report_object(const Report& r) {
                      {"rungs_tried", r.rungs_tried},
                      {"unplaced_vertices", r.unplaced_vertices},
                      {"grid_scale", r.grid_scale},
-                     {"refinements_tried", r.refinements_tried}};
+                     {"refinements_tried", r.refinements_tried},
+                     {"coarsening", r.coarsening}};
     j["repair"] = {{"repaired_regions", r.repaired_regions},
                    {"repaired_triangles", r.repaired_triangles},
                    {"unrepaired_regions", r.unrepaired_regions},
