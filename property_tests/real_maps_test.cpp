@@ -334,6 +334,43 @@ TEST(RealMaps, NoDipoleIsMergedAgainstGivenValences) {
 /// certificate refuses; the repair opens the cone's fan first and keeps it open. Every fold is
 /// repaired, no singularity is lost but in named merges of co-located dipoles (four on this map),
 /// and the mesh has exactly the signed area's quads.
+TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
+    // duck_miq_16 x8 at its own scale, the repaired rung alone: folds the repair cannot re-embed
+    // are named with what the last attempt found (the region, and the triangle left inverted or
+    // the vertex that winds wrongly), not only that it failed.
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "duck_miq_16_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    ASSERT_EQ(transforms::scale_uvs(in, 8), 0);
+    Options one_rung;
+    one_rung.fallback_ladder = false;
+    const Result r = extract(in, one_rung);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_GT(r.report.unrepaired_regions, 0) << "duck_miq_16 x8 is repaired now: pick another map";
+    int named = 0;
+    for (const Defect& d : r.report.explanations) {
+        if (d.kind != DefectKind::FoldOverNotRepaired) continue;
+        ++named;
+        if (d.message.find("all its corners") != std::string::npos) continue; // no region could hold it
+        EXPECT_NE(d.message.find(" rings (a region of "), std::string::npos) << d.message;
+        const bool inverted = d.message.find("left ") != std::string::npos &&
+                              d.message.find("inverted (the first: input triangle ") != std::string::npos;
+        const bool winding = d.message.find("winds ") != std::string::npos;
+        const bool other = d.message.find("Gauss-Bonnet") != std::string::npos ||
+                           d.message.find("area is not positive") != std::string::npos ||
+                           d.message.find("larger than") != std::string::npos;
+        EXPECT_TRUE(inverted || winding || other) << d.message;
+        if (inverted) {
+            // The triangle named is one of the input's.
+            const std::size_t at = d.message.find("input triangle ", d.message.find("inverted (the first"));
+            const int t = std::stoi(d.message.substr(at + 15));
+            ASSERT_GE(t, 0);
+            ASSERT_LT(static_cast<std::size_t>(t), in.triangles.size());
+        }
+    }
+    EXPECT_EQ(named, r.report.unrepaired_regions);
+}
+
 TEST(RealMaps, FoldsClosingConesFansAreOpened) {
     if (!expect_scaled_map_repaired("duck_miq_8", 16)) GTEST_SKIP() << "no duck_miq_8 in " << QEX_SHARED_DIR;
 }

@@ -825,6 +825,96 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
            windings_kept(m, r, marks);
 }
 
+// ============================================================================ why a region failed
+
+/// What the last attempt at a region found, for the report of the fold-overs it leaves.
+struct RegionFailure {
+    enum class Why : std::uint8_t { TooLarge, AreaNotPositive, NoRoom, Inverted, Winding };
+    Why why = Why::NoRoom;
+    int radius = 0;
+    std::size_t free_vertices = 0, triangles = 0;
+    int singularities = 0; ///< fixed singular vertices whose whole fan is in the region
+    int inverted = 0;      ///< Inverted: triangles left inverted, the first (by input index) of them
+    int triangle = -1;
+    int vertex = -1; ///< Winding: the input vertex that winds wrongly, its winding and target
+    int winds = 0, target = 0;
+    bool singular = false;
+
+    std::string text() const {
+        const std::string where = "within " + std::to_string(radius) + " rings (a region of " +
+                                  std::to_string(free_vertices) + " free vertices, " + std::to_string(triangles) +
+                                  " triangles, " + std::to_string(singularities) + " singularities inside):";
+        switch (why) {
+            case Why::TooLarge: return where + " the region is larger than the repair attempts";
+            case Why::AreaNotPositive:
+                return where + " the region's signed UV area is not positive: no orientation-preserving map of it "
+                               "exists";
+            case Why::NoRoom:
+                return where + " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
+                               "whole turns missing among several singularities)";
+            case Why::Inverted:
+                return where + " the untangler left " + std::to_string(inverted) +
+                       " of its triangles inverted (the first: input triangle " + std::to_string(triangle) + ")";
+            case Why::Winding:
+                return where + " every triangle was made positive, but input vertex " + std::to_string(vertex) +
+                       (singular ? " (a singularity of valence " + std::to_string(target) + ")"
+                                 : " (a regular vertex, 4 quarter turns)") +
+                       " winds " + std::to_string(winds) + " quarter turns";
+        }
+        return where;
+    }
+};
+
+/// Why the attempts at region r failed (`admitted`: it passed admits_embedding), from its UVs as
+/// the last attempt left them.
+RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMarks& marks, bool admitted, int radius) {
+    RegionFailure f;
+    f.radius = radius;
+    f.free_vertices = r.fans.size();
+    f.triangles = r.faces.size();
+    for (const int v : marks.fixed) {
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        f.singularities += m.map.singular[v] && !m.on_boundary[v] && corners == m.fan_size[v];
+    }
+    double area2 = 0.0;
+    for (const int t : r.faces) {
+        const Vec2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
+        area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        if (!positive(m, t)) {
+            ++f.inverted;
+            if (f.triangle < 0 || m.input_triangle[t] < f.triangle) f.triangle = m.input_triangle[t];
+        }
+    }
+    if (!(area2 > 0.0)) {
+        f.why = RegionFailure::Why::AreaNotPositive;
+    } else if (!admitted) {
+        f.why = RegionFailure::Why::NoRoom;
+    } else if (f.inverted > 0) {
+        f.why = RegionFailure::Why::Inverted;
+    } else {
+        f.why = RegionFailure::Why::Winding;
+        // The first vertex (free ones in the region's canonical order, then fixed ones) that
+        // winds otherwise than it must.
+        std::vector<int> order;
+        for (const FreeFan& fan : r.fans) order.push_back(fan.vertex);
+        order.insert(order.end(), marks.fixed.begin(), marks.fixed.end());
+        for (const int v : order) {
+            if (m.on_boundary[v] || winding_excess(m, v, marks) == 0) continue;
+            double inside = 0.0, outside = 0.0;
+            int corners = 0;
+            fan_angles(m, v, marks, inside, outside, corners);
+            f.vertex = m.input_vertex[v];
+            f.singular = m.map.singular[v] != 0;
+            f.winds = static_cast<int>(std::lround((inside + outside) / (0.5 * M_PI)));
+            f.target = static_cast<int>(std::lround(marks.target(m, v) / (0.5 * M_PI)));
+            break;
+        }
+    }
+    return f;
+}
+
 // ============================================================================ regions
 
 /// Vertices that never move: boundary, singular, on a feature edge, or without a fan.
@@ -1135,6 +1225,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1), label(distance.size(), -1);
     std::vector<int> corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1);
     std::vector<GridAutomorphism> corner_to(corner_slot.size());
+    // Per free vertex, the last failed attempt at a region that held it (an index into failures).
+    std::vector<RegionFailure> failures;
+    std::vector<int> failure_of(static_cast<std::size_t>(m.num_vertices), -1);
     RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
     marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
     marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
@@ -1158,11 +1251,24 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             return vertex_key(m, a.fans[0].vertex) < vertex_key(m, b.fans[0].vertex);
         });
         for (const Region& r : regions) {
-            if (r.fans.size() > kMaxRegionVertices) continue;
+            const auto record = [&](const RegionFailure& f) {
+                for (const FreeFan& fan : r.fans) failure_of[fan.vertex] = static_cast<int>(failures.size());
+                failures.push_back(f);
+            };
+            if (r.fans.size() > kMaxRegionVertices) {
+                RegionFailure f;
+                f.why = RegionFailure::Why::TooLarge;
+                f.radius = radius;
+                f.free_vertices = r.fans.size();
+                f.triangles = r.faces.size();
+                record(f);
+                continue;
+            }
             const std::vector<Point2> before = region_uvs(m, r);
             marks.mark(m, r);
             bool repaired = false;
-            if (admits_embedding(m, r, valences_given, marks)) {
+            const bool admitted = admits_embedding(m, r, valences_given, marks);
+            if (admitted) {
                 const bool untangled = untangle_region(m, r, rest, corner_slot, corner_to);
                 repaired = untangled && windings_kept(m, r, marks);
                 // Once more with cone fans opened, where that is what failed: the untangler wound
@@ -1178,6 +1284,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             if (repaired && marks.cone >= 0)
                 m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] =
                     static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
+            if (!repaired) record(describe_failure(m, r, marks, admitted, radius));
             marks.clear(r);
             if (!repaired) restore_region_uvs(m, r, before);
         }
@@ -1215,11 +1322,15 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         ++out.regions_failed;
     }
     for (const auto& group : triangle_groups(m, seeds_faces)) {
-        explain_unrepaired(m, group,
-                           "no orientation-preserving re-embedding that keeps every vertex's winding (once round "
-                           "a regular vertex, a singularity's valence round it) was found within 8 rings around it "
-                           "(or the region's UV area is not positive)",
-                           report);
+        // The latest attempt at a region that held one of its vertices (the largest radius).
+        int last = -1;
+        for (const int f : group)
+            for (const int v : m.tri[f]) last = std::max(last, failure_of[v]);
+        const std::string why =
+            "no orientation-preserving re-embedding that keeps every vertex's winding (once round a regular "
+            "vertex, a singularity's valence round it) was found: " +
+            (last >= 0 ? failures[static_cast<std::size_t>(last)].text() : std::string("no region held it"));
+        explain_unrepaired(m, group, why.c_str(), report);
         ++out.regions_failed;
     }
     return out;
