@@ -164,10 +164,9 @@ RC_GTEST_PROP(Properties, LargeFoldOversGiveValidMeshesOrLocatedDefects, ()) {
     RC_ASSERT(result_inconsistency(in, r) == std::string());
     RC_ASSERT(area_inconsistency(r) == std::string());
     // A fold-free carried map without explanations: the generated quads, times the scale squared.
-    const bool explained = std::any_of(r.report.explanations.begin(), r.report.explanations.end(),
-                                       [](const Defect& d) {
-                                           return d.kind != DefectKind::MapRefined && d.kind != DefectKind::MapCoarsened;
-                                       });
+    const bool explained = std::any_of(r.report.explanations.begin(), r.report.explanations.end(), [](const Defect& d) {
+        return d.kind != DefectKind::MapRefined && d.kind != DefectKind::MapCoarsened;
+    });
     if (r.check.valid && r.report.flipped_after_repair == 0 && !explained) {
         const std::int64_t k = std::int64_t{scale} * r.mesh.grid_scale;
         RC_ASSERT(static_cast<std::int64_t>(r.mesh.faces.size()) == expected_quads(layout, c.n) * k * k);

@@ -70,10 +70,11 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
     if (c.k < 8) return;
     // Fold-overs of this size are the repair's to re-embed: a quad count other than the area
     // must be explained by a loss the report names (not by the scale alone).
-    const bool loss_named = std::any_of(r.report.explanations.begin(), r.report.explanations.end(), [](const Defect& d) {
-        return d.kind == DefectKind::FaceCollapsed || d.kind == DefectKind::GhostFacesCancelled ||
-               d.kind == DefectKind::BoundaryFaceDiscarded || d.kind == DefectKind::FoldOverNotRepaired;
-    });
+    const bool loss_named =
+        std::any_of(r.report.explanations.begin(), r.report.explanations.end(), [](const Defect& d) {
+            return d.kind == DefectKind::FaceCollapsed || d.kind == DefectKind::GhostFacesCancelled ||
+                   d.kind == DefectKind::BoundaryFaceDiscarded || d.kind == DefectKind::FoldOverNotRepaired;
+        });
     if (!loss_named) {
         EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), v.input_signed_uv_area_rounded) << about;
     }

@@ -258,7 +258,8 @@ TEST(Coarsening, ASplitMeshIsTheFineMeshOfAFoldFreeMap) {
             QuadMesh split;
             ASSERT_TRUE(detail::split_onto_map(fine, map, coarse.mesh, k, split)) << layout.name << " x" << k;
             const VerifyResult v = verify(fine, split);
-            EXPECT_TRUE(v.valid) << layout.name << " x" << k << ": " << (v.violations.empty() ? std::string() : v.violations[0].message);
+            EXPECT_TRUE(v.valid) << layout.name << " x" << k << ": "
+                                 << (v.violations.empty() ? std::string() : v.violations[0].message);
             EXPECT_EQ(split.faces.size(), static_cast<std::size_t>(k * k) * coarse.mesh.faces.size());
             const Result direct = extract_valid(fine);
             ASSERT_EQ(direct.mesh.positions.size(), split.positions.size()) << layout.name << " x" << k;

@@ -102,7 +102,8 @@ int run_extract(const ExtractArgs& a) {
     if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
         std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
                   << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
-    if (r.coarsening != 1 && !a.quiet) std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message << "\n";
+    if (r.coarsening != 1 && !a.quiet)
+        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message << "\n";
     const auto is_rounded = [](const Defect& d) { return d.kind == DefectKind::SeamRounded; };
     const auto first = std::find_if(r.explanations.begin(), r.explanations.end(), is_rounded);
     if (first != r.explanations.end()) { // said even with -q: the map moved by up to half a cell there

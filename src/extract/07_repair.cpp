@@ -847,11 +847,13 @@ struct RegionFailure {
         switch (why) {
             case Why::TooLarge: return where + " the region is larger than the repair attempts";
             case Why::AreaNotPositive:
-                return where + " the region's signed UV area is not positive: no orientation-preserving map of it "
-                               "exists";
+                return where +
+                       " the region's signed UV area is not positive: no orientation-preserving map of it "
+                       "exists";
             case Why::NoRoom:
-                return where + " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
-                               "whole turns missing among several singularities)";
+                return where +
+                       " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
+                       "whole turns missing among several singularities)";
             case Why::Inverted:
                 return where + " the untangler left " + std::to_string(inverted) +
                        " of its triangles inverted (the first: input triangle " + std::to_string(triangle) + ")";

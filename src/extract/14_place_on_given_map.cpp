@@ -335,7 +335,8 @@ struct CellFrame {
 /// coarse mesh has them, and none elsewhere. On success, `search` lists that cell.
 bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, const std::vector<int>& face,
                const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, CellSearch& search, CellFrame& frame) {
-    for (int i = 0; i < 4; ++i) frame.corners[static_cast<std::size_t>(i)] = face[static_cast<std::size_t>((a + i) % 4)];
+    for (int i = 0; i < 4; ++i)
+        frame.corners[static_cast<std::size_t>(i)] = face[static_cast<std::size_t>((a + i) % 4)];
     const auto at = [&](int i) { return uv[static_cast<std::size_t>((a + i) % 4)]; };
     frame.e1 = {at(1)[0] - at(0)[0], at(1)[1] - at(0)[1]};
     frame.e2 = {at(3)[0] - at(0)[0], at(3)[1] - at(0)[1]};
@@ -414,7 +415,9 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
         // (the fewer triangles round the anchor, the fewer starts).
         std::array<int, 4> anchors{0, 1, 2, 3};
         std::stable_sort(anchors.begin(), anchors.end(), [&](int x, int y) {
-            const auto rank = [](QVertexKind kind) { return kind == QVertexKind::Face ? 0 : kind == QVertexKind::Edge ? 1 : 2; };
+            const auto rank = [](QVertexKind kind) {
+                return kind == QVertexKind::Face ? 0 : kind == QVertexKind::Edge ? 1 : 2;
+            };
             return rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(x)])].kind) <
                    rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(y)])].kind);
         });
@@ -452,7 +455,10 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
         // The sides, each from its first corner to its second, and the (i, j) of step s along it.
         const std::array<std::array<int, 2>, 4> ends{{{c[0], c[1]}, {c[1], c[2]}, {c[3], c[2]}, {c[0], c[3]}}};
         const auto step = [k](int side, int s) {
-            return side == 0 ? std::pair{s, 0} : side == 1 ? std::pair{k, s} : side == 2 ? std::pair{s, k} : std::pair{0, s};
+            return side == 0   ? std::pair{s, 0}
+                   : side == 1 ? std::pair{k, s}
+                   : side == 2 ? std::pair{s, k}
+                               : std::pair{0, s};
         };
         for (int side = 0; side < 4; ++side) {
             const int a = ends[static_cast<std::size_t>(side)][0], b = ends[static_cast<std::size_t>(side)][1];
