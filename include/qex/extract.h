@@ -89,12 +89,13 @@ struct Options {
     /// When the map gives no valid mesh at its own scale (fold-overs that cover many cells, as on
     /// a map whose UVs were multiplied to make the quads smaller), and the map with its UVs
     /// divided by 2 is an integer-grid map too (every transition's translation and singularity's
-    /// grid point even, every boundary or feature edge on an iso-line on an even one), the ladder
+    /// grid point even, every boundary or feature edge on an iso-line, an even one), the ladder
     /// runs on that map, then on the map divided by 4, ... up to this factor K (a power of two;
     /// 1 disables). Its sanitized map must be the given map's, divided by K, exactly (outside
     /// the triangles its repair changed). The first valid mesh there has each quad split into
     /// K x K on the given map, every new vertex on a preimage of its grid point, and is judged
-    /// against the given map (the coarse map times K) like any other: the report says so
+    /// against the map it carries (the coarse map times K) like any other, and also without its
+    /// provenance against the given map (as `qex check --param` judges): the report says so
     /// (Report::coarsening, and an explanation naming what failed at scale 1). Tried before
     /// refinement. Needs fallback_ladder.
     int max_coarsening = 16;

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <map>
 
 namespace qex::detail {
 namespace {
@@ -185,12 +184,23 @@ bool meets_open_box(const Point2& a, const Point2& b, const Point2& c, const IPo
     if (!(x1 > static_cast<double>(lo[0]) && x0 < static_cast<double>(hi[0]) && y1 > static_cast<double>(lo[1]) &&
           y0 < static_cast<double>(hi[1])))
         return false;
-    const int s = sign(orient2d(a, b, c));
-    if (s == 0) return true;
     const std::array<Point2, 4> box{{{static_cast<double>(lo[0]), static_cast<double>(lo[1])},
                                      {static_cast<double>(hi[0]), static_cast<double>(lo[1])},
                                      {static_cast<double>(hi[0]), static_cast<double>(hi[1])},
                                      {static_cast<double>(lo[0]), static_cast<double>(hi[1])}}};
+    const int s = sign(orient2d(a, b, c));
+    if (s == 0) {
+        // A segment (or a point, which the boxes' test decided): it misses the open box when the
+        // box lies on one closed side of its line.
+        const auto [p, q] = std::minmax({a, b, c});
+        if (p == q) return true;
+        int below = 0, above = 0;
+        for (const Point2& x : box) {
+            const int o = sign(orient2d(p, q, x));
+            below += o < 0, above += o > 0;
+        }
+        return below > 0 && above > 0;
+    }
     const std::array<const Point2*, 3> t{&a, &b, &c};
     for (std::size_t e = 0; e < 3; ++e) {
         bool separated = true;
@@ -297,6 +307,8 @@ std::vector<std::pair<int, GridAutomorphism>> triangles_at(const TriMesh& g, con
     if (!seen) return {};
     const GridAutomorphism back = to_t0.inverse();
     for (auto& [t, to] : at) to = to.after(back);
+    // In an order that does not depend on the input's (fan_start does).
+    std::sort(at.begin(), at.end(), [&](const auto& x, const auto& y) { return triangle_less(g, x.first, y.first); });
     return at;
 }
 
@@ -393,6 +405,7 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
     CellSearch search(g);
     PreimageSearch wide(g);
     const auto nv = coarse.positions.size();
+    if (coarse.provenance.size() != nv || coarse.face_uvs.size() != coarse.faces.size() || k < 2) return false;
     out = QuadMesh{};
     out.map_uvs = map;
     out.map_repaired = coarse.map_repaired;

@@ -83,12 +83,15 @@ bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& f
         const bool feature = std::binary_search(feature_set.begin(), feature_set.end(),
                                                 std::array<int, 2>{std::min(a, b), std::max(a, b)});
         if (m.opp[h] >= 0 && !feature) continue;
+        // A boundary or feature edge on an iso-line, on a multiple of k (one that is on none
+        // would lose the cells it cuts at the coarse scale, K - 1 rows of them).
         const Point2 &p = m.uv[h], &q = m.uv[TriMesh::next(h)];
-        for (int d = 0; d < 2; ++d)
-            if (p[d] == q[d] && p[d] == std::floor(p[d]) && !multiple(p[d])) return false;
+        bool on_multiple = false;
+        for (int d = 0; d < 2; ++d) on_multiple = on_multiple || (p[d] == q[d] && multiple(p[d]));
+        if (!on_multiple) return false;
     }
     for (int v = 0; v < m.num_vertices; ++v)
-        if (m.map.singular[v] && m.fan_start[v] >= 0) {
+        if ((m.map.singular[v] || m.map.valence[v] != 4) && m.fan_start[v] >= 0) {
             const Point2& u = m.uv[m.fan_start[v]];
             if (!multiple(u[0]) || !multiple(u[1])) return false;
         }
@@ -430,15 +433,17 @@ Defect refinement_explanation(const Result& at_scale_one, int scale) {
                                  ", so each quad of the map's own size is " + k + " x " + k + " quads");
 }
 
-// ============================================================================ coarsening
+// ============================================================================ the ladder on the map halved
 
 /// The map as given, sanitized (stages validate and collapse, then sanitize's rounds), in `m`.
-bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m) {
-    Report report;
-    if (prepare_mesh(input, options, m, report).code != ErrorCode::None) return false;
-    StageTimer timer(report);
+bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, Report& report) {
+    Report own;
+    if (prepare_mesh(input, options, m, own).code != ErrorCode::None) return false;
+    StageTimer timer(own);
     std::vector<int> unused;
-    return prepare_map(m, input, options, kLadder[1], report, timer, unused).code == ErrorCode::None;
+    const bool ok = prepare_map(m, input, options, kLadder[1], own, timer, unused).code == ErrorCode::None;
+    add_stage_seconds(own, report);
+    return ok;
 }
 
 /// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid:
@@ -447,11 +452,13 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m) {
 /// when that mesh passes the checker against the given map.
 bool extract_coarsened(const Input& input, const Options& options, Result& result) {
     TriMesh m;
-    if (!sanitize_as_given(input, options, m)) return false;
+    if (!sanitize_as_given(input, options, m, result.report)) return false;
+    // Powers of two up to the option (bounded as grid_scale is: 2^20).
+    const int most = std::min(options.max_coarsening, 1 << 20);
     int largest = 1;
     {
         const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
-        while (largest < options.max_coarsening && map_divisible_by(m, features, 2 * largest)) largest *= 2;
+        while (2 * largest <= most && map_divisible_by(m, features, 2 * largest)) largest *= 2;
     }
     if (largest == 1) return false;
     const std::vector<std::array<double, 2>> given = take_map(m, input);
@@ -469,7 +476,8 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
         std::vector<std::array<double, 2>> map = attempt.mesh.map_uvs;
         for (auto& uv : map) uv = {k * uv[0], k * uv[1]};
         std::vector<char> repaired(map.size() / 3, 0);
-        for (const std::int32_t t : attempt.mesh.map_repaired) repaired[static_cast<std::size_t>(t)] = 1;
+        for (const std::int32_t t : attempt.mesh.map_repaired)
+            if (t >= 0 && static_cast<std::size_t>(t) < repaired.size()) repaired[static_cast<std::size_t>(t)] = 1;
         bool same = map.size() == given.size();
         for (std::size_t c = 0; c < map.size() && same; ++c) {
             const bool both_nan = std::isnan(map[c][0]) && std::isnan(given[c][0]);
@@ -483,6 +491,19 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
             VerifyOptions verify_options;
             verify_options.threads = options.threads;
             check = verify(input, split, verify_options);
+            if (check.valid) {
+                // Its faces' local UVs are the split's own making, and provenance mode takes them
+                // as given: the mesh must also pass the oracle that judges it against the given
+                // map alone, as `qex check --param` does (fold-over regions judged on the surface).
+                QuadMesh bare;
+                bare.positions = split.positions;
+                bare.faces = split.faces;
+                VerifyOptions located_options = verify_options;
+                located_options.fold_regions = true;
+                const VerifyResult located = verify(input, bare, located_options);
+                check.violations.insert(check.violations.end(), located.violations.begin(), located.violations.end());
+                check.valid = check.violations.empty();
+            }
             timer.done(Stage::check);
         }
         add_stage_seconds(attempt.report, result.report);
