@@ -10,17 +10,24 @@
 namespace qex::testing {
 namespace {
 
+/// The map sanitized (stages transitions, valences, sanitize), its transitions computed again.
+detail::TriMesh sanitized(const Input& in) {
+    detail::TriMesh m = detail::make_mesh(in);
+    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    Report rep;
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    EXPECT_EQ(detail::sanitize(m, {}, {}, rep).code, ErrorCode::None);
+    detail::compute_transitions(m);
+    return m;
+}
+
 TEST(Extraction, SanitizationIsIdempotent) {
     Input in = make_map(icosahedron_layout(), 2, 3);
     std::mt19937 rng(5);
     add_noise(in, 1e-8, rng);
     rechart(in, rng);
-    detail::TriMesh m = detail::make_mesh(in);
-    ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
-    Report rep;
-    detail::compute_transitions(m);
-    detail::count_valences(m);
-    ASSERT_EQ(detail::sanitize(m, {}, {}, rep).code, ErrorCode::None);
+    detail::TriMesh m = sanitized(in);
     const auto once = m.uv;
     // Every transition maps both corners of its edge exactly.
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
@@ -207,18 +214,6 @@ TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
 }
 
 // ---------------------------------------------------------------------------- coarsening
-
-/// The map sanitized (stages transitions, valences, sanitize), ready for map_divisible_by.
-detail::TriMesh sanitized(const Input& in) {
-    detail::TriMesh m = detail::make_mesh(in);
-    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
-    Report rep;
-    detail::compute_transitions(m);
-    detail::count_valences(m);
-    EXPECT_EQ(detail::sanitize(m, {}, {}, rep).code, ErrorCode::None);
-    detail::compute_transitions(m);
-    return m;
-}
 
 Input times(Input in, std::int64_t k) {
     for (auto& uv : in.uvs) uv = {uv[0] * static_cast<double>(k), uv[1] * static_cast<double>(k)};

@@ -13,6 +13,30 @@ namespace {
 /// The search from a vertex's provenance triangle stops once it has listed at least this many triangles.
 constexpr std::size_t kMaxSearchTriangles = 4096;
 
+/// The orientation of triangle t of `g` if it is not degenerate and holds x (closed), else 0.
+int holding_sign(const TriMesh& g, int t, const Point2& x) {
+    const Point2 &a = g.uv[3 * t], &b = g.uv[3 * t + 1], &c = g.uv[3 * t + 2];
+    const int s = sign(orient2d(a, b, c));
+    if (s == 0) return 0;
+    const int o0 = sign(orient2d(a, b, x)), o1 = sign(orient2d(b, c, x)), o2 = sign(orient2d(c, a, x));
+    const bool inside = (o0 == s || o0 == 0) && (o1 == s || o1 == 0) && (o2 == s || o2 == 0);
+    return inside ? s : 0;
+}
+
+/// Triangle t's edges (0..2) in the canonical order of the neighbours across them
+/// (triangle_less), boundary edges last: so that which path a search takes to a triangle (and so
+/// its transition past a singularity) does not depend on the input's order.
+std::array<int, 3> edges_in_canonical_order(const TriMesh& g, int t) {
+    std::array<int, 3> ks{0, 1, 2};
+    auto neighbour = [&](int k) { return g.opp[3 * t + k] < 0 ? -1 : TriMesh::face(g.opp[3 * t + k]); };
+    std::sort(ks.begin(), ks.end(), [&](int a, int b) {
+        const int na = neighbour(a), nb = neighbour(b);
+        if (na < 0 || nb < 0) return na > nb;
+        return triangle_less(g, na, nb);
+    });
+    return ks;
+}
+
 /// Breadth-first search over the live triangles of the given map `g` (its transitions computed),
 /// crossing edges with their transitions; edges next to a collapsed triangle are not crossed.
 class PreimageSearch {
@@ -41,27 +65,12 @@ private:
 };
 
 int PreimageSearch::holding_sign(int t, const IPoint& grid) const {
-    const Point2 x = to_point(to(t)(grid));
-    const Point2 &a = g_.uv[3 * t], &b = g_.uv[3 * t + 1], &c = g_.uv[3 * t + 2];
-    const int s = sign(orient2d(a, b, c));
-    if (s == 0) return 0;
-    const int o0 = sign(orient2d(a, b, x)), o1 = sign(orient2d(b, c, x)), o2 = sign(orient2d(c, a, x));
-    const bool inside = (o0 == s || o0 == 0) && (o1 == s || o1 == 0) && (o2 == s || o2 == 0);
-    return inside ? s : 0;
+    return qex::detail::holding_sign(g_, t, to_point(to(t)(grid)));
 }
 
 void PreimageSearch::list_neighbours(int t) {
-    // In canonical order (triangle_less), so that which path reaches a triangle first (and so its
-    // transition past a singularity), and which preimage is found first, do not depend on the
-    // input's order.
-    std::array<int, 3> ks{0, 1, 2};
-    auto neighbour = [&](int k) { return g_.opp[3 * t + k] < 0 ? -1 : TriMesh::face(g_.opp[3 * t + k]); };
-    std::sort(ks.begin(), ks.end(), [&](int a, int b) {
-        const int na = neighbour(a), nb = neighbour(b);
-        if (na < 0 || nb < 0) return na > nb;
-        return triangle_less(g_, na, nb);
-    });
-    for (const int k : ks) {
+    // In canonical order, so that which preimage is found first does not depend on the input's order either.
+    for (const int k : edges_in_canonical_order(g_, t)) {
         const int o = g_.opp[3 * t + k];
         if (o < 0) continue;
         const int n = TriMesh::face(o);
@@ -197,7 +206,7 @@ bool meets_open_box(const Point2& a, const Point2& b, const Point2& c, const IPo
         int below = 0, above = 0;
         for (const Point2& x : box) {
             const int o = sign(orient2d(p, q, x));
-            below += o < 0, above += o > 0;
+            below += o<0, above += o> 0;
         }
         return below > 0 && above > 0;
     }
@@ -227,16 +236,9 @@ public:
         for (std::size_t head = 0; head < listed_.size(); ++head) {
             if (listed_.size() > kMaxCellTriangles) return false;
             const int t = listed_[head];
-            // Neighbours in canonical order (as the preimage search takes them).
-            std::array<int, 3> ks{0, 1, 2};
-            auto neighbour = [&](int k) { return g_.opp[3 * t + k] < 0 ? -1 : TriMesh::face(g_.opp[3 * t + k]); };
-            std::sort(ks.begin(), ks.end(), [&](int a, int b) {
-                const int na = neighbour(a), nb = neighbour(b);
-                if (na < 0 || nb < 0) return na > nb;
-                return triangle_less(g_, na, nb);
-            });
-            for (const int k : ks)
-                if (g_.opp[3 * t + k] >= 0) visit(neighbour(k), g_.map.transition[3 * t + k].after(to(t)), lo, hi);
+            for (const int k : edges_in_canonical_order(g_, t))
+                if (const int o = g_.opp[3 * t + k]; o >= 0)
+                    visit(TriMesh::face(o), g_.map.transition[3 * t + k].after(to(t)), lo, hi);
         }
         return true;
     }
@@ -248,14 +250,9 @@ public:
     int holder(const IPoint& q) const {
         int flipped = -1;
         for (const int t : listed_) {
-            const Point2 x = to_point(to(t)(q));
-            const Point2 &a = g_.uv[3 * t], &b = g_.uv[3 * t + 1], &c = g_.uv[3 * t + 2];
-            const int s = sign(orient2d(a, b, c));
-            if (s == 0) continue;
-            const int o0 = sign(orient2d(a, b, x)), o1 = sign(orient2d(b, c, x)), o2 = sign(orient2d(c, a, x));
-            if (!((o0 == s || o0 == 0) && (o1 == s || o1 == 0) && (o2 == s || o2 == 0))) continue;
+            const int s = holding_sign(g_, t, to_point(to(t)(q)));
             if (s > 0) return t;
-            if (flipped < 0) flipped = t;
+            if (s < 0 && flipped < 0) flipped = t;
         }
         return flipped;
     }
