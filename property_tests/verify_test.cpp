@@ -34,6 +34,23 @@ TEST(Checker, AcceptsExtraction) {
     EXPECT_EQ(v.input_signed_uv_area_rounded, static_cast<std::int64_t>(f.mesh.faces.size()));
 }
 
+TEST(Checker, LocatedModeAcceptsAMeshOfAMapFarFromTheOrigin) {
+    // UVs near 2^43, where one unit in the last place is 2^-9: a vertex located on the surface
+    // gets its UV interpolated in doubles that far out, a rounding step off its grid point,
+    // which is not a distance from it (fuzz_extract regression 94335006bc8d4aee).
+    for (const std::int64_t far : {std::int64_t{1} << 40, std::int64_t{1} << 43, std::int64_t{1} << 45}) {
+        Input in = make_map(torus_layout(), 2, 3);
+        translate(in, far + 12345, 3 * far + 7);
+        const Result r = extract_valid(in);
+        ASSERT_TRUE(r.check.valid) << far;
+        QuadMesh bare;
+        bare.positions = r.mesh.positions;
+        bare.faces = r.mesh.faces;
+        const VerifyResult v = verify(in, bare);
+        EXPECT_TRUE(v.valid) << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+    }
+}
+
 TEST(Checker, RejectsTriangle) {
     Fixture f;
     f.mesh.faces[0].pop_back();

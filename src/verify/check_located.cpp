@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 #include <set>
@@ -160,7 +161,13 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
             }
             uv_round = 2 * s * round_v;
         }
-        const double uv_tol = opt.uv_tolerance + uv_round;
+        // The UV is interpolated in doubles from corner UVs as large as the map's translations
+        // make them: a few units in the last place of the largest (2^-9 at 2^43) is rounding,
+        // not distance from the grid point.
+        double magnitude = 0.0;
+        for (std::size_t k = 0; k < 3; ++k)
+            for (const double c : map.in.uvs[3 * loc[v].triangle + k]) magnitude = std::max(magnitude, std::abs(c));
+        const double uv_tol = opt.uv_tolerance + uv_round + 8 * std::numeric_limits<double>::epsilon() * magnitude;
         const double gx = std::nearbyint(uv[0]), gy = std::nearbyint(uv[1]);
         const double off = std::max(std::abs(uv[0] - gx), std::abs(uv[1] - gy));
         // In a fold-over region the map a correct mesh follows may be a repaired one (moved within
