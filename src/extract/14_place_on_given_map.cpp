@@ -394,7 +394,7 @@ bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, cons
 } // namespace
 
 bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>& map, const QuadMesh& coarse, int k,
-                    QuadMesh& out) {
+                    const IPoint& origin, QuadMesh& out) {
     TriMesh g = make_mesh(input);
     if (build_topology(g, "input").code != ErrorCode::None) return false;
     g.uv = map;
@@ -406,12 +406,13 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
     out = QuadMesh{};
     out.map_uvs = map;
     out.map_repaired = coarse.map_repaired;
-    // The coarse vertices, on the same elements: their grid points times k.
+    // The coarse vertices, on the same elements: their grid points times k, from the origin.
     out.provenance.reserve(nv);
     for (std::size_t v = 0; v < nv; ++v) {
         const Provenance& p = coarse.provenance[v];
         if (p.chart_triangle < 0 || p.chart_triangle >= g.num_faces()) return false;
-        out.provenance.push_back(located(input, g, p.chart_triangle, {p.grid[0] * k, p.grid[1] * k}, p.merged));
+        out.provenance.push_back(located(input, g, p.chart_triangle,
+                                         {p.grid[0] * k + origin[0], p.grid[1] * k + origin[1]}, p.merged));
         out.positions.push_back(position_of(input, out.provenance.back()));
     }
     // Per coarse edge (its vertices, smaller first): the first of its k - 1 new vertices,

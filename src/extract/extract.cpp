@@ -69,33 +69,72 @@ Error sanitize_until_stable(TriMesh& m, const Input& input, const std::vector<st
 
 // ============================================================================ coarsening
 
-bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& features, std::int64_t k) {
-    const auto multiple = [k](double x) { return std::fmod(x, static_cast<double>(k)) == 0.0; };
+bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& features, std::int64_t k,
+                      IPoint& origin) {
+    const auto residue = [k](double x, std::int64_t& r) {
+        if (!(std::abs(x) < 0x1p52) || x != std::floor(x)) return false;
+        r = ((static_cast<std::int64_t>(x) % k) + k) % k;
+        return true;
+    };
+    // The origin's residues, per coordinate: fixed by the first singularity or iso-line met;
+    // every other must agree.
+    std::array<std::int64_t, 2> o{-1, -1};
+    const auto agree = [&](int d, double x) {
+        std::int64_t r = 0;
+        if (!residue(x, r)) return false;
+        if (o[static_cast<std::size_t>(d)] < 0) o[static_cast<std::size_t>(d)] = r;
+        return o[static_cast<std::size_t>(d)] == r;
+    };
+    for (int v = 0; v < m.num_vertices; ++v)
+        if ((m.map.singular[v] || m.map.valence[v] != 4) && m.fan_start[v] >= 0) {
+            const Point2& u = m.uv[m.fan_start[v]];
+            if (!agree(0, u[0]) || !agree(1, u[1])) return false;
+        }
     std::vector<std::array<int, 2>> feature_set;
     for (const auto& e : features) feature_set.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
     std::sort(feature_set.begin(), feature_set.end());
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
-        if (m.opp[h] >= 0) {
-            const GridAutomorphism& t = m.map.transition[h];
-            if (t.tx % k != 0 || t.ty % k != 0) return false;
-        }
         const int a = m.input_vertex[m.origin(h)], b = m.input_vertex[m.target(h)];
         const bool feature = std::binary_search(feature_set.begin(), feature_set.end(),
                                                 std::array<int, 2>{std::min(a, b), std::max(a, b)});
         if (m.opp[h] >= 0 && !feature) continue;
-        // A boundary or feature edge on an iso-line, on a multiple of k (one that is on none
-        // would lose the cells it cuts at the coarse scale, K - 1 rows of them).
+        // A boundary or feature edge on an iso-line of the coarse grid (one on none would lose
+        // the cells it cuts at the coarse scale, K - 1 rows of them).
         const Point2 &p = m.uv[h], &q = m.uv[TriMesh::next(h)];
-        bool on_multiple = false;
-        for (int d = 0; d < 2; ++d) on_multiple = on_multiple || (p[d] == q[d] && multiple(p[d]));
-        if (!on_multiple) return false;
+        bool on_line = false;
+        for (int d = 0; d < 2 && !on_line; ++d) on_line = p[d] == q[d] && agree(d, p[d]);
+        if (!on_line) return false;
     }
-    for (int v = 0; v < m.num_vertices; ++v)
-        if ((m.map.singular[v] || m.map.valence[v] != 4) && m.fan_start[v] >= 0) {
-            const Point2& u = m.uv[m.fan_start[v]];
-            if (!multiple(u[0]) || !multiple(u[1])) return false;
+    // Every transition u -> R u + t between charts, with u = k u' + origin in both, must be one
+    // of the coarse grid: R origin + t - origin a multiple of k. A translation must be one
+    // anyway; the turning ones, each once (by their residues), decide an origin that neither a
+    // singularity nor an iso-line fixed: the first that suits them all.
+    std::vector<std::array<std::int64_t, 3>> turning;
+    for (int h = 0; h < 3 * m.num_faces(); ++h) {
+        if (m.opp[h] < 0) continue;
+        const GridAutomorphism& t = m.map.transition[h];
+        const std::int64_t tx = ((t.tx % k) + k) % k, ty = ((t.ty % k) + k) % k;
+        if (t.r == 0 && (tx != 0 || ty != 0)) return false;
+        if (t.r != 0) turning.push_back({t.r, tx, ty});
+    }
+    std::sort(turning.begin(), turning.end());
+    turning.erase(std::unique(turning.begin(), turning.end()), turning.end());
+    const auto suits = [&](const IPoint& c) {
+        for (const auto& [r, tx, ty] : turning) {
+            const IPoint image = GridAutomorphism{static_cast<int>(r), tx, ty}(c);
+            if ((image[0] - c[0]) % k != 0 || (image[1] - c[1]) % k != 0) return false;
         }
-    return true;
+        return true;
+    };
+    // Residues a free coordinate may take (all of them, up to a bound on the search).
+    const std::int64_t free_span = k <= 64 ? k : 1;
+    for (std::int64_t x = o[0] >= 0 ? o[0] : 0; x < (o[0] >= 0 ? o[0] + 1 : free_span); ++x)
+        for (std::int64_t y = o[1] >= 0 ? o[1] : 0; y < (o[1] >= 0 ? o[1] + 1 : free_span); ++y)
+            if (suits({x, y})) {
+                origin = {x, y};
+                return true;
+            }
+    return false;
 }
 
 namespace {
@@ -446,6 +485,10 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
     return ok;
 }
 
+/// How far (relative to a coordinate, at least 1) sanitizing the map at the coarse scale may
+/// leave a corner from the given map's sanitized value: truncation to another power of two.
+constexpr double kTruncationSpread = 0x1p-40;
+
 /// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid:
 /// the ladder on the map with its UVs divided by 2, 4, ... while that is an integer-grid map, and
 /// the first valid mesh there split back onto the given map. Replaces `result` and returns true
@@ -455,16 +498,27 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
     if (!sanitize_as_given(input, options, m, result.report)) return false;
     // Powers of two up to the option (bounded as grid_scale is: 2^20).
     const int most = std::min(options.max_coarsening, 1 << 20);
-    int largest = 1;
+    // Per factor k = 2, 4, ...: the grid point the coarse grid is laid from (its origin).
+    std::vector<IPoint> origins;
     {
         const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
-        while (2 * largest <= most && map_divisible_by(m, features, 2 * largest)) largest *= 2;
+        IPoint origin{0, 0};
+        for (int k = 2; k <= most && map_divisible_by(m, features, k, origin); k *= 2) origins.push_back(origin);
     }
-    if (largest == 1) return false;
+    if (origins.empty()) return false;
     const std::vector<std::array<double, 2>> given = take_map(m, input);
     Input coarse = input;
-    for (int k = 2; k <= largest; k *= 2) {
-        for (auto& uv : coarse.uvs) uv = {0.5 * uv[0], 0.5 * uv[1]}; // exact (a power of two)
+    for (std::size_t i = 0; i < origins.size(); ++i) {
+        const int k = 2 << i;
+        const IPoint o = origins[i];
+        // u = k u' + o, from the sanitized map (whose values, truncated, move to the origin
+        // exactly, where the given ones could round), then divided by a power of two (exact).
+        // Corners of triangles collapsed away keep the given UVs, moved and divided alike.
+        const double inverse = 1.0 / k;
+        for (std::size_t c = 0; c < coarse.uvs.size(); ++c) {
+            const std::array<double, 2>& u = std::isnan(given[c][0]) ? input.uvs[c] : given[c];
+            coarse.uvs[c] = {(u[0] - static_cast<double>(o[0])) * inverse, (u[1] - static_cast<double>(o[1])) * inverse};
+        }
         StageTimer::hook_scale = 1;
         Result attempt = extract_at_scale(coarse, options);
         if (!attempt.ok() || !attempt.check.valid) {
@@ -472,21 +526,28 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
             if (!attempt.ok()) return false;
             continue;
         }
-        // Its sanitized map must be the given map's, divided by k, outside what its repair changed.
+        // Its sanitized map must be the given map's, moved and divided, outside what its repair
+        // changed: the same triangles collapsed away, and no corner moved beyond the truncation
+        // sanitizing does (moved to another origin, a fan's values can be truncated a few units
+        // in the last place otherwise; a snapped singularity or a rounded seam moves by far more).
+        // The mesh carries this map, which the checker verifies exactly.
         std::vector<std::array<double, 2>> map = attempt.mesh.map_uvs;
-        for (auto& uv : map) uv = {k * uv[0], k * uv[1]};
+        for (auto& uv : map)
+            uv = {k * uv[0] + static_cast<double>(o[0]), k * uv[1] + static_cast<double>(o[1])};
         std::vector<char> repaired(map.size() / 3, 0);
         for (const std::int32_t t : attempt.mesh.map_repaired)
             if (t >= 0 && static_cast<std::size_t>(t) < repaired.size()) repaired[static_cast<std::size_t>(t)] = 1;
         bool same = map.size() == given.size();
         for (std::size_t c = 0; c < map.size() && same; ++c) {
-            const bool both_nan = std::isnan(map[c][0]) && std::isnan(given[c][0]);
-            same = repaired[c / 3] || both_nan || map[c] == given[c];
+            if (repaired[c / 3]) continue;
+            same = std::isnan(map[c][0]) == std::isnan(given[c][0]);
+            for (int d = 0; d < 2 && same && !std::isnan(map[c][0]); ++d)
+                same = std::abs(map[c][d] - given[c][d]) <= kTruncationSpread * std::max(1.0, std::abs(given[c][d]));
         }
         StageTimer timer(attempt.report);
         QuadMesh split;
         VerifyResult check;
-        if (same && split_onto_map(input, map, attempt.mesh, k, split)) {
+        if (same && split_onto_map(input, map, attempt.mesh, k, o, split)) {
             timer.done(Stage::place_on_given_map);
             VerifyOptions verify_options;
             verify_options.threads = options.threads;
@@ -517,10 +578,11 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
         attempt.report.explanations.insert(
             attempt.report.explanations.begin(),
             scale_explanation(DefectKind::MapCoarsened, result,
-                              "the map with its UVs divided by " + f +
-                                  " is an integer-grid map too (its sanitized map is this one's, divided by " + f +
-                                  "), and gives one: each of its quads is split into " + f + " x " + f +
-                                  ", every new vertex on its grid point of this map"));
+                              "the map with its UVs divided by " + f + " (from grid point (" + std::to_string(o[0]) +
+                                  ", " + std::to_string(o[1]) +
+                                  ")) is an integer-grid map too (its sanitized map is this one's, so divided), "
+                                  "and gives one: each of its quads is split into " +
+                                  f + " x " + f + ", every new vertex on its grid point of this map"));
         attempt.report.stage_seconds = std::move(result.report.stage_seconds);
         result = std::move(attempt);
         return true;

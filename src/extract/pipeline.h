@@ -127,20 +127,23 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations);
 /// mesh's map to that map. Returns the number of vertices it could not place.
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
 
-/// Whether the sanitized map `m` (transitions and singularities computed) with its UVs divided
-/// by k is an integer-grid map too: every transition's translation and every singularity's grid
-/// point a multiple of k, and every boundary or feature edge (input vertex pairs) that lies on an
-/// integer iso-line on a multiple of k (else it would no longer be on one).
-bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, std::int64_t k);
+/// Whether the sanitized map `m` (transitions and singularities computed) is k times an
+/// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
+/// every singularity's grid point, and every boundary or feature edge (input vertex pairs) on an
+/// iso-line, on a line of that coarse grid, and every transition one of its automorphisms. The
+/// origin is fixed by the singularities and iso-lines ((0, 0) where none does).
+bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, std::int64_t k,
+                      IPoint& origin);
 
-/// For a mesh extracted from the map with its UVs divided by k (a power of two), on which the
-/// map is an integer-grid map too: the mesh with every quad split into k x k, on `map` (the
-/// coarse mesh's map times k). Each coarse vertex keeps its element, its grid point times k;
+/// For a mesh extracted from the map laid from `origin` with its UVs divided by k (a power of
+/// two; map_divisible_by): the mesh with every quad split into k x k, on `map` (the coarse
+/// mesh's map times k, plus origin). Each coarse vertex keeps its element, its grid point g
+/// becoming k g + origin;
 /// each new one is placed on a preimage of its grid point found from its face's first corner,
 /// in the chart in which the face's other corners are found where the coarse mesh has them.
 /// False, with `out` unusable, when a face has no such chart or a grid point no preimage.
 bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>& map, const QuadMesh& coarse, int k,
-                    QuadMesh& out);
+                    const IPoint& origin, QuadMesh& out);
 
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
