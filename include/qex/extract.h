@@ -87,12 +87,13 @@ struct Options {
     /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse.
     int max_refinement = 16;
     /// When the map gives no valid mesh at its own scale (fold-overs that cover many cells, as on
-    /// a map whose UVs were multiplied to make the quads smaller), and the map with its UVs
-    /// divided by 2 is an integer-grid map too (every transition's translation and singularity's
-    /// grid point even, every boundary or feature edge on an iso-line, an even one), the ladder
-    /// runs on that map, then on the map divided by 4, ... up to this factor K (a power of two;
-    /// 1 disables). Its sanitized map must be the given map's, divided by K, exactly (outside
-    /// the triangles its repair changed). The first valid mesh there has each quad split into
+    /// a map whose UVs were multiplied to make the quads smaller), and the map is twice an
+    /// integer-grid map laid from some grid point o (u = 2 u' + o: every singularity, and every
+    /// boundary or feature edge on an iso-line, on the coarse grid, every transition one of its
+    /// automorphisms), the ladder runs on that map, then on the map divided by 4, ... up to this
+    /// factor K (a power of two; 1 disables). Its sanitized map must be the given map's, moved
+    /// and divided, to within sanitizing's truncation (outside the triangles its repair
+    /// changed). The first valid mesh there has each quad split into
     /// K x K on the given map, every new vertex on a preimage of its grid point, and is judged
     /// against the map it carries (the coarse map times K) like any other, and also without its
     /// provenance against the given map (as `qex check --param` judges): the report says so
