@@ -328,12 +328,6 @@ TEST(RealMaps, NoDipoleIsMergedAgainstGivenValences) {
     if (!v.valid) { EXPECT_FALSE(given.report.defects.empty()); }
 }
 
-/// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of
-/// flipped triangles in each, Algorithm 8 counting the turn the signed angles lack). Untangled as
-/// given, such a region keeps the cone a turn short and winds a neighbour twice, which the
-/// certificate refuses; the repair opens the cone's fan first and keeps it open. Every fold is
-/// repaired, no singularity is lost but in named merges of co-located dipoles (four on this map),
-/// and the mesh has exactly the signed area's quads.
 TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
     // duck_miq_16 x8 at its own scale, the repaired rung alone: folds the repair cannot re-embed
     // are named with what the last attempt found (the region, and the triangle left inverted or
@@ -371,6 +365,12 @@ TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
     EXPECT_EQ(named, r.report.unrepaired_regions);
 }
 
+/// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of
+/// flipped triangles in each, Algorithm 8 counting the turn the signed angles lack). Untangled as
+/// given, such a region keeps the cone a turn short and winds a neighbour twice, which the
+/// certificate refuses; the repair opens the cone's fan first and keeps it open. Every fold is
+/// repaired, no singularity is lost but in named merges of co-located dipoles (four on this map),
+/// and the mesh has exactly the signed area's quads.
 TEST(RealMaps, FoldsClosingConesFansAreOpened) {
     if (!expect_scaled_map_repaired("duck_miq_8", 16)) GTEST_SKIP() << "no duck_miq_8 in " << QEX_SHARED_DIR;
 }

@@ -59,8 +59,9 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
     // that is fixed they must fail as every failure must: with located defects, no mesh passed off.
     const bool known_failure = c.map == "duck_miq_28" && c.k >= 8;
     if (known_failure && !r.check.valid) {
-        EXPECT_FALSE(r.report.defects.empty()) << about;
-        for (const Defect& d : r.report.defects) EXPECT_GE(d.input_element, -1) << about;
+        EXPECT_TRUE(std::any_of(r.report.defects.begin(), r.report.defects.end(),
+                                [](const Defect& d) { return d.input_element >= 0; }))
+            << about << ": no defect names an input triangle";
         EXPECT_FALSE(v.valid) << about;
         std::cout << "known failure: " << about << "\n";
         return;
@@ -104,8 +105,8 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
 }
 
 TEST(ScaleSweepCoarsening, ACoarsenedMapMovedByACellGivesTheSameMesh) {
-    // duck_qc_8 x4 is coarsened (its x2 map split back). Moved by a cell, or by (3, -5), its
-    // coarse grid is laid from another origin: the same faces, and positions within 1e-6 of
+    // duck_qc_8 x4 is coarsened (its x2 map split back). Moved by a cell, or by (3, -5) and so on, its
+    // coarse grid is laid from another origin: the same faces, and positions within 1e-5 of
     // the diagonal (the repair at x2 starts from UVs a few units in the last place apart).
     Input in;
     if (const std::string why = read_real_map("paper", "duck_qc_8", in); !why.empty()) GTEST_SKIP() << why;
@@ -113,8 +114,12 @@ TEST(ScaleSweepCoarsening, ACoarsenedMapMovedByACellGivesTheSameMesh) {
     const Result base = extract(in);
     ASSERT_TRUE(base.check.valid);
     ASSERT_GT(base.report.coarsening, 1) << "duck_qc_8 x4 no longer needs coarsening: pick another map";
-    const double tol = 1e-6 * bbox_diagonal(base.mesh.positions);
-    for (const auto& [dx, dy] : {std::pair<std::int64_t, std::int64_t>{1, 0}, {3, -5}}) {
+    // The repaired regions' vertices move by 1.2e-6 of the diagonal at (-65535, 0); a vertex on
+    // another sheet would be a quad (1e-2 of it) away.
+    const double tol = 1e-5 * bbox_diagonal(base.mesh.positions);
+    // (-65535, 0): the map's negative x range then straddles a power of two, where sanitizing
+    // truncates fans to twice the step it takes at the map's own origin.
+    for (const auto& [dx, dy] : {std::pair<std::int64_t, std::int64_t>{1, 0}, {3, -5}, {-65535, 0}}) {
         Input moved = in;
         ASSERT_GE(transforms::translate_uvs(moved, dx, dy), 0);
         const Result r = extract(moved);

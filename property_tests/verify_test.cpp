@@ -48,6 +48,13 @@ TEST(Checker, LocatedModeAcceptsAMeshOfAMapFarFromTheOrigin) {
         bare.faces = r.mesh.faces;
         const VerifyResult v = verify(in, bare);
         EXPECT_TRUE(v.valid) << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+        // And a vertex moved a third of the way to a neighbour is still rejected there.
+        const std::vector<int>& face = bare.faces[0];
+        auto& p = bare.positions[static_cast<std::size_t>(face[0])];
+        const auto& q = bare.positions[static_cast<std::size_t>(face[1])];
+        for (int d = 0; d < 3; ++d)
+            p[static_cast<std::size_t>(d)] += (q[static_cast<std::size_t>(d)] - p[static_cast<std::size_t>(d)]) / 3;
+        EXPECT_FALSE(verify(in, bare).valid) << far;
     }
 }
 

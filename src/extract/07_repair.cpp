@@ -858,6 +858,8 @@ struct RegionFailure {
                 return where + " the untangler left " + std::to_string(inverted) +
                        " of its triangles inverted (the first: input triangle " + std::to_string(triangle) + ")";
             case Why::Winding:
+                if (vertex < 0)
+                    return where + " every triangle was made positive, but a vertex winds otherwise than it must";
                 return where + " every triangle was made positive, but input vertex " + std::to_string(vertex) +
                        (singular ? " (a singularity of valence " + std::to_string(target) + ")"
                                  : " (a regular vertex, 4 quarter turns)") +
@@ -1270,13 +1272,17 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             marks.mark(m, r);
             bool repaired = false;
             const bool admitted = admits_embedding(m, r, valences_given, marks);
+            RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
             if (admitted) {
                 const bool untangled = untangle_region(m, r, rest, corner_slot, corner_to);
                 repaired = untangled && windings_kept(m, r, marks);
+                if (!repaired) failure = describe_failure(m, r, marks, true, radius);
                 // Once more with cone fans opened, where that is what failed: the untangler wound
                 // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
                 if (!repaired && (untangled || marks.cone >= 0))
                     repaired = untangle_with_open_cones(m, r, marks, before, rest, corner_slot, corner_to);
+            } else {
+                failure = describe_failure(m, r, marks, false, radius);
             }
             if (repaired) {
                 polish_region(m, r, rest, corner_slot, corner_to, marks);
@@ -1286,7 +1292,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             if (repaired && marks.cone >= 0)
                 m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] =
                     static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
-            if (!repaired) record(describe_failure(m, r, marks, admitted, radius));
+            if (!repaired) record(failure);
             marks.clear(r);
             if (!repaired) restore_region_uvs(m, r, before);
         }

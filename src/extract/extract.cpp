@@ -86,7 +86,7 @@ bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& f
         return o[static_cast<std::size_t>(d)] == r;
     };
     for (int v = 0; v < m.num_vertices; ++v)
-        if ((m.map.singular[v] || m.map.valence[v] != 4) && m.fan_start[v] >= 0) {
+        if ((m.map.singular[v] || (!m.on_boundary[v] && m.map.valence[v] != 4)) && m.fan_start[v] >= 0) {
             const Point2& u = m.uv[m.fan_start[v]];
             if (!agree(0, u[0]) || !agree(1, u[1])) return false;
         }
@@ -485,8 +485,9 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
     return ok;
 }
 
-/// How far (relative to a coordinate, at least 1) sanitizing the map at the coarse scale may
-/// leave a corner from the given map's sanitized value: truncation to another power of two.
+/// How far (relative to the map's largest coordinate, at least 1) sanitizing the map at the
+/// coarse scale may leave a corner from the given map's sanitized value: truncation to another
+/// power of two.
 constexpr double kTruncationSpread = 0x1p-40;
 
 /// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid:
@@ -507,6 +508,12 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
     }
     if (origins.empty()) return false;
     const std::vector<std::array<double, 2>> given = take_map(m, input);
+    // Sanitizing truncates a fan to a power of two set by its largest coordinate, in any chart:
+    // the bound is taken from the map's largest.
+    double largest = 1.0;
+    for (const auto& uv : given)
+        if (!std::isnan(uv[0])) largest = std::max({largest, std::abs(uv[0]), std::abs(uv[1])});
+    const double spread = kTruncationSpread * largest;
     Input coarse = input;
     for (std::size_t i = 0; i < origins.size(); ++i) {
         const int k = 2 << i;
@@ -517,7 +524,8 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
         const double inverse = 1.0 / k;
         for (std::size_t c = 0; c < coarse.uvs.size(); ++c) {
             const std::array<double, 2>& u = std::isnan(given[c][0]) ? input.uvs[c] : given[c];
-            coarse.uvs[c] = {(u[0] - static_cast<double>(o[0])) * inverse, (u[1] - static_cast<double>(o[1])) * inverse};
+            coarse.uvs[c] = {(u[0] - static_cast<double>(o[0])) * inverse,
+                             (u[1] - static_cast<double>(o[1])) * inverse};
         }
         StageTimer::hook_scale = 1;
         Result attempt = extract_at_scale(coarse, options);
@@ -532,8 +540,7 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
         // in the last place otherwise; a snapped singularity or a rounded seam moves by far more).
         // The mesh carries this map, which the checker verifies exactly.
         std::vector<std::array<double, 2>> map = attempt.mesh.map_uvs;
-        for (auto& uv : map)
-            uv = {k * uv[0] + static_cast<double>(o[0]), k * uv[1] + static_cast<double>(o[1])};
+        for (auto& uv : map) uv = {k * uv[0] + static_cast<double>(o[0]), k * uv[1] + static_cast<double>(o[1])};
         std::vector<char> repaired(map.size() / 3, 0);
         for (const std::int32_t t : attempt.mesh.map_repaired)
             if (t >= 0 && static_cast<std::size_t>(t) < repaired.size()) repaired[static_cast<std::size_t>(t)] = 1;
@@ -542,7 +549,7 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
             if (repaired[c / 3]) continue;
             same = std::isnan(map[c][0]) == std::isnan(given[c][0]);
             for (int d = 0; d < 2 && same && !std::isnan(map[c][0]); ++d)
-                same = std::abs(map[c][d] - given[c][d]) <= kTruncationSpread * std::max(1.0, std::abs(given[c][d]));
+                same = std::abs(map[c][d] - given[c][d]) <= spread;
         }
         StageTimer timer(attempt.report);
         QuadMesh split;

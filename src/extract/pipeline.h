@@ -131,7 +131,8 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 /// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
 /// every singularity's grid point, and every boundary or feature edge (input vertex pairs) on an
 /// iso-line, on a line of that coarse grid, and every transition one of its automorphisms. The
-/// origin is fixed by the singularities and iso-lines ((0, 0) where none does).
+/// origin is fixed by the singularities and iso-lines, else it is the first (in (u, v) order)
+/// that the turning transitions allow (for k up to 64; above, a free coordinate is 0).
 bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, std::int64_t k,
                       IPoint& origin);
 
