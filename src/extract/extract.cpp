@@ -562,12 +562,14 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
             if (check.valid) {
                 // Its faces' local UVs are the split's own making, and provenance mode takes them
                 // as given: the mesh must also pass the oracle that judges it against the given
-                // map alone, as `qex check --param` does (fold-over regions judged on the surface).
+                // map alone, as `qex check --param` does (fold-over regions judged on the
+                // surface), or everywhere if it came from a relaxed rung (which must hold on the
+                // given map everywhere, as judge() requires at any scale).
                 QuadMesh bare;
                 bare.positions = split.positions;
                 bare.faces = split.faces;
                 VerifyOptions located_options = verify_options;
-                located_options.fold_regions = true;
+                located_options.fold_regions = attempt.report.rung.rfind("untangled", 0) != 0;
                 const VerifyResult located = verify(input, bare, located_options);
                 check.violations.insert(check.violations.end(), located.violations.begin(), located.violations.end());
                 check.valid = check.violations.empty();
