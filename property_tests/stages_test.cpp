@@ -241,9 +241,7 @@ TEST(Coarsening, AMapTwiceAnIntegerGridMapHalvesFromItsOrigin) {
         ASSERT_TRUE(detail::map_divisible_by(sanitized(moved), {}, 2, origin)) << layout.name;
         // (On the torus only turning transitions fix it, and (0, 1) suits them as well as (1, 0).)
         const bool either = layout.name == "torus" && origin == detail::IPoint{0, 1};
-        if (!either) {
-            EXPECT_EQ(origin, (detail::IPoint{1, 0})) << layout.name;
-        }
+        if (!either) { EXPECT_EQ(origin, (detail::IPoint{1, 0})) << layout.name; }
     }
     detail::IPoint origin;
     EXPECT_FALSE(detail::map_divisible_by(sanitized(make_map(cube_layout(), 1, 2)), {}, 2, origin));

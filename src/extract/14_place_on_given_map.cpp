@@ -411,8 +411,8 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
     for (std::size_t v = 0; v < nv; ++v) {
         const Provenance& p = coarse.provenance[v];
         if (p.chart_triangle < 0 || p.chart_triangle >= g.num_faces()) return false;
-        out.provenance.push_back(located(input, g, p.chart_triangle,
-                                         {p.grid[0] * k + origin[0], p.grid[1] * k + origin[1]}, p.merged));
+        out.provenance.push_back(
+            located(input, g, p.chart_triangle, {p.grid[0] * k + origin[0], p.grid[1] * k + origin[1]}, p.merged));
         out.positions.push_back(position_of(input, out.provenance.back()));
     }
     // Per coarse edge (its vertices, smaller first): the first of its k - 1 new vertices,
