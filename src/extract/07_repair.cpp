@@ -869,8 +869,8 @@ struct RegionFailure {
     }
 };
 
-/// Why the attempts at region r failed (`admitted`: it passed admits_embedding), from its UVs as
-/// the last attempt left them.
+/// Why an attempt at region r failed (`admitted`: it passed admits_embedding), from its UVs as
+/// the attempt left them (the first one: the open-cone retry starts again from the given UVs).
 RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMarks& marks, bool admitted, int radius) {
     RegionFailure f;
     f.radius = radius;

@@ -10,9 +10,6 @@
 namespace qex::detail {
 namespace {
 
-/// The search from a vertex's provenance triangle stops once it has listed at least this many triangles.
-constexpr std::size_t kMaxSearchTriangles = 4096;
-
 /// The orientation of triangle t of `g` if it is not degenerate and holds x (closed), else 0.
 int holding_sign(const TriMesh& g, int t, const Point2& x) {
     const Point2 &a = g.uv[3 * t], &b = g.uv[3 * t + 1], &c = g.uv[3 * t + 2];
@@ -37,66 +34,140 @@ std::array<int, 3> edges_in_canonical_order(const TriMesh& g, int t) {
     return ks;
 }
 
+/// Whether triangle (a, b, c) and the open box (lo, hi) share a point, by separating axes: the
+/// box's two and the triangle's three edges (a side that only touches separates). A degenerate
+/// triangle is judged by its bounding box.
+bool meets_open_box(const Point2& a, const Point2& b, const Point2& c, const IPoint& lo, const IPoint& hi) {
+    const auto [x0, x1] = std::minmax({a[0], b[0], c[0]});
+    const auto [y0, y1] = std::minmax({a[1], b[1], c[1]});
+    if (!(x1 > static_cast<double>(lo[0]) && x0 < static_cast<double>(hi[0]) && y1 > static_cast<double>(lo[1]) &&
+          y0 < static_cast<double>(hi[1])))
+        return false;
+    const std::array<Point2, 4> box{{{static_cast<double>(lo[0]), static_cast<double>(lo[1])},
+                                     {static_cast<double>(hi[0]), static_cast<double>(lo[1])},
+                                     {static_cast<double>(hi[0]), static_cast<double>(hi[1])},
+                                     {static_cast<double>(lo[0]), static_cast<double>(hi[1])}}};
+    const int s = sign(orient2d(a, b, c));
+    if (s == 0) {
+        // A segment (or a point, which the boxes' test decided): it misses the open box when the
+        // box lies on one closed side of its line.
+        const auto [p, q] = std::minmax({a, b, c});
+        if (p == q) return true;
+        int below = 0, above = 0;
+        for (const Point2& x : box) {
+            const int o = sign(orient2d(p, q, x));
+            below += o<0, above += o> 0;
+        }
+        return below > 0 && above > 0;
+    }
+    const std::array<const Point2*, 3> t{&a, &b, &c};
+    for (std::size_t e = 0; e < 3; ++e) {
+        bool separated = true;
+        for (const Point2& p : box) separated = separated && sign(orient2d(*t[e], *t[(e + 1) % 3], p)) * s <= 0;
+        if (separated) return false;
+    }
+    return true;
+}
+
 /// Breadth-first search over the live triangles of the given map `g` (its transitions computed),
-/// crossing edges with their transitions; edges next to a collapsed triangle are not crossed.
-class PreimageSearch {
+/// crossing edges with their transitions (not edges next to a collapsed triangle), each
+/// triangle's neighbours in canonical order; every listed triangle carries the transition from
+/// the search's chart to its own.
+class ChartSearch {
 public:
-    explicit PreimageSearch(const TriMesh& g)
+    explicit ChartSearch(const TriMesh& g)
         : g_(g), stamp_(static_cast<std::size_t>(g.num_faces()), 0), to_(static_cast<std::size_t>(g.num_faces())) {}
+
     /// A triangle that holds `grid` (in the chart of triangle `start`): the first positive one
     /// found, else the first flipped one; -1 if none is found or `start` is not a live triangle.
-    int find(int start, const IPoint& grid);
+    int find(int start, const IPoint& grid) {
+        if (start < 0 || start >= g_.num_faces() || !alive(start)) return -1;
+        begin();
+        enter(start, GridAutomorphism{}, nullptr);
+        int found = -1, found_flipped = -1;
+        for (std::size_t head = 0; head < queue_.size() && found < 0 && queue_.size() < kMaxSearchTriangles; ++head) {
+            const int t = queue_[head];
+            const int s = holding_sign(g_, t, to_point(to(t)(grid)));
+            if (s > 0) found = t;
+            if (s < 0 && found_flipped < 0) found_flipped = t;
+            expand(t, nullptr);
+        }
+        return found >= 0 ? found : found_flipped;
+    }
+
+    /// Lists the triangles of a grid cell, the open box (lo, hi) in the seeds' chart: those that
+    /// meet it and are reached from the seeds through such triangles. Kept inside the cell, the
+    /// search cannot wind round a singularity at one of its corners into another sheet. False
+    /// past the budget.
+    bool cell(const std::vector<std::pair<int, GridAutomorphism>>& seeds, const IPoint& lo, const IPoint& hi) {
+        const Box box{lo, hi};
+        begin();
+        for (const auto& [t, to] : seeds) enter(t, to, &box);
+        for (std::size_t head = 0; head < queue_.size(); ++head) {
+            if (queue_.size() > kMaxCellTriangles) return false;
+            expand(queue_[head], &box);
+        }
+        return true;
+    }
+    bool listed(int t) const { return stamp_[static_cast<std::size_t>(t)] == generation_; }
     /// The transition from the chart of the last search's start to that of triangle t (listed by it).
     const GridAutomorphism& to(int t) const { return to_[static_cast<std::size_t>(t)]; }
+    const std::vector<int>& triangles() const { return queue_; }
+
+    /// The first listed triangle that holds q (the search's chart), positive before flipped; -1
+    /// if none.
+    int holder(const IPoint& q) const {
+        int flipped = -1;
+        for (const int t : queue_) {
+            const int s = holding_sign(g_, t, to_point(to(t)(q)));
+            if (s > 0) return t;
+            if (s < 0 && flipped < 0) flipped = t;
+        }
+        return flipped;
+    }
 
 private:
-    /// Whether triangle f survived the collapses (its UVs are not NaN).
-    bool alive(int f) const { return std::isfinite(g_.uv[3 * f][0]); }
-    /// The orientation of triangle t if it is not degenerate and holds `grid` (closed), else 0.
-    int holding_sign(int t, const IPoint& grid) const;
-    /// Lists t's unlisted live neighbours, with their transitions.
-    void list_neighbours(int t);
+    static constexpr std::size_t kMaxSearchTriangles = 4096; ///< find() stops listing here
+    static constexpr std::size_t kMaxCellTriangles = std::size_t{1} << 16;
+    struct Box {
+        IPoint lo, hi;
+    };
+
+    /// Whether triangle t survived the collapses (its UVs are not NaN).
+    bool alive(int t) const { return std::isfinite(g_.uv[3 * t][0]); }
+    void begin() {
+        ++generation_;
+        queue_.clear();
+    }
+    /// Lists t, reached with transition `to`, unless it is listed, collapsed, or (with a box)
+    /// misses the box.
+    void enter(int t, const GridAutomorphism& to, const Box* box) {
+        if (t < 0 || listed(t) || !alive(t)) return;
+        if (box) {
+            // The box in t's chart: a box again (the transition turns by quarter turns).
+            const IPoint p = to(box->lo), q = to(box->hi);
+            const IPoint l{std::min(p[0], q[0]), std::min(p[1], q[1])}, h{std::max(p[0], q[0]), std::max(p[1], q[1])};
+            if (!meets_open_box(g_.uv[3 * t], g_.uv[3 * t + 1], g_.uv[3 * t + 2], l, h)) return;
+        }
+        stamp_[static_cast<std::size_t>(t)] = generation_;
+        to_[static_cast<std::size_t>(t)] = to;
+        queue_.push_back(t);
+    }
+    /// Lists t's neighbours, in canonical order, so that which path reaches a triangle first (and
+    /// so its transition past a singularity), and which preimage is found first, do not depend on
+    /// the input's order.
+    void expand(int t, const Box* box) {
+        for (const int k : edges_in_canonical_order(g_, t))
+            if (const int o = g_.opp[3 * t + k]; o >= 0)
+                enter(TriMesh::face(o), g_.map.transition[3 * t + k].after(to(t)), box);
+    }
 
     const TriMesh& g_;
     std::vector<std::uint32_t> stamp_; ///< per triangle: the search that listed it last
     std::vector<GridAutomorphism> to_; ///< per triangle: chart of the start -> its chart
-    std::vector<int> queue_;
+    std::vector<int> queue_;           ///< the listed triangles, in the order listed
     std::uint32_t generation_ = 0;
 };
-
-int PreimageSearch::holding_sign(int t, const IPoint& grid) const {
-    return qex::detail::holding_sign(g_, t, to_point(to(t)(grid)));
-}
-
-void PreimageSearch::list_neighbours(int t) {
-    // In canonical order, so that which preimage is found first does not depend on the input's order either.
-    for (const int k : edges_in_canonical_order(g_, t)) {
-        const int o = g_.opp[3 * t + k];
-        if (o < 0) continue;
-        const int n = TriMesh::face(o);
-        if (stamp_[static_cast<std::size_t>(n)] == generation_ || !alive(n)) continue;
-        stamp_[static_cast<std::size_t>(n)] = generation_;
-        to_[static_cast<std::size_t>(n)] = g_.map.transition[3 * t + k].after(to(t));
-        queue_.push_back(n);
-    }
-}
-
-int PreimageSearch::find(int start, const IPoint& grid) {
-    if (start < 0 || start >= g_.num_faces() || !alive(start)) return -1;
-    ++generation_;
-    queue_.assign(1, start);
-    stamp_[static_cast<std::size_t>(start)] = generation_;
-    to_[static_cast<std::size_t>(start)] = GridAutomorphism{};
-    int found = -1, found_flipped = -1;
-    for (std::size_t head = 0; head < queue_.size() && found < 0 && queue_.size() < kMaxSearchTriangles; ++head) {
-        const int t = queue_[head];
-        const int s = holding_sign(t, grid);
-        if (s > 0) found = t;
-        if (s < 0 && found_flipped < 0) found_flipped = t;
-        list_neighbours(t);
-    }
-    return found >= 0 ? found : found_flipped;
-}
 
 /// The provenance of grid point q (in the chart of triangle `found` of the given map `g`) in
 /// that triangle: on a corner, on an edge, or inside.
@@ -160,7 +231,7 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
     // Transitions of the given (sanitized) map, exact there: rotation from the edge, then the
     // translation.
     compute_transitions(g);
-    PreimageSearch search(g);
+    ChartSearch search(g);
     std::int64_t unplaced = 0;
     for (std::size_t i = 0; i < mesh.positions.size() && i < mesh.provenance.size(); ++i) {
         Provenance& p = mesh.provenance[i];
@@ -183,100 +254,6 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 
 namespace qex::detail {
 namespace {
-
-/// Whether triangle (a, b, c) and the open box (lo, hi) share a point, by separating axes: the
-/// box's two and the triangle's three edges (a side that only touches separates). A degenerate
-/// triangle is judged by its bounding box.
-bool meets_open_box(const Point2& a, const Point2& b, const Point2& c, const IPoint& lo, const IPoint& hi) {
-    const auto [x0, x1] = std::minmax({a[0], b[0], c[0]});
-    const auto [y0, y1] = std::minmax({a[1], b[1], c[1]});
-    if (!(x1 > static_cast<double>(lo[0]) && x0 < static_cast<double>(hi[0]) && y1 > static_cast<double>(lo[1]) &&
-          y0 < static_cast<double>(hi[1])))
-        return false;
-    const std::array<Point2, 4> box{{{static_cast<double>(lo[0]), static_cast<double>(lo[1])},
-                                     {static_cast<double>(hi[0]), static_cast<double>(lo[1])},
-                                     {static_cast<double>(hi[0]), static_cast<double>(hi[1])},
-                                     {static_cast<double>(lo[0]), static_cast<double>(hi[1])}}};
-    const int s = sign(orient2d(a, b, c));
-    if (s == 0) {
-        // A segment (or a point, which the boxes' test decided): it misses the open box when the
-        // box lies on one closed side of its line.
-        const auto [p, q] = std::minmax({a, b, c});
-        if (p == q) return true;
-        int below = 0, above = 0;
-        for (const Point2& x : box) {
-            const int o = sign(orient2d(p, q, x));
-            below += o<0, above += o> 0;
-        }
-        return below > 0 && above > 0;
-    }
-    const std::array<const Point2*, 3> t{&a, &b, &c};
-    for (std::size_t e = 0; e < 3; ++e) {
-        bool separated = true;
-        for (const Point2& p : box) separated = separated && sign(orient2d(*t[e], *t[(e + 1) % 3], p)) * s <= 0;
-        if (separated) return false;
-    }
-    return true;
-}
-
-/// The triangles of the given map that a grid cell covers: those reachable from seed triangles
-/// through triangles that meet the cell's interior, each with the transition from the seeds'
-/// chart to its own. Kept inside the cell, the search cannot wind round a singularity at one of
-/// its corners into another sheet of the same grid points.
-class CellSearch {
-public:
-    explicit CellSearch(const TriMesh& g)
-        : g_(g), stamp_(static_cast<std::size_t>(g.num_faces()), 0), to_(static_cast<std::size_t>(g.num_faces())) {}
-
-    /// Lists the triangles of the cell (lo, hi), in the seeds' chart. False past the budget.
-    bool run(const std::vector<std::pair<int, GridAutomorphism>>& seeds, const IPoint& lo, const IPoint& hi) {
-        ++generation_;
-        listed_.clear();
-        for (const auto& [t, to] : seeds) visit(t, to, lo, hi);
-        for (std::size_t head = 0; head < listed_.size(); ++head) {
-            if (listed_.size() > kMaxCellTriangles) return false;
-            const int t = listed_[head];
-            for (const int k : edges_in_canonical_order(g_, t))
-                if (const int o = g_.opp[3 * t + k]; o >= 0)
-                    visit(TriMesh::face(o), g_.map.transition[3 * t + k].after(to(t)), lo, hi);
-        }
-        return true;
-    }
-    bool listed(int t) const { return stamp_[static_cast<std::size_t>(t)] == generation_; }
-    const GridAutomorphism& to(int t) const { return to_[static_cast<std::size_t>(t)]; }
-    const std::vector<int>& triangles() const { return listed_; }
-
-    /// The first listed triangle that holds q (seeds' chart), positive before flipped; -1 if none.
-    int holder(const IPoint& q) const {
-        int flipped = -1;
-        for (const int t : listed_) {
-            const int s = holding_sign(g_, t, to_point(to(t)(q)));
-            if (s > 0) return t;
-            if (s < 0 && flipped < 0) flipped = t;
-        }
-        return flipped;
-    }
-
-private:
-    static constexpr std::size_t kMaxCellTriangles = std::size_t{1} << 16;
-
-    void visit(int t, const GridAutomorphism& to, const IPoint& lo, const IPoint& hi) {
-        if (t < 0 || listed(t) || !std::isfinite(g_.uv[3 * t][0])) return;
-        // The cell in t's chart: a box again (the transition turns by quarter turns).
-        const IPoint p = to(lo), q = to(hi);
-        const IPoint l{std::min(p[0], q[0]), std::min(p[1], q[1])}, h{std::max(p[0], q[0]), std::max(p[1], q[1])};
-        if (!meets_open_box(g_.uv[3 * t], g_.uv[3 * t + 1], g_.uv[3 * t + 2], l, h)) return;
-        stamp_[static_cast<std::size_t>(t)] = generation_;
-        to_[static_cast<std::size_t>(t)] = to;
-        listed_.push_back(t);
-    }
-
-    const TriMesh& g_;
-    std::vector<std::uint32_t> stamp_;
-    std::vector<GridAutomorphism> to_;
-    std::vector<int> listed_;
-    std::uint32_t generation_ = 0;
-};
 
 /// The triangles a provenance's grid point is on, each with the transition from the chart of
 /// its triangle `chart_triangle` to its own: that triangle; with the neighbour across the edge;
@@ -309,14 +286,16 @@ std::vector<std::pair<int, GridAutomorphism>> triangles_at(const TriMesh& g, con
     return at;
 }
 
-/// Where the cell search has a corner of the cell: 1 when grid point q (seeds' chart) is on the
-/// corner's vertex, edge or triangle, at its grid point there; -1 when the search holds one of
+/// Where the cell search has a corner of the cell (provenance p, its triangles `at`:
+/// triangles_at): 1 when grid point q (seeds' chart) is on the corner's vertex, edge or
+/// triangle, at its grid point there; -1 when the search holds one of
 /// those triangles with q elsewhere; 0 when it holds none (a fold can keep a corner's own
 /// triangles out of the cell).
-int corner_found(const TriMesh& g, const CellSearch& search, const Provenance& p, const IPoint& q) {
+int corner_found(const ChartSearch& search, const Provenance& p,
+                 const std::vector<std::pair<int, GridAutomorphism>>& at, const IPoint& q) {
     const IPoint expected{p.grid[0], p.grid[1]};
     int found = 0;
-    for (const auto& [t, to] : triangles_at(g, p))
+    for (const auto& [t, to] : at)
         if (search.listed(t)) {
             if (search.to(t)(q) == to(expected)) return 1;
             found = -1;
@@ -343,7 +322,8 @@ struct CellFrame {
 /// quarter turn under which the cell's triangles hold the most of its other corners where the
 /// coarse mesh has them, and none elsewhere. On success, `search` lists that cell.
 bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, const std::vector<int>& face,
-               const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, CellSearch& search, CellFrame& frame) {
+               const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, ChartSearch& search,
+               CellFrame& frame) {
     for (int i = 0; i < 4; ++i)
         frame.corners[static_cast<std::size_t>(i)] = face[static_cast<std::size_t>((a + i) % 4)];
     const auto at = [&](int i) { return uv[static_cast<std::size_t>((a + i) % 4)]; };
@@ -363,10 +343,14 @@ bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, cons
     const auto run = [&](std::size_t start, int r) {
         frame.turn = r;
         const IPoint lo = frame.point(0, 0), hi = frame.point(k, k);
-        return search.run(starts[start], {std::min(lo[0], hi[0]), std::min(lo[1], hi[1])},
-                          {std::max(lo[0], hi[0]), std::max(lo[1], hi[1])}) &&
+        return search.cell(starts[start], {std::min(lo[0], hi[0]), std::min(lo[1], hi[1])},
+                           {std::max(lo[0], hi[0]), std::max(lo[1], hi[1])}) &&
                !search.triangles().empty();
     };
+    // Where the other corners are (their triangles, with transitions), walked once.
+    std::array<std::vector<std::pair<int, GridAutomorphism>>, 3> corner_at;
+    for (std::size_t j = 0; j < 3; ++j)
+        corner_at[j] = triangles_at(g, provenance[static_cast<std::size_t>(frame.corners[j + 1])]);
     int best = 0, turn = -1;
     std::size_t from = 0;
     for (std::size_t start = 0; start < starts.size(); ++start)
@@ -376,8 +360,8 @@ bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, cons
             bool contradicted = false;
             const std::array<std::pair<int, int>, 3> ij{{{k, 0}, {k, k}, {0, k}}};
             for (std::size_t j = 0; j < 3; ++j) {
-                const int found = corner_found(g, search, provenance[static_cast<std::size_t>(frame.corners[j + 1])],
-                                               frame.point(ij[j].first, ij[j].second));
+                const Provenance& pj = provenance[static_cast<std::size_t>(frame.corners[j + 1])];
+                const int found = corner_found(search, pj, corner_at[j], frame.point(ij[j].first, ij[j].second));
                 matched += found > 0;
                 contradicted = contradicted || found < 0;
             }
@@ -399,8 +383,7 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
     if (build_topology(g, "input").code != ErrorCode::None) return false;
     g.uv = map;
     compute_transitions(g);
-    CellSearch search(g);
-    PreimageSearch wide(g);
+    ChartSearch search(g), wide(g);
     const auto nv = coarse.positions.size();
     if (coarse.provenance.size() != nv || coarse.face_uvs.size() != coarse.faces.size() || k < 2) return false;
     out = QuadMesh{};

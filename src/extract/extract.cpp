@@ -93,7 +93,18 @@ bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& f
     std::vector<std::array<int, 2>> feature_set;
     for (const auto& e : features) feature_set.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
     std::sort(feature_set.begin(), feature_set.end());
+    // Every transition u -> R u + t between charts, with u = k u' + origin in both, must be one
+    // of the coarse grid: R origin + t - origin a multiple of k. A translation must be one
+    // anyway; the turning ones, each once (by their residues), decide an origin that neither a
+    // singularity nor an iso-line fixed: the first that suits them all.
+    std::vector<std::array<std::int64_t, 3>> turning;
     for (int h = 0; h < 3 * m.num_faces(); ++h) {
+        if (m.opp[h] >= 0) {
+            const GridAutomorphism& t = m.map.transition[h];
+            const std::int64_t tx = ((t.tx % k) + k) % k, ty = ((t.ty % k) + k) % k;
+            if (t.r == 0 && (tx != 0 || ty != 0)) return false;
+            if (t.r != 0) turning.push_back({t.r, tx, ty});
+        }
         const int a = m.input_vertex[m.origin(h)], b = m.input_vertex[m.target(h)];
         const bool feature = std::binary_search(feature_set.begin(), feature_set.end(),
                                                 std::array<int, 2>{std::min(a, b), std::max(a, b)});
@@ -104,18 +115,6 @@ bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& f
         bool on_line = false;
         for (int d = 0; d < 2 && !on_line; ++d) on_line = p[d] == q[d] && agree(d, p[d]);
         if (!on_line) return false;
-    }
-    // Every transition u -> R u + t between charts, with u = k u' + origin in both, must be one
-    // of the coarse grid: R origin + t - origin a multiple of k. A translation must be one
-    // anyway; the turning ones, each once (by their residues), decide an origin that neither a
-    // singularity nor an iso-line fixed: the first that suits them all.
-    std::vector<std::array<std::int64_t, 3>> turning;
-    for (int h = 0; h < 3 * m.num_faces(); ++h) {
-        if (m.opp[h] < 0) continue;
-        const GridAutomorphism& t = m.map.transition[h];
-        const std::int64_t tx = ((t.tx % k) + k) % k, ty = ((t.ty % k) + k) % k;
-        if (t.r == 0 && (tx != 0 || ty != 0)) return false;
-        if (t.r != 0) turning.push_back({t.r, tx, ty});
     }
     std::sort(turning.begin(), turning.end());
     turning.erase(std::unique(turning.begin(), turning.end()), turning.end());
@@ -158,6 +157,13 @@ constexpr Rung kLadder[] = {
     {"untangled-1", false, 1, 30},
     {"untangled-3", false, 3, 100},
 };
+
+/// Whether the rung named `name` (Report::rung) relaxed the map: a last resort.
+bool relaxed_rung(const std::string& name) {
+    for (const Rung& r : kLadder)
+        if (name == r.name) return r.untangle_rings > 0;
+    return false;
+}
 
 /// The feature edges to snap: the input's, and every boundary edge with Options::snap_boundary.
 std::vector<std::array<int, 2>> feature_edges(const TriMesh& m, const Input& input, const Options& options) {
@@ -331,6 +337,17 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     return true;
 }
 
+/// The violations of `mesh` judged without its provenance against the given map, as
+/// `qex check --param` judges any extractor's mesh (fold-over regions on the surface only, or not).
+std::vector<Violation> located_violations(const Input& input, const QuadMesh& mesh, VerifyOptions options,
+                                          bool fold_regions) {
+    QuadMesh bare;
+    bare.positions = mesh.positions;
+    bare.faces = mesh.faces;
+    options.fold_regions = fold_regions;
+    return verify(input, bare, options).violations;
+}
+
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,
 /// against the map it carries (with the repair's certificate, which the checker verifies on its
 /// own). A relaxed rung's mesh is moved onto the given map and must pass there.
@@ -349,12 +366,8 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     attempt.check = verify(input, attempt.mesh, verify_options);
     if (relaxed && attempt.check.valid) {
         // And it must pass the oracle that judges it against the given map alone (as
-        // `qex check` would), or the rung is rejected.
-        QuadMesh bare;
-        bare.positions = attempt.mesh.positions;
-        bare.faces = attempt.mesh.faces;
-        const VerifyResult located = verify(input, bare, verify_options);
-        for (const Violation& v : located.violations)
+        // `qex check` would), everywhere, or the rung is rejected.
+        for (const Violation& v : located_violations(input, attempt.mesh, verify_options, false))
             attempt.check.violations.push_back(
                 {v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
         attempt.check.valid = attempt.check.violations.empty();
@@ -565,13 +578,9 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
                 // map alone, as `qex check --param` does (fold-over regions judged on the
                 // surface), or everywhere if it came from a relaxed rung (which must hold on the
                 // given map everywhere, as judge() requires at any scale).
-                QuadMesh bare;
-                bare.positions = split.positions;
-                bare.faces = split.faces;
-                VerifyOptions located_options = verify_options;
-                located_options.fold_regions = attempt.report.rung.rfind("untangled", 0) != 0;
-                const VerifyResult located = verify(input, bare, located_options);
-                check.violations.insert(check.violations.end(), located.violations.begin(), located.violations.end());
+                const std::vector<Violation> located =
+                    located_violations(input, split, verify_options, !relaxed_rung(attempt.report.rung));
+                check.violations.insert(check.violations.end(), located.begin(), located.end());
                 check.valid = check.violations.empty();
             }
             timer.done(Stage::check);
