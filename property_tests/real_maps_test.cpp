@@ -365,6 +365,50 @@ TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
     EXPECT_EQ(named, r.report.unrepaired_regions);
 }
 
+/// duck_miq_28: MIQ rounded singularities onto grid points that the map round them does not
+/// wind about (a valence-3 cone whose rings turn -1 quarter turns about its grid point, a
+/// valence-5 one whose rings turn 1). No fold-free map keeps such a singularity at its grid
+/// point with the rim fixed, so the repair names the proof instead of untangling: the rim's
+/// quarter turns differ from the valence by whole turns, and the singularity lies on a grid
+/// point in every corner of the raw map.
+TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "duck_miq_28_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    Options one_rung;
+    one_rung.fallback_ladder = false;
+    const Result r = extract(in, one_rung);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    const std::string key = "its rim turns ";
+    int proofs = 0;
+    for (const Defect& d : r.report.explanations) {
+        if (d.kind != DefectKind::FoldOverNotRepaired) continue;
+        for (std::size_t at = d.message.find(key); at != std::string::npos; at = d.message.find(key, at + 1)) {
+            int turns = 0, vertex = -1, valence = 0;
+            ASSERT_EQ(std::sscanf(d.message.c_str() + at,
+                                  "its rim turns %d quarter turns about the grid point of input vertex %d (a "
+                                  "singularity of valence %d",
+                                  &turns, &vertex, &valence),
+                      3)
+                << d.message;
+            ++proofs;
+            EXPECT_NE(turns, valence) << d.message;
+            EXPECT_EQ(((turns - valence) % 4 + 4) % 4, 0) << d.message;
+            ASSERT_GE(vertex, 0);
+            ASSERT_LT(static_cast<std::size_t>(vertex), in.positions.size());
+            int corners = 0;
+            for (std::size_t c = 0; c < in.uvs.size(); ++c) {
+                if (in.triangles[c / 3][c % 3] != vertex) continue;
+                ++corners;
+                EXPECT_EQ(in.uvs[c][0], std::round(in.uvs[c][0])) << d.message;
+                EXPECT_EQ(in.uvs[c][1], std::round(in.uvs[c][1])) << d.message;
+            }
+            EXPECT_GT(corners, 0);
+        }
+    }
+    EXPECT_GT(proofs, 0) << "no fold of duck_miq_28 is named with a rim short of its singularity";
+}
+
 /// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of
 /// flipped triangles in each, Algorithm 8 counting the turn the signed angles lack). Untangled as
 /// given, such a region keeps the cone a turn short and winds a neighbour twice, which the

@@ -565,6 +565,10 @@ struct RegionMarks {
     /// fold took whole turns from its fan without flipping any), and that angle.
     int cone = -1;
     double cone_angle = 0.0;
+    /// Set when the rim winds round the region's one singularity otherwise than its angle
+    /// (admits_embedding): that singularity, and the angle the rim turns about it.
+    int rim_cone = -1;
+    double rim_angle = 0.0;
 
     /// What v's angles sum to in an embedding of the region's map.
     double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }
@@ -582,7 +586,7 @@ struct RegionMarks {
         for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
         for (const int v : fixed) vertex[v] = 0;
         fixed.clear();
-        cone = -1;
+        cone = rim_cone = -1;
     }
 };
 
@@ -596,6 +600,93 @@ void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& insid
         else
             outside += corner_angle(m, h);
     }
+}
+
+/// The angle the rim of region r turns about `cone`, the one singular vertex inside it: the sum,
+/// over the rim's edges, of the angle each subtends at the cone's grid point, in the chart of the
+/// edge's triangle (the grid point carried there through the region's transitions, which turn
+/// about it and fix it). False where the sum would prove nothing: the region is not a disk
+/// (Euler characteristic 1), or a rim edge passes through the grid point or nearly so.
+bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks, int cone, double& angle) {
+    std::unordered_map<int, std::size_t> local;
+    for (std::size_t t = 0; t < r.faces.size(); ++t) local[r.faces[t]] = t;
+    const auto in_region = [&](int h) { return h >= 0 && local.count(TriMesh::face(h)) != 0; };
+    // The grid point in each triangle's chart, breadth-first from a triangle of the cone's fan.
+    std::vector<Point2> at(r.faces.size());
+    std::vector<char> seen(r.faces.size(), 0);
+    const int start = m.fan_start[cone];
+    if (!in_region(start)) return false;
+    std::vector<int> queue{TriMesh::face(start)};
+    at[local[queue[0]]] = m.uv[start];
+    seen[local[queue[0]]] = 1;
+    std::size_t rim = 0;
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+        const int f = queue[i];
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * f + k, o = m.opp[h];
+            if (!in_region(o)) {
+                ++rim;
+                continue;
+            }
+            const std::size_t j = local[TriMesh::face(o)];
+            if (seen[j]) continue;
+            seen[j] = 1;
+            at[j] = m.map.transition[h](at[local[f]]);
+            queue.push_back(TriMesh::face(o));
+        }
+    }
+    const auto faces = static_cast<std::int64_t>(r.faces.size());
+    const auto vertices = static_cast<std::int64_t>(r.fans.size() + marks.fixed.size());
+    const auto edges = (3 * faces + static_cast<std::int64_t>(rim)) / 2;
+    if (queue.size() != r.faces.size() || vertices - edges + faces != 1) return false;
+    angle = 0.0;
+    for (const int f : r.faces)
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * f + k;
+            if (in_region(m.opp[h])) continue;
+            const Point2& p = at[local[f]];
+            const double ax = m.uv[h][0] - p[0], ay = m.uv[h][1] - p[1];
+            const double bx = m.uv[TriMesh::next(h)][0] - p[0], by = m.uv[TriMesh::next(h)][1] - p[1];
+            if ((ax == 0.0 && ay == 0.0) || (bx == 0.0 && by == 0.0)) return false; // on the grid point
+            const double turn = std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+            if (!(std::abs(turn) < M_PI - 1e-3)) return false;
+            angle += turn;
+        }
+    return true;
+}
+
+/// Whether the rim of a region that is a disk leaves room for its one singularity (of valence 3,
+/// or 5 and more; `marks.rim_cone` is set when it does not). In an orientation-preserving map
+/// that keeps every winding, the singularity is the only point of the region at its grid point
+/// (any other would be the centre of a full turn, which the cone's angle does not divide), so the
+/// rim turns about it by exactly its angle. A solver that rounded a singularity onto a grid point
+/// the map round it does not wind about leaves the rim a whole turn short, on every ring out to
+/// where other singularities take part: no re-embedding of such a region exists, and the
+/// untangler is not run on it.
+bool rim_leaves_room(const TriMesh& m, const Region& r, RegionMarks& marks) {
+    int cone = -1;
+    for (const int v : marks.fixed) {
+        if (m.on_boundary[v]) return true;
+        if (!m.map.singular[v]) continue;
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        if (corners < m.fan_size[v]) continue; // on the rim
+        if (cone >= 0) return true;           // two inside: no such proof
+        cone = v;
+    }
+    if (cone < 0) return true;
+    const double target = marks.target(m, cone);
+    if (!(target > 1.25 * M_PI) || std::abs(target - 2.0 * M_PI) < 0.25 * M_PI) return true;
+    double angle = 0.0;
+    if (!rim_angle_about(m, r, marks, cone, angle)) return true;
+    // The transitions round the rim turn by the singularity's angle, so the rim's angle differs
+    // from it by whole turns; a sum that does not proves nothing.
+    const double turns = std::nearbyint((angle - target) / (2.0 * M_PI));
+    if (turns == 0.0 || !(std::abs(angle - target - 2.0 * M_PI * turns) < 0.25)) return true;
+    marks.rim_cone = cone;
+    marks.rim_angle = angle;
+    return false;
 }
 
 /// Whether the region's fixed data leave room for an orientation-preserving re-embedding. In one,
@@ -625,7 +716,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
         sum += left;
     }
     const double missing = M_PI * static_cast<double>(r.faces.size()) - sum;
-    if (open || std::abs(missing) < 1.0) return true;
+    if (open) return true;
+    if (std::abs(missing) < 1.0) return rim_leaves_room(m, r, marks);
     if (valences_given) return false; // the user's valences stand
     // Whole turns missing: they belong to singularities inside the region (Algorithm 8 finds no
     // flipped run in a fan squeezed by the fold, Figure 2 (d)).
@@ -648,7 +740,7 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     if (!(angle > 1.0 && angle < M_PI * m.fan_size[inner[0]])) return false;
     marks.cone = inner[0];
     marks.cone_angle = angle;
-    return true;
+    return rim_leaves_room(m, r, marks);
 }
 
 /// Whether every interior vertex of the region (all its triangles positive) winds by its
@@ -829,7 +921,7 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
 
 /// What the last attempt at a region found, for the report of the fold-overs it leaves.
 struct RegionFailure {
-    enum class Why : std::uint8_t { TooLarge, AreaNotPositive, NoRoom, Inverted, Winding };
+    enum class Why : std::uint8_t { TooLarge, AreaNotPositive, NoRoom, RimShort, Inverted, Winding };
     Why why = Why::NoRoom;
     int radius = 0;
     std::size_t free_vertices = 0, triangles = 0;
@@ -854,6 +946,12 @@ struct RegionFailure {
                 return where +
                        " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
                        "whole turns missing among several singularities)";
+            case Why::RimShort:
+                return where + " its rim turns " + std::to_string(winds) +
+                       " quarter turns about the grid point of input vertex " + std::to_string(vertex) +
+                       " (a singularity of valence " + std::to_string(target) +
+                       ", which needs as many): with the singularity at its grid point, no fold-free map of "
+                       "the region exists";
             case Why::Inverted:
                 return where + " the untangler left " + std::to_string(inverted) +
                        " of its triangles inverted (the first: input triangle " + std::to_string(triangle) + ")";
@@ -893,6 +991,12 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
     }
     if (!(area2 > 0.0)) {
         f.why = RegionFailure::Why::AreaNotPositive;
+    } else if (!admitted && marks.rim_cone >= 0) {
+        f.why = RegionFailure::Why::RimShort;
+        f.vertex = m.input_vertex[marks.rim_cone];
+        f.singular = true;
+        f.winds = static_cast<int>(std::lround(marks.rim_angle / (0.5 * M_PI)));
+        f.target = static_cast<int>(std::lround(marks.target(m, marks.rim_cone) / (0.5 * M_PI)));
     } else if (!admitted) {
         f.why = RegionFailure::Why::NoRoom;
     } else if (f.inverted > 0) {
@@ -1232,6 +1336,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     // Per free vertex, the last failed attempt at a region that held it (an index into failures).
     std::vector<RegionFailure> failures;
     std::vector<int> failure_of(static_cast<std::size_t>(m.num_vertices), -1);
+    // Per free vertex, the last region that held it and was proved to have no re-embedding (a
+    // rim short of its singularity's angle): a larger region's failure does not undo the proof.
+    std::vector<int> proof_of(failure_of.size(), -1);
     RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
     marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
     marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
@@ -1256,7 +1363,10 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         });
         for (const Region& r : regions) {
             const auto record = [&](const RegionFailure& f) {
-                for (const FreeFan& fan : r.fans) failure_of[fan.vertex] = static_cast<int>(failures.size());
+                for (const FreeFan& fan : r.fans) {
+                    failure_of[fan.vertex] = static_cast<int>(failures.size());
+                    if (f.why == RegionFailure::Why::RimShort) proof_of[fan.vertex] = static_cast<int>(failures.size());
+                }
                 failures.push_back(f);
             };
             if (r.fans.size() > kMaxRegionVertices) {
@@ -1331,13 +1441,14 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     }
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         // The latest attempt at a region that held one of its vertices (the largest radius).
-        int last = -1;
+        int last = -1, proof = -1;
         for (const int f : group)
-            for (const int v : m.tri[f]) last = std::max(last, failure_of[v]);
-        const std::string why =
+            for (const int v : m.tri[f]) last = std::max(last, failure_of[v]), proof = std::max(proof, proof_of[v]);
+        std::string why =
             "no orientation-preserving re-embedding that keeps every vertex's winding (once round a regular "
             "vertex, a singularity's valence round it) was found: " +
             (last >= 0 ? failures[static_cast<std::size_t>(last)].text() : std::string("no region held it"));
+        if (proof >= 0 && proof != last) why += "; and before, " + failures[static_cast<std::size_t>(proof)].text();
         explain_unrepaired(m, group, why.c_str(), report);
         ++out.regions_failed;
     }
