@@ -409,6 +409,29 @@ TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
     EXPECT_GT(proofs, 0) << "no fold of duck_miq_28 is named with a rim short of its singularity";
 }
 
+/// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the
+/// face walks round the lost edge run open, leaving one cell of a closed surface out (a boundary
+/// loop, Euler characteristic 1). Stage close_holes lays the hole's rim out in the grid and
+/// closes it with that cell: the mesh is valid at the map's own scale (refinement was needed
+/// before), passes the oracle without provenance, and names the hole.
+TEST(RealMaps, AHoleThatFaceWalksLeftIsClosedAtTheMapsOwnScale) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq" / "cheburashka_miq_40_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid) << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+    EXPECT_EQ(r.mesh.grid_scale, 1);
+    const auto closed = std::count_if(r.report.explanations.begin(), r.report.explanations.end(),
+                                      [](const Defect& d) { return d.kind == DefectKind::HoleClosed; });
+    EXPECT_GE(closed, 1);
+    // Quads within the area the fold-overs left as given may take.
+    const auto quads = static_cast<double>(r.mesh.faces.size());
+    EXPECT_LE(quads, std::round(r.report.signed_uv_area));
+    EXPECT_GE(quads, 0.99 * r.report.signed_uv_area);
+    expect_bare_valid(in, r.mesh, path);
+}
+
 /// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of
 /// flipped triangles in each, Algorithm 8 counting the turn the signed angles lack). Untangled as
 /// given, such a region keeps the cone a turn short and winds a neighbour twice, which the

@@ -27,7 +27,7 @@ inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
            k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
-           k == DefectKind::SingularitiesMerged;
+           k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the

@@ -279,5 +279,68 @@ TEST(Coarsening, ASplitMeshIsTheFineMeshOfAFoldFreeMap) {
         }
     }
 }
+
+/// `mesh` without the faces listed (face_uvs kept in step).
+QuadMesh without_faces(const QuadMesh& mesh, std::vector<std::size_t> drop) {
+    QuadMesh out = mesh;
+    std::sort(drop.rbegin(), drop.rend());
+    for (const std::size_t f : drop) {
+        out.faces.erase(out.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        out.face_uvs.erase(out.face_uvs.begin() + static_cast<std::ptrdiff_t>(f));
+    }
+    return out;
+}
+
+/// The faces of `mesh`, each turned to start at its smallest vertex, sorted.
+std::vector<std::vector<int>> face_set(const QuadMesh& mesh) {
+    std::vector<std::vector<int>> faces = mesh.faces;
+    for (auto& f : faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    std::sort(faces.begin(), faces.end());
+    return faces;
+}
+
+TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
+    // A valid mesh with one face, or two faces side by side, taken out: the hole is closed by
+    // exactly those faces (the checker passes the mesh again). A hole round a vertex (its four
+    // faces taken out) is left open: the grid point inside has no vertex on the rim.
+    for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
+        const Input in = make_map(layout, 3, 3);
+        const Result r = extract_valid(in);
+        const QuadMesh& mesh = r.mesh;
+        // An interior vertex with four faces, none on the input's boundary, and two faces sharing an edge.
+        std::vector<std::vector<std::size_t>> around(mesh.positions.size());
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+            for (const int v : mesh.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+        std::size_t centre = SIZE_MAX;
+        for (std::size_t v = 0; v < around.size() && centre == SIZE_MAX; ++v) {
+            bool inner = around[v].size() == 4;
+            for (const std::size_t f : around[v])
+                for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() == 4;
+            if (inner) centre = v;
+        }
+        ASSERT_NE(centre, SIZE_MAX) << layout.name;
+        const std::size_t a = around[centre][0];
+        std::size_t b = SIZE_MAX; // a neighbour of a across an edge at the centre
+        for (const std::size_t f : around[centre]) {
+            int shared = 0;
+            for (const int u : mesh.faces[f]) shared += std::count(mesh.faces[a].begin(), mesh.faces[a].end(), u) > 0;
+            if (f != a && shared == 2) b = f;
+        }
+        ASSERT_NE(b, SIZE_MAX) << layout.name;
+        for (const std::vector<std::size_t>& drop : {std::vector<std::size_t>{a}, std::vector<std::size_t>{a, b}}) {
+            QuadMesh holed = without_faces(mesh, drop);
+            EXPECT_FALSE(verify(in, holed).valid) << layout.name;
+            const std::vector<Defect> closed = detail::close_holes(in, holed);
+            ASSERT_EQ(closed.size(), 1u) << layout.name;
+            EXPECT_EQ(closed[0].kind, DefectKind::HoleClosed);
+            EXPECT_EQ(face_set(holed), face_set(mesh)) << layout.name << ", " << drop.size() << " faces";
+            const VerifyResult v = verify(in, holed);
+            EXPECT_TRUE(v.valid) << layout.name << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+        }
+        QuadMesh round_vertex = without_faces(mesh, around[centre]);
+        EXPECT_TRUE(detail::close_holes(in, round_vertex).empty()) << layout.name;
+        EXPECT_EQ(round_vertex.faces.size(), mesh.faces.size() - 4) << layout.name;
+    }
+}
 } // namespace
 } // namespace qex::testing

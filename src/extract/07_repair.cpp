@@ -672,7 +672,7 @@ bool rim_leaves_room(const TriMesh& m, const Region& r, RegionMarks& marks) {
         int corners = 0;
         fan_angles(m, v, marks, inside, outside, corners);
         if (corners < m.fan_size[v]) continue; // on the rim
-        if (cone >= 0) return true;           // two inside: no such proof
+        if (cone >= 0) return true;            // two inside: no such proof
         cone = v;
     }
     if (cone < 0) return true;

@@ -348,6 +348,21 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
     return verify(input, bare, options).violations;
 }
 
+/// Stage close_holes, on a mesh the checker rejected: the holes its face walks left, closed by the
+/// grid cells their rims enclose. Kept only if the checker then accepts the mesh against the map
+/// it carries, and the oracle without provenance against the given map too (fold-over regions
+/// judged on the surface, or everywhere after a relaxed rung), as `qex check --param` would.
+void close_holes_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, Result& attempt) {
+    QuadMesh closed = attempt.mesh;
+    std::vector<Defect> explanations = close_holes(input, closed);
+    if (explanations.empty()) return;
+    VerifyResult check = verify(input, closed, verify_options);
+    if (!check.valid || !located_violations(input, closed, verify_options, !relaxed).empty()) return;
+    attempt.mesh = std::move(closed);
+    attempt.check = std::move(check);
+    for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
+}
+
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,
 /// against the map it carries (with the repair's certificate, which the checker verifies on its
 /// own). A relaxed rung's mesh is moved onto the given map and must pass there.
@@ -364,6 +379,11 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
     attempt.check = verify(input, attempt.mesh, verify_options);
+    timer.done(Stage::check);
+    if (!attempt.check.valid) {
+        close_holes_if_accepted(input, relaxed, verify_options, attempt);
+        timer.done(Stage::close_holes);
+    }
     if (relaxed && attempt.check.valid) {
         // And it must pass the oracle that judges it against the given map alone (as
         // `qex check` would), everywhere, or the rung is rejected.

@@ -39,6 +39,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::FoldOverNotRepaired: return "FoldOverNotRepaired";
         case DefectKind::MapRefined: return "MapRefined";
         case DefectKind::MapCoarsened: return "MapCoarsened";
+        case DefectKind::HoleClosed: return "HoleClosed";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";

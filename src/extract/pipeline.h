@@ -36,15 +36,17 @@ enum class Stage : int {
     merge_vertices,      ///< 12: Section 5.5, Algorithm 7
     canonicalize,        ///< 13: order-independent output
     place_on_given_map,  ///< 14: last-resort rungs of the fallback ladder only
-    check,               ///< 15: the independent checker (qex::verify) judges the rung's mesh
+    close_holes,         ///< 15: a rejected mesh's holes closed by the grid cells their rims enclose
+    check,               ///< 16: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",      "collapse",       "untangle",           "compute_transitions", "count_valences",
-    "sanitize",      "repair",         "generate_qvertices", "enumerate_ports",     "trace_ports",
-    "extract_faces", "merge_vertices", "canonicalize",       "place_on_given_map",  "check"};
+    "validate",        "collapse",           "untangle",      "compute_transitions",
+    "count_valences",  "sanitize",           "repair",        "generate_qvertices",
+    "enumerate_ports", "trace_ports",        "extract_faces", "merge_vertices",
+    "canonicalize",    "place_on_given_map", "close_holes",   "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -126,6 +128,13 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations);
 /// by a breadth-first search from its provenance triangle, and sets its provenance and the
 /// mesh's map to that map. Returns the number of vertices it could not place.
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+
+/// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
+/// simple loop of at most 16 vertices, every one regular) encloses, laid out in the grid from the
+/// quarter turns its faces leave each rim vertex, unit cells whose corners are all rim vertices:
+/// those cells are added as faces. Returns one explanation (HoleClosed) per hole closed. A
+/// candidate only: the caller keeps it if the checker accepts the result.
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh);
 
 /// Whether the sanitized map `m` (transitions and singularities computed) is k times an
 /// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
