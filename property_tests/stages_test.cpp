@@ -340,6 +340,35 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
         QuadMesh round_vertex = without_faces(mesh, around[centre]);
         EXPECT_TRUE(detail::close_holes(in, round_vertex).empty()) << layout.name;
         EXPECT_EQ(round_vertex.faces.size(), mesh.faces.size() - 4) << layout.name;
+        // A face at a singularity (not four faces round it): its rim closes only as the
+        // singularity's fan winds, whichever reading is tried first.
+        bool at_singularity = false;
+        for (std::size_t v = 0; v < around.size() && !at_singularity; ++v) {
+            if (around[v].size() == 4 || around[v].empty()) continue;
+            if (mesh.provenance[v].kind != QVertexKind::Vertex) continue;
+            bool inner = true; // every corner of the face's neighbourhood away from the boundary
+            for (const std::size_t f : around[v])
+                for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() >= 3;
+            if (!inner || layout.name == "disk") continue;
+            at_singularity = true;
+            for (const bool wound_first : {false, true}) {
+                QuadMesh holed = without_faces(mesh, {around[v][0]});
+                ASSERT_EQ(detail::close_holes(in, holed, wound_first).size(), 1u) << layout.name << " vertex " << v;
+                EXPECT_EQ(face_set(holed), face_set(mesh)) << layout.name << " vertex " << v;
+            }
+        }
+        // The icosahedron's valence-5 singularities carry vertices of the mesh.
+        EXPECT_EQ(at_singularity, layout.name.find("icosahedron") != std::string::npos) << layout.name;
+        // A face on the input's boundary: taken out, it leaves a notch in the boundary, not a hole.
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+            bool on_boundary = false;
+            for (const int u : mesh.faces[f])
+                on_boundary = on_boundary || around[static_cast<std::size_t>(u)].size() < 3;
+            if (!on_boundary) continue;
+            QuadMesh notched = without_faces(mesh, {f});
+            EXPECT_TRUE(detail::close_holes(in, notched).empty()) << layout.name << " face " << f;
+            break;
+        }
     }
 }
 } // namespace

@@ -647,7 +647,9 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
             const Point2& p = at[local[f]];
             const double ax = m.uv[h][0] - p[0], ay = m.uv[h][1] - p[1];
             const double bx = m.uv[TriMesh::next(h)][0] - p[0], by = m.uv[TriMesh::next(h)][1] - p[1];
-            if ((ax == 0.0 && ay == 0.0) || (bx == 0.0 && by == 0.0)) return false; // on the grid point
+            // On the grid point, or so near it that rounding could turn the edge's angle by a turn.
+            const double near = 0x1p-30 * std::max({1.0, std::abs(p[0]), std::abs(p[1])});
+            if (std::hypot(ax, ay) < near || std::hypot(bx, by) < near) return false;
             const double turn = std::atan2(ax * by - ay * bx, ax * bx + ay * by);
             if (!(std::abs(turn) < M_PI - 1e-3)) return false;
             angle += turn;
@@ -666,7 +668,6 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
 bool rim_leaves_room(const TriMesh& m, const Region& r, RegionMarks& marks) {
     int cone = -1;
     for (const int v : marks.fixed) {
-        if (m.on_boundary[v]) return true;
         if (!m.map.singular[v]) continue;
         double inside = 0.0, outside = 0.0;
         int corners = 0;

@@ -1,6 +1,6 @@
 // Stage close_holes (not in the paper): a rung's mesh that the checker rejects may have holes
-// where face walks did not close next to a fold-over (two traces claimed one q-port, and the walks
-// round the edge that lost its trace ran open). Each such hole, away from the input's boundary,
+// where face walks did not close (next to a fold-over, two traces claimed one q-port, and the
+// walks round the edge that lost its trace ran open). Each hole away from the input's boundary,
 // whose rim is a simple loop of the mesh's own vertices, is laid out in the grid from the
 // quarter turns the faces round each rim vertex leave it (a regular vertex has four). Where the
 // layout closes once round a set of unit cells whose corners all lie on the rim, those cells are
@@ -53,7 +53,8 @@ struct InputBoundary {
         switch (p.kind) {
             case QVertexKind::Vertex: return e >= vertex.size() || vertex[e] != 0;
             case QVertexKind::Edge:
-                return 3 * e + static_cast<std::size_t>(p.local_edge) >= edge.size() ||
+                return p.local_edge < 0 || p.local_edge > 2 ||
+                       3 * e + static_cast<std::size_t>(p.local_edge) >= edge.size() ||
                        edge[3 * e + static_cast<std::size_t>(p.local_edge)] != 0;
             case QVertexKind::Face: return false;
         }
@@ -138,7 +139,7 @@ std::vector<std::vector<int>> cells_inside(const std::vector<int>& rim, const st
 
 } // namespace
 
-std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh) {
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
     std::vector<Defect> closed;
     if (mesh.provenance.size() != mesh.positions.size()) return closed;
     const auto nv = mesh.positions.size();
@@ -162,9 +163,9 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh) {
             rim_next[static_cast<std::size_t>(b)] = a;
         }
     const InputBoundary boundary(input);
-    // Every vertex has four quarter turns, or (the second reading, for a rim that does not close
-    // with the first) a vertex on an input vertex has as many as that vertex's fan winds: a
-    // singularity's valence, unless a fold-over left in its fan changes the count.
+    // Every vertex has four quarter turns, or a vertex on an input vertex has as many as that
+    // vertex's fan winds: a singularity's valence, unless a fold-over left in its fan changes the
+    // count. One reading is tried first, the other where a rim does not close with it.
     const std::vector<int> fan_turns = fan_quarter_turns(input, mesh.map_uvs);
     const std::vector<int> regular(nv, 4);
     std::vector<int> wound(nv, 4);
@@ -190,8 +191,10 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh) {
         if (!simple || rim.size() < 4 || rim.size() > kMaxRim ||
             rim_next[static_cast<std::size_t>(rim.back())] != rim[0])
             continue;
-        std::vector<std::vector<int>> cells = cells_inside(rim, corners, regular);
-        if (cells.empty()) cells = cells_inside(rim, corners, wound);
+        const std::vector<int>& first = wound_first ? wound : regular;
+        const std::vector<int>& second = wound_first ? regular : wound;
+        std::vector<std::vector<int>> cells = cells_inside(rim, corners, first);
+        if (cells.empty()) cells = cells_inside(rim, corners, second);
         if (cells.empty()) continue;
         for (const auto& face : cells) {
             mesh.faces.push_back(face);
@@ -203,7 +206,8 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh) {
         closed.push_back({DefectKind::HoleClosed,
                           "a hole the face walks left (its rim through output vertices" + through + ") was closed by " +
                               std::to_string(cells.size()) + " unit cell" + (cells.size() == 1 ? "" : "s") +
-                              " of the grid, laid out from the faces round its rim",
+                              " of the grid, laid out from the faces round its rim (the face walks that ran open "
+                              "there stay listed among the defects)",
                           p.chart_triangle,
                           -1,
                           {p.grid[0], p.grid[1]},

@@ -353,14 +353,22 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
 /// it carries, and the oracle without provenance against the given map too (fold-over regions
 /// judged on the surface, or everywhere after a relaxed rung), as `qex check --param` would.
 void close_holes_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, Result& attempt) {
-    QuadMesh closed = attempt.mesh;
-    std::vector<Defect> explanations = close_holes(input, closed);
-    if (explanations.empty()) return;
-    VerifyResult check = verify(input, closed, verify_options);
-    if (!check.valid || !located_violations(input, closed, verify_options, !relaxed).empty()) return;
-    attempt.mesh = std::move(closed);
-    attempt.check = std::move(check);
-    for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
+    // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
+    // valence-3 and a valence-5 vertex on one rim cancel in the first reading).
+    std::vector<std::vector<std::vector<int>>> tried;
+    for (const bool wound_first : {false, true}) {
+        QuadMesh closed = attempt.mesh;
+        std::vector<Defect> explanations = close_holes(input, closed, wound_first);
+        if (explanations.empty()) continue;
+        if (std::find(tried.begin(), tried.end(), closed.faces) != tried.end()) continue; // the same faces again
+        tried.push_back(closed.faces);
+        VerifyResult check = verify(input, closed, verify_options);
+        if (!check.valid || !located_violations(input, closed, verify_options, !relaxed).empty()) continue;
+        attempt.mesh = std::move(closed);
+        attempt.check = std::move(check);
+        for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
+        return;
+    }
 }
 
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,

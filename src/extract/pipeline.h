@@ -130,11 +130,13 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations);
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
 
 /// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
-/// simple loop of at most 16 vertices, every one regular) encloses, laid out in the grid from the
-/// quarter turns its faces leave each rim vertex, unit cells whose corners are all rim vertices:
-/// those cells are added as faces. Returns one explanation (HoleClosed) per hole closed. A
-/// candidate only: the caller keeps it if the checker accepts the result.
-std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh);
+/// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
+/// faces leave each rim vertex (four each, or as many as the fan of the input vertex it lies on
+/// winds; `wound_first` picks which reading is tried first, the other where a rim does not close),
+/// unit cells whose corners are all rim vertices: those cells are added as faces. Returns one
+/// explanation (HoleClosed) per hole closed. A candidate only: the caller keeps it if the checker
+/// accepts the result.
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
 /// Whether the sanitized map `m` (transitions and singularities computed) is k times an
 /// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
