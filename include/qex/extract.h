@@ -138,7 +138,7 @@ enum class DefectKind {
     /// Report::coarsening is an integer-grid map too and gives one: each of its quads is split
     /// into that many by that many (Options::max_coarsening); names the first failure at scale 1.
     MapCoarsened,
-    /// A hole that face walks left open next to a fold-over (a trace lost to a port conflict) was
+    /// A hole that face walks left open (next to a fold-over, a trace lost to a port conflict) was
     /// closed by the unit cells its rim encloses in the grid, and the checker accepted the mesh
     /// with them; names the rim's output vertices and how many cells.
     HoleClosed,

@@ -148,6 +148,7 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
     for (const auto& f : mesh.faces) {
         if (f.size() != 4) return closed; // only holes in an all-quad mesh
         for (std::size_t i = 0; i < 4; ++i) {
+            if (f[i] < 0 || static_cast<std::size_t>(f[i]) >= nv) return closed;
             if (!half.insert(edge_key(f[i], f[(i + 1) % 4])).second) return closed; // not manifold
             ++corners[static_cast<std::size_t>(f[i])];
         }
