@@ -1,12 +1,14 @@
 // Properties over generated integer-grid maps (RapidCheck; seeds print on failure and replay
 // with RC_PARAMS="reproduce=..."; the case count comes from RC_PARAMS=max_success=N).
 #include "map_transforms.h"
+#include "pipeline.h"
 #include "result_checks.h"
 #include "test_support.h"
 
 #include <rapidcheck.h>
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <rapidcheck/gtest.h>
 
 namespace qex::testing {
@@ -240,6 +242,44 @@ RC_GTEST_PROP(Properties, DegeneraciesAreCollapsedOrTolerated, ()) {
     RC_CLASSIFY(exact, "valid with the expected quad count");
     RC_ASSERT(exact || !r.report.defects.empty());
     RC_ASSERT(result_inconsistency(in, r) == std::string());
+}
+
+RC_GTEST_PROP(Properties, AFaceTakenOutOfAValidMeshIsClosedAgain, ()) {
+    // Stage close_holes on a valid mesh with one face taken out: a face away from the mesh's
+    // boundary comes back exactly (its corners, in its order up to rotation) and the checker
+    // passes the mesh again; a face on the boundary leaves a notch, which stays open.
+    const MapCase c = *gen_case();
+    const QuadLayout layout = layout_by_index(c.layout);
+    const Input in = make_map(layout, c.n, c.k, c.diagonals, c.seed);
+    const Result r = extract(in);
+    RC_PRE(valid_quads(in, r) && !r.mesh.faces.empty());
+    const auto f = static_cast<std::size_t>(*rc::gen::inRange<int>(0, static_cast<int>(r.mesh.faces.size())));
+    std::set<std::pair<int, int>> half;
+    for (const auto& face : r.mesh.faces)
+        for (std::size_t i = 0; i < face.size(); ++i) half.insert({face[i], face[(i + 1) % face.size()]});
+    bool on_boundary = false;
+    for (const auto& [a, b] : half) {
+        if (half.count({b, a})) continue;
+        const auto& face = r.mesh.faces[f];
+        on_boundary =
+            on_boundary || std::count(face.begin(), face.end(), a) > 0 || std::count(face.begin(), face.end(), b) > 0;
+    }
+    QuadMesh holed = r.mesh;
+    holed.faces.erase(holed.faces.begin() + static_cast<std::ptrdiff_t>(f));
+    holed.face_uvs.erase(holed.face_uvs.begin() + static_cast<std::ptrdiff_t>(f));
+    const std::vector<Defect> closed = detail::close_holes(in, holed);
+    RC_TAG(on_boundary);
+    if (on_boundary) {
+        RC_ASSERT(closed.empty());
+        return;
+    }
+    RC_ASSERT(closed.size() == 1u);
+    RC_ASSERT(holed.faces.size() == r.mesh.faces.size());
+    std::vector<int> back = holed.faces.back(), lost = r.mesh.faces[f];
+    std::rotate(back.begin(), std::min_element(back.begin(), back.end()), back.end());
+    std::rotate(lost.begin(), std::min_element(lost.begin(), lost.end()), lost.end());
+    RC_ASSERT(back == lost);
+    RC_ASSERT(verify(in, holed).valid);
 }
 
 } // namespace
