@@ -608,9 +608,9 @@ void fan_angles(const TriMesh& m, int v, const RegionMarks& marks, double& insid
 /// about it and fix it). False where the sum would prove nothing: the region is not a disk
 /// (Euler characteristic 1), or a rim edge passes through the grid point or nearly so.
 bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks, int cone, double& angle) {
-    std::unordered_map<int, std::size_t> local;
+    std::unordered_map<int, std::size_t> local; // region triangle -> index into `at`
     for (std::size_t t = 0; t < r.faces.size(); ++t) local[r.faces[t]] = t;
-    const auto in_region = [&](int h) { return h >= 0 && local.count(TriMesh::face(h)) != 0; };
+    const auto in_region = [&](int h) { return h >= 0 && marks.face[TriMesh::face(h)] != 0; };
     // The grid point in each triangle's chart, breadth-first from a triangle of the cone's fan.
     std::vector<Point2> at(r.faces.size());
     std::vector<char> seen(r.faces.size(), 0);

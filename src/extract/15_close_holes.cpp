@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
-#include <unordered_map>
 #include <unordered_set>
 
 namespace qex::detail {
@@ -26,41 +25,19 @@ std::uint64_t edge_key(int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-/// Per input vertex, whether it lies on the input's boundary; and per input triangle corner k,
-/// whether the edge from corner k to corner k+1 is a boundary edge.
-struct InputBoundary {
-    std::vector<char> vertex;
-    std::vector<char> edge;
-
-    explicit InputBoundary(const Input& input)
-        : vertex(input.positions.size(), 0), edge(3 * input.triangles.size(), 0) {
-        std::unordered_set<std::uint64_t> half;
-        half.reserve(3 * input.triangles.size());
-        for (const auto& t : input.triangles)
-            for (int k = 0; k < 3; ++k) half.insert(edge_key(t[k], t[(k + 1) % 3]));
-        for (std::size_t f = 0; f < input.triangles.size(); ++f)
-            for (int k = 0; k < 3; ++k) {
-                const int a = input.triangles[f][k], b = input.triangles[f][(k + 1) % 3];
-                if (half.count(edge_key(b, a))) continue;
-                edge[3 * f + k] = 1;
-                vertex[static_cast<std::size_t>(a)] = vertex[static_cast<std::size_t>(b)] = 1;
-            }
+/// Whether a mesh vertex lies on the input's boundary, by its provenance and the input's own
+/// topology (`g`, from build_topology: a boundary half-edge has no opposite). Unknown: true.
+bool on_input_boundary(const TriMesh& g, const Provenance& p) {
+    if (p.element < 0) return true;
+    switch (p.kind) {
+        case QVertexKind::Vertex: return p.element >= g.num_vertices || g.on_boundary[p.element] != 0;
+        case QVertexKind::Edge:
+            return p.element >= g.num_faces() || p.local_edge < 0 || p.local_edge > 2 ||
+                   g.opp[3 * p.element + p.local_edge] < 0;
+        case QVertexKind::Face: return false;
     }
-
-    bool holds(const Provenance& p) const {
-        if (p.element < 0) return true; // unknown: treated as on the boundary
-        const auto e = static_cast<std::size_t>(p.element);
-        switch (p.kind) {
-            case QVertexKind::Vertex: return e >= vertex.size() || vertex[e] != 0;
-            case QVertexKind::Edge:
-                return p.local_edge < 0 || p.local_edge > 2 ||
-                       3 * e + static_cast<std::size_t>(p.local_edge) >= edge.size() ||
-                       edge[3 * e + static_cast<std::size_t>(p.local_edge)] != 0;
-            case QVertexKind::Face: return false;
-        }
-        return true;
-    }
-};
+    return true;
+}
 
 /// Per input vertex, the quarter turns its fan winds in the map the mesh carries (the signed
 /// angles of its corners summed): the faces a vertex of the mesh on it may have, a
@@ -163,7 +140,8 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
             if (rim_next[static_cast<std::size_t>(b)] >= 0) pinched[static_cast<std::size_t>(b)] = 1;
             rim_next[static_cast<std::size_t>(b)] = a;
         }
-    const InputBoundary boundary(input);
+    TriMesh g = make_mesh(input);
+    if (build_topology(g, "input").code != ErrorCode::None) return closed;
     // Every vertex has four quarter turns, or a vertex on an input vertex has as many as that
     // vertex's fan winds: a singularity's valence, unless a fold-over left in its fan changes the
     // count. One reading is tried first, the other where a rim does not close with it.
@@ -186,7 +164,7 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
             seen[static_cast<std::size_t>(v)] = 1;
             rim.push_back(v);
             simple = simple && !pinched[static_cast<std::size_t>(v)] && rim_next[static_cast<std::size_t>(v)] >= 0 &&
-                     !boundary.holds(mesh.provenance[static_cast<std::size_t>(v)]);
+                     !on_input_boundary(g, mesh.provenance[static_cast<std::size_t>(v)]);
             if (rim_next[static_cast<std::size_t>(v)] < 0) break;
         }
         if (!simple || rim.size() < 4 || rim.size() > kMaxRim ||

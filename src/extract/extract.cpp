@@ -355,13 +355,12 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
 void close_holes_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, Result& attempt) {
     // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
     // valence-3 and a valence-5 vertex on one rim cancel in the first reading).
-    std::vector<std::vector<std::vector<int>>> tried;
+    std::vector<std::vector<int>> first_faces; // the first reading's result, not judged twice
     for (const bool wound_first : {false, true}) {
         QuadMesh closed = attempt.mesh;
         std::vector<Defect> explanations = close_holes(input, closed, wound_first);
-        if (explanations.empty()) continue;
-        if (std::find(tried.begin(), tried.end(), closed.faces) != tried.end()) continue; // the same faces again
-        tried.push_back(closed.faces);
+        if (explanations.empty() || (wound_first && closed.faces == first_faces)) continue;
+        if (!wound_first) first_faces = closed.faces;
         VerifyResult check = verify(input, closed, verify_options);
         if (!check.valid || !located_violations(input, closed, verify_options, !relaxed).empty()) continue;
         attempt.mesh = std::move(closed);
