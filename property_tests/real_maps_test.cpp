@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <optional>
 
 namespace qex::testing {
@@ -430,6 +431,32 @@ TEST(RealMaps, AHoleThatFaceWalksLeftIsClosedAtTheMapsOwnScale) {
     EXPECT_LE(quads, std::round(r.report.signed_uv_area));
     EXPECT_GE(quads, 0.99 * r.report.signed_uv_area);
     expect_bare_valid(in, r.mesh, path);
+}
+
+/// cow_miq_20 (247 flipped triangles among 5,520) and cow_miq_40: next to a fold-over, merging
+/// clones joins faces of two sheets at one edge (four face sides, two fans round each end).
+/// Stage separate_sheets splits an end into a vertex per fan: cow_miq_20 is valid at its own
+/// scale (it was valid at no scale) and cow_miq_40 at twice it (four times before), each cut
+/// named, every edge of two face sides, and valid without provenance too.
+TEST(RealMaps, SheetsJoinedAtAnEdgeAreSeparated) {
+    for (const auto& [name, scale] : {std::pair<const char*, int>{"cow_miq_20", 1}, {"cow_miq_40", 2}}) {
+        const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / (std::string(name) + "_param.obj");
+        Input in;
+        if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+        const Result r = extract(in);
+        ASSERT_TRUE(r.ok()) << r.error.message;
+        ASSERT_TRUE(r.check.valid) << name << ": " << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+        EXPECT_EQ(r.mesh.grid_scale, scale) << name;
+        EXPECT_EQ(result_inconsistency(in, r), "") << name;
+        const auto cut = std::count_if(r.report.explanations.begin(), r.report.explanations.end(),
+                                       [](const Defect& d) { return d.kind == DefectKind::SheetsSeparated; });
+        EXPECT_GE(cut, 1) << name;
+        std::map<std::pair<int, int>, int> sides;
+        for (const auto& f : r.mesh.faces)
+            for (std::size_t k = 0; k < f.size(); ++k) ++sides[std::minmax(f[k], f[(k + 1) % f.size()])];
+        for (const auto& [edge, n] : sides) EXPECT_EQ(n, 2) << name << ": edge " << edge.first << " " << edge.second;
+        expect_bare_valid(in, r.mesh, path);
+    }
 }
 
 /// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of

@@ -27,7 +27,7 @@ inline bool is_explanation_kind(DefectKind k) {
     return k == DefectKind::FaceCollapsed || k == DefectKind::GhostFacesCancelled ||
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
            k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
-           k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed;
+           k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed || k == DefectKind::SheetsSeparated;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
@@ -152,8 +152,8 @@ inline std::string place_inconsistency(const Input& in, const Result& r) {
 /// "" when a valid result keeps the area promise of Report::signed_uv_area and
 /// Report::explanations, else what breaks it: a quad count below the signed UV area of the map
 /// the mesh carries (sanitized and repaired; a repair keeps the area) has an explanation other
-/// than MapRefined, MapCoarsened (which explain the scale, not a loss) or HoleClosed (which adds
-/// quads); and once that map has no flipped or
+/// than MapRefined, MapCoarsened (which explain the scale, not a loss), HoleClosed (which adds
+/// quads) or SheetsSeparated (which removes none); and once that map has no flipped or
 /// degenerate triangle left (Report::flipped_after_repair == 0) and nothing is explained, the
 /// quad count is that area, rounded. The promise is for maps without boundaries or whose
 /// boundaries lie on iso-lines; the caller decides that it applies.
@@ -164,7 +164,7 @@ inline std::string area_inconsistency(const Result& r) {
     bool explained = false;
     for (const Defect& d : r.report.explanations)
         explained = explained || (d.kind != DefectKind::MapRefined && d.kind != DefectKind::MapCoarsened &&
-                                  d.kind != DefectKind::HoleClosed);
+                                  d.kind != DefectKind::HoleClosed && d.kind != DefectKind::SheetsSeparated);
     const std::string about = std::to_string(quads) + " quads on a map of signed UV area " +
                               std::to_string(r.report.signed_uv_area) + " (rung " + r.report.rung + ", grid scale " +
                               std::to_string(r.mesh.grid_scale) + ", " + std::to_string(r.report.flipped_after_repair) +

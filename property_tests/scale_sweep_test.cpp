@@ -105,15 +105,16 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
 }
 
 TEST(ScaleSweepCoarsening, ACoarsenedMapMovedByACellGivesTheSameMesh) {
-    // duck_qc_8 x4 is coarsened (its x2 map split back). Moved by a cell, or by (3, -5) and so on, its
+    // duck_qc_8 x8 is coarsened (its x4 map split back; x4 was coarsened too, from x2, until stage
+    // separate_sheets made it valid at its own scale). Moved by a cell, or by (3, -5) and so on, its
     // coarse grid is laid from another origin: the same faces, and positions within 1e-5 of
     // the diagonal (the repair at x2 starts from UVs a few units in the last place apart).
     Input in;
     if (const std::string why = read_real_map("paper", "duck_qc_8", in); !why.empty()) GTEST_SKIP() << why;
-    ASSERT_EQ(transforms::scale_uvs(in, 4), 0);
+    ASSERT_EQ(transforms::scale_uvs(in, 8), 0);
     const Result base = extract(in);
     ASSERT_TRUE(base.check.valid);
-    ASSERT_GT(base.report.coarsening, 1) << "duck_qc_8 x4 no longer needs coarsening: pick another map";
+    ASSERT_GT(base.report.coarsening, 1) << "duck_qc_8 x8 no longer needs coarsening: pick another map";
     // The repaired regions' vertices move by 1.2e-6 of the diagonal at (-65535, 0); a vertex on
     // another sheet would be a quad (1e-2 of it) away.
     const double tol = 1e-5 * bbox_diagonal(base.mesh.positions);

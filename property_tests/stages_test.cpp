@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
+#include <string>
 #include <algorithm>
 #include <random>
 
@@ -368,6 +371,87 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
             QuadMesh notched = without_faces(mesh, {f});
             EXPECT_TRUE(detail::close_holes(in, notched).empty()) << layout.name << " face " << f;
             break;
+        }
+    }
+}
+
+/// Whether `got` is `want` with its vertices renamed: the same number of faces, and one
+/// one-to-one renaming taking each face of `got`, corner by corner, to the face of `want` at the
+/// same index.
+bool same_up_to_renaming(const QuadMesh& got, const QuadMesh& want) {
+    if (got.faces.size() != want.faces.size()) return false;
+    std::map<int, int> to, from;
+    for (std::size_t f = 0; f < got.faces.size(); ++f) {
+        if (got.faces[f].size() != want.faces[f].size()) return false;
+        for (std::size_t k = 0; k < got.faces[f].size(); ++k) {
+            const int g = got.faces[f][k], w = want.faces[f][k];
+            if (to.emplace(g, w).first->second != w || from.emplace(w, g).first->second != g) return false;
+        }
+    }
+    return true;
+}
+
+TEST(SeparateSheets, TwoSheetsJoinedAtAnEdgeComeApartAndNothingElse) {
+    // A valid mesh whose edge (c, d) is glued onto a far edge (a, b) that runs the same way (c
+    // renamed a, d renamed b): the edge has four face sides (three on the disk, whose edge (a, b)
+    // is on its boundary) and each end two fans. Splitting each
+    // end into its fans gives the mesh back, up to the names of its vertices, whichever end goes
+    // first. A valid mesh is left as it is.
+    for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
+        const Input in = make_map(layout, 3, 3);
+        const Result r = extract_valid(in);
+        const QuadMesh& mesh = r.mesh;
+        for (const int end : {0, 1}) {
+            QuadMesh same = mesh;
+            EXPECT_TRUE(detail::separate_sheets(in, same, end).empty()) << layout.name;
+            EXPECT_EQ(same.faces, mesh.faces) << layout.name;
+            EXPECT_EQ(same.positions.size(), mesh.positions.size()) << layout.name;
+        }
+        std::vector<std::vector<std::size_t>> around(mesh.positions.size());
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+            for (const int v : mesh.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+        // Vertices of faces round a vertex: its ring.
+        const auto ring = [&](int v) {
+            std::set<int> out;
+            for (const std::size_t f : around[static_cast<std::size_t>(v)])
+                out.insert(mesh.faces[f].begin(), mesh.faces[f].end());
+            return out;
+        };
+        // Edge (a, b): the first edge of face 0; edge (c, d): the first edge of a face whose
+        // corners' rings miss those of a and b, and which have three faces or more each.
+        const int a = mesh.faces[0][0], b = mesh.faces[0][1];
+        std::set<int> near = ring(a);
+        for (const int v : ring(b)) near.insert(v);
+        int c = -1, d = -1;
+        for (std::size_t f = 1; f < mesh.faces.size() && c < 0; ++f) {
+            const int x = mesh.faces[f][0], y = mesh.faces[f][1];
+            bool apart = true; // no vertex of their rings in those of a and b
+            for (const int u : ring(x)) apart = apart && !near.count(u);
+            for (const int u : ring(y)) apart = apart && !near.count(u);
+            if (!apart) continue;
+            if (around[static_cast<std::size_t>(x)].size() < 3 || around[static_cast<std::size_t>(y)].size() < 3)
+                continue;
+            c = x, d = y;
+        }
+        ASSERT_GE(c, 0) << layout.name;
+        const bool disk = layout.name == "disk"; // edge (a, b) on its boundary: one face side
+        QuadMesh glued = mesh;
+        for (auto& f : glued.faces)
+            for (int& v : f) v = v == c ? a : v == d ? b : v;
+        EXPECT_FALSE(verify(in, glued).valid) << layout.name;
+        for (const int end : {0, 1}) {
+            QuadMesh cut = glued;
+            const std::vector<Defect> separated = detail::separate_sheets(in, cut, end);
+            ASSERT_EQ(separated.size(), 1u) << layout.name << ", end " << end;
+            EXPECT_EQ(separated[0].kind, DefectKind::SheetsSeparated);
+            EXPECT_NE(
+                separated[0].message.find("(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) +
+                                          ") had " + std::to_string(disk ? 3 : 4) + " face sides"),
+                std::string::npos)
+                << separated[0].message;
+            EXPECT_EQ(cut.positions.size(), mesh.positions.size() + 2) << layout.name;
+            EXPECT_EQ(cut.provenance.size(), cut.positions.size()) << layout.name;
+            EXPECT_TRUE(same_up_to_renaming(cut, mesh)) << layout.name << ", end " << end;
         }
     }
 }

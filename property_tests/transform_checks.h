@@ -84,7 +84,8 @@ inline std::string position_difference(const std::vector<std::array<double, 3>>&
 
 /// "" when `a` and `b` have as many vertices and faces, every vertex of `a` has its own vertex
 /// of `b` within `tol` (inf-norm; the sorted multisets of positions agree), and the faces are the
-/// same under that matching (up to the rotation of each face); else the first difference.
+/// same under that matching (up to the rotation of each face, and up to which of b's vertices
+/// within `tol` of each other a vertex is); else the first difference.
 inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double tol) {
     std::ostringstream out;
     if (a.positions.size() != b.positions.size()) {
@@ -129,7 +130,18 @@ inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double 
         }
         taken[match[i]] = 1;
     }
-    auto canonical = [](std::vector<int> f) {
+    // Vertices of b within tol of each other (a fold-over's sheets can meet at one surface point,
+    // stage separate_sheets) cannot be told apart by position: they stand for the first of them.
+    std::vector<int> alias(b.positions.size());
+    std::iota(alias.begin(), alias.end(), 0);
+    for (std::size_t n = 0; n < by_x.size(); ++n)
+        for (std::size_t m = n + 1; m < by_x.size() && b.positions[by_x[m]][0] <= b.positions[by_x[n]][0] + tol; ++m) {
+            double d = 0.0;
+            for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(b.positions[by_x[n]][k] - b.positions[by_x[m]][k]));
+            if (d <= tol) alias[by_x[m]] = alias[by_x[n]];
+        }
+    auto canonical = [&](std::vector<int> f) {
+        for (int& v : f) v = v >= 0 ? alias[v] : v;
         std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
         return f;
     };

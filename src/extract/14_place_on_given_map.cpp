@@ -95,6 +95,26 @@ public:
         return found >= 0 ? found : found_flipped;
     }
 
+    /// Every triangle the search lists (up to its budget) that holds `grid` (in the chart of
+    /// triangle `start`), each with `grid` in its own chart: the positive ones in the order
+    /// listed, then the flipped ones.
+    std::vector<std::pair<int, IPoint>> find_all(int start, const IPoint& grid) {
+        std::vector<std::pair<int, IPoint>> positive, flipped;
+        if (start < 0 || start >= g_.num_faces() || !alive(start)) return positive;
+        begin();
+        enter(start, GridAutomorphism{}, nullptr);
+        for (std::size_t head = 0; head < queue_.size() && queue_.size() < kMaxSearchTriangles; ++head) {
+            const int t = queue_[head];
+            const IPoint q = to(t)(grid);
+            const int s = holding_sign(g_, t, to_point(q));
+            if (s > 0) positive.push_back({t, q});
+            if (s < 0) flipped.push_back({t, q});
+            expand(t, nullptr);
+        }
+        positive.insert(positive.end(), flipped.begin(), flipped.end());
+        return positive;
+    }
+
     /// Lists the triangles of a grid cell, the open box (lo, hi) in the seeds' chart: those that
     /// meet it and are reached from the seeds through such triangles. Kept inside the cell, the
     /// search cannot wind round a singularity at one of its corners into another sheet. False
@@ -246,6 +266,27 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
     }
     mesh.map_uvs = given;
     return unplaced;
+}
+
+std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
+    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points) {
+    std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> out(points.size());
+    TriMesh g = make_mesh(input);
+    if (map.size() != input.uvs.size() || build_topology(g, "input").code != ErrorCode::None) return out;
+    g.uv = map;
+    compute_transitions(g);
+    ChartSearch search(g);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Provenance& p = points[i];
+        for (const auto& [t, q] : search.find_all(p.chart_triangle, {p.grid[0], p.grid[1]})) {
+            Provenance at = located(input, g, t, q, p.merged);
+            // One preimage per place: a vertex or an edge is held by every triangle round it.
+            const std::array<double, 3> x = position_of(input, at);
+            if (std::none_of(out[i].begin(), out[i].end(), [&](const auto& seen) { return seen.second == x; }))
+                out[i].push_back({std::move(at), x});
+        }
+    }
+    return out;
 }
 
 } // namespace qex::detail

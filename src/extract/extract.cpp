@@ -348,26 +348,72 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
     return verify(input, bare, options).violations;
 }
 
+/// Whether the checker accepts `mesh` against the map it carries, and the oracle without
+/// provenance against the given map too (fold-over regions judged on the surface, or everywhere
+/// after a relaxed rung), as `qex check --param` would; its verdict in `check`.
+bool accepted(const Input& input, const QuadMesh& mesh, bool relaxed, const VerifyOptions& verify_options,
+              VerifyResult& check) {
+    check = verify(input, mesh, verify_options);
+    return check.valid && located_violations(input, mesh, verify_options, !relaxed).empty();
+}
+
+/// Keeps `mended` (with `explanations` for what was done to it) as the attempt's mesh.
+void keep(QuadMesh&& mended, VerifyResult&& check, std::vector<Defect>&& explanations, Result& attempt) {
+    attempt.mesh = std::move(mended);
+    attempt.check = std::move(check);
+    for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
+}
+
 /// Stage close_holes, on a mesh the checker rejected: the holes its face walks left, closed by the
-/// grid cells their rims enclose. Kept only if the checker then accepts the mesh against the map
-/// it carries, and the oracle without provenance against the given map too (fold-over regions
-/// judged on the surface, or everywhere after a relaxed rung), as `qex check --param` would.
-void close_holes_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, Result& attempt) {
+/// grid cells their rims enclose. Kept (with `done`, what was done to `mesh` before) only if it
+/// is then accepted().
+bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool relaxed,
+                             const VerifyOptions& verify_options, const std::vector<Defect>& done, Result& attempt) {
     // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
     // valence-3 and a valence-5 vertex on one rim cancel in the first reading).
     std::vector<std::vector<int>> first_faces; // the first reading's result, not judged twice
     for (const bool wound_first : {false, true}) {
-        QuadMesh closed = attempt.mesh;
+        QuadMesh closed = mesh;
         std::vector<Defect> explanations = close_holes(input, closed, wound_first);
         if (explanations.empty() || (wound_first && closed.faces == first_faces)) continue;
         if (!wound_first) first_faces = closed.faces;
-        VerifyResult check = verify(input, closed, verify_options);
-        if (!check.valid || !located_violations(input, closed, verify_options, !relaxed).empty()) continue;
-        attempt.mesh = std::move(closed);
-        attempt.check = std::move(check);
-        for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
-        return;
+        VerifyResult check;
+        if (!accepted(input, closed, relaxed, verify_options, check)) continue;
+        explanations.insert(explanations.begin(), done.begin(), done.end());
+        keep(std::move(closed), std::move(check), std::move(explanations), attempt);
+        return true;
     }
+    return false;
+}
+
+/// Stages separate_sheets and close_holes, on a mesh the checker rejected. Edges that join two
+/// sheets of a fold-over are cut at their smaller ends, else at their larger; each such mesh is
+/// kept if it is accepted(), or once its holes are closed too; else the holes of the mesh as it
+/// is are closed (close_holes_if_accepted).
+void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
+                      Result& attempt) {
+    std::vector<std::vector<int>> first_faces;
+    for (const int end : {0, 1}) {
+        QuadMesh separated = attempt.mesh;
+        std::vector<Defect> explanations = separate_sheets(input, separated, end);
+        if (explanations.empty() || (end == 1 && separated.faces == first_faces)) continue;
+        if (end == 0) first_faces = separated.faces;
+        VerifyResult check;
+        if (accepted(input, separated, relaxed, verify_options, check)) {
+            keep(std::move(separated), std::move(check), std::move(explanations), attempt);
+            timer.done(Stage::separate_sheets);
+            return;
+        }
+        timer.done(Stage::separate_sheets);
+        if (close_holes_if_accepted(input, separated, relaxed, verify_options, explanations, attempt)) {
+            timer.done(Stage::close_holes);
+            return;
+        }
+        timer.done(Stage::close_holes);
+    }
+    const QuadMesh mesh = attempt.mesh;
+    (void)close_holes_if_accepted(input, mesh, relaxed, verify_options, {}, attempt);
+    timer.done(Stage::close_holes);
 }
 
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,
@@ -387,10 +433,7 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     verify_options.threads = options.threads;
     attempt.check = verify(input, attempt.mesh, verify_options);
     timer.done(Stage::check);
-    if (!attempt.check.valid) {
-        close_holes_if_accepted(input, relaxed, verify_options, attempt);
-        timer.done(Stage::close_holes);
-    }
+    if (!attempt.check.valid) mend_if_accepted(input, relaxed, verify_options, timer, attempt);
     if (relaxed && attempt.check.valid) {
         // And it must pass the oracle that judges it against the given map alone (as
         // `qex check` would), everywhere, or the rung is rejected.

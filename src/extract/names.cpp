@@ -40,6 +40,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::MapRefined: return "MapRefined";
         case DefectKind::MapCoarsened: return "MapCoarsened";
         case DefectKind::HoleClosed: return "HoleClosed";
+        case DefectKind::SheetsSeparated: return "SheetsSeparated";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";

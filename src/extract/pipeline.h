@@ -36,17 +36,17 @@ enum class Stage : int {
     merge_vertices,      ///< 12: Section 5.5, Algorithm 7
     canonicalize,        ///< 13: order-independent output
     place_on_given_map,  ///< 14: last-resort rungs of the fallback ladder only
-    close_holes,         ///< 15: a rejected mesh's holes closed by the grid cells their rims enclose
-    check,               ///< 16: the independent checker (qex::verify) judges the rung's mesh
+    separate_sheets,     ///< 15: a rejected mesh's edges that join two sheets of a fold-over, cut
+    close_holes,         ///< 16: a rejected mesh's holes closed by the grid cells their rims enclose
+    check,               ///< 17: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
 inline constexpr const char* kStageNames[] = {
-    "validate",        "collapse",           "untangle",      "compute_transitions",
-    "count_valences",  "sanitize",           "repair",        "generate_qvertices",
-    "enumerate_ports", "trace_ports",        "extract_faces", "merge_vertices",
-    "canonicalize",    "place_on_given_map", "close_holes",   "check"};
+    "validate",     "collapse",           "untangle",        "compute_transitions", "count_valences", "sanitize",
+    "repair",       "generate_qvertices", "enumerate_ports", "trace_ports",         "extract_faces",  "merge_vertices",
+    "canonicalize", "place_on_given_map", "separate_sheets", "close_holes",         "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -128,6 +128,24 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations);
 /// by a breadth-first search from its provenance triangle, and sets its provenance and the
 /// mesh's map to that map. Returns the number of vertices it could not place.
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+
+/// Per point (a provenance: a grid point in the chart of its triangle), the preimages of its grid
+/// point in `map` (per input corner) that a breadth-first search from its triangle finds, as
+/// place_on_given_map searches (crossing edges with their transitions, up to its budget):
+/// positive triangles' first, else flipped ones'; one per place on the surface, with its
+/// position, in the order found.
+std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
+    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
+
+/// For a mesh the checker rejected: each edge with more than two face sides (sheets of a
+/// fold-over joined there by merged clones) is cut by splitting one end, its smaller vertex
+/// (`end` 0) or its larger (`end` 1), into one vertex per fan round it (faces joined across edges
+/// of two face sides), then the other end likewise if its faces still form more than one fan; the
+/// copies are appended. Each vertex split then takes the preimage of its grid point in the mesh's
+/// map (preimages) nearest the vertices round its fan. Returns one explanation
+/// (SheetsSeparated) per edge cut. A candidate only: the caller keeps it if the checker accepts
+/// the result.
+std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, int end);
 
 /// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
 /// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
