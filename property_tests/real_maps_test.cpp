@@ -6,6 +6,7 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -435,9 +436,10 @@ TEST(RealMaps, AHoleThatFaceWalksLeftIsClosedAtTheMapsOwnScale) {
 
 /// cow_miq_20 (247 flipped triangles among 5,520) and cow_miq_40: next to a fold-over, merging
 /// clones joins faces of two sheets at one edge (four face sides, two fans round each end).
-/// Stage separate_sheets splits an end into a vertex per fan: cow_miq_20 is valid at its own
-/// scale (it was valid at no scale) and cow_miq_40 at twice it (four times before), each cut
-/// named, every edge of two face sides, and valid without provenance too.
+/// Stage separate_sheets splits an end into a vertex per fan, each on its own sheet: cow_miq_20
+/// is valid at its own scale (it was valid at no scale) and cow_miq_40 at twice it (four times
+/// before), each cut named, every edge of two face sides (welded by position too), and valid
+/// without provenance too.
 TEST(RealMaps, SheetsJoinedAtAnEdgeAreSeparated) {
     for (const auto& [name, scale] : {std::pair<const char*, int>{"cow_miq_20", 1}, {"cow_miq_40", 2}}) {
         const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / (std::string(name) + "_param.obj");
@@ -451,9 +453,16 @@ TEST(RealMaps, SheetsJoinedAtAnEdgeAreSeparated) {
         const auto cut = std::count_if(r.report.explanations.begin(), r.report.explanations.end(),
                                        [](const Defect& d) { return d.kind == DefectKind::SheetsSeparated; });
         EXPECT_GE(cut, 1) << name;
+        // Every edge has two face sides, also with the vertices welded by position: no two
+        // vertices coincide (a vertex split lies on its own sheet's preimage).
+        std::map<std::array<double, 3>, int> welded;
+        for (const auto& p : r.mesh.positions) welded.emplace(p, static_cast<int>(welded.size()));
+        EXPECT_EQ(welded.size(), r.mesh.positions.size()) << name;
         std::map<std::pair<int, int>, int> sides;
         for (const auto& f : r.mesh.faces)
-            for (std::size_t k = 0; k < f.size(); ++k) ++sides[std::minmax(f[k], f[(k + 1) % f.size()])];
+            for (std::size_t k = 0; k < f.size(); ++k)
+                ++sides[std::minmax(welded.at(r.mesh.positions[static_cast<std::size_t>(f[k])]),
+                                    welded.at(r.mesh.positions[static_cast<std::size_t>(f[(k + 1) % f.size()])]))];
         for (const auto& [edge, n] : sides) EXPECT_EQ(n, 2) << name << ": edge " << edge.first << " " << edge.second;
         expect_bare_valid(in, r.mesh, path);
     }

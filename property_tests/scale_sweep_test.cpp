@@ -104,30 +104,40 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
     }
 }
 
-TEST(ScaleSweepCoarsening, ACoarsenedMapMovedByACellGivesTheSameMesh) {
-    // duck_qc_8 x8 is coarsened (its x4 map split back; x4 was coarsened too, from x2, until stage
-    // separate_sheets made it valid at its own scale). Moved by a cell, or by (3, -5) and so on, its
-    // coarse grid is laid from another origin: the same faces, and positions within 1e-5 of
-    // the diagonal (the repair at x2 starts from UVs a few units in the last place apart).
+/// A paper map with its UVs x k, coarsened, and moved by each of `moves`: its coarse grid is
+/// laid from another origin, and the mesh has the same faces and its positions within `tol`
+/// times the diagonal.
+void expect_moved_coarsened_map_same(const char* name, int k,
+                                     const std::vector<std::pair<std::int64_t, std::int64_t>>& moves, double tol) {
     Input in;
-    if (const std::string why = read_real_map("paper", "duck_qc_8", in); !why.empty()) GTEST_SKIP() << why;
-    ASSERT_EQ(transforms::scale_uvs(in, 8), 0);
+    if (const std::string why = read_real_map("paper", name, in); !why.empty()) GTEST_SKIP() << why;
+    ASSERT_EQ(transforms::scale_uvs(in, k), 0);
     const Result base = extract(in);
-    ASSERT_TRUE(base.check.valid);
-    ASSERT_GT(base.report.coarsening, 1) << "duck_qc_8 x8 no longer needs coarsening: pick another map";
-    // The repaired regions' vertices move by 1.2e-6 of the diagonal at (-65535, 0); a vertex on
-    // another sheet would be a quad (1e-2 of it) away.
-    const double tol = 1e-5 * bbox_diagonal(base.mesh.positions);
-    // (-65535, 0): the map's negative x range then straddles a power of two, where sanitizing
-    // truncates fans to twice the step it takes at the map's own origin.
-    for (const auto& [dx, dy] : {std::pair<std::int64_t, std::int64_t>{1, 0}, {3, -5}, {-65535, 0}}) {
+    ASSERT_TRUE(base.check.valid) << name;
+    ASSERT_GT(base.report.coarsening, 1) << name << " x" << k << " no longer needs coarsening: pick another map";
+    for (const auto& [dx, dy] : moves) {
         Input moved = in;
         ASSERT_GE(transforms::translate_uvs(moved, dx, dy), 0);
         const Result r = extract(moved);
-        ASSERT_TRUE(r.check.valid) << dx << " " << dy;
+        ASSERT_TRUE(r.check.valid) << name << " moved by " << dx << " " << dy;
         EXPECT_EQ(r.report.coarsening, base.report.coarsening);
-        EXPECT_EQ(mesh_difference(r.mesh, base.mesh, tol), "") << dx << " " << dy;
+        EXPECT_EQ(mesh_difference(r.mesh, base.mesh, tol * bbox_diagonal(base.mesh.positions)), "")
+            << name << " moved by " << dx << " " << dy;
     }
+}
+
+TEST(ScaleSweepCoarsening, ACoarsenedMapMovedByACellGivesTheSameMesh) {
+    // duck_qc_8 x8 is coarsened (its x4 map split back). Positions within 1e-5 of the diagonal:
+    // the repair starts from UVs a few units in the last place apart. The repaired regions'
+    // vertices move by 1.2e-6 of it at (-65535, 0), where the map's negative x range straddles
+    // a power of two and sanitizing truncates fans to twice the step it takes at the map's own
+    // origin; a vertex on another sheet would be a quad (1e-2 of it) away.
+    expect_moved_coarsened_map_same("duck_qc_8", 8, {{1, 0}, {3, -5}, {-65535, 0}}, 1e-5);
+    // duck_miq_28 x4 (its x2 map split back): the map the mesh carries is the coarse one times 2
+    // plus the origin, exact only because the repair truncates with a unit of headroom; without
+    // it a repaired UV that crosses a power of two rounds, a transition no longer holds exactly,
+    // and the split mesh is rejected: the map moved by (1, 0) gave no valid mesh.
+    expect_moved_coarsened_map_same("duck_miq_28", 4, {{1, 0}, {3, -5}}, 1e-5);
 }
 
 INSTANTIATE_TEST_SUITE_P(PaperMaps, ScaleSweep, ::testing::ValuesIn(cases({2, 4, 8})), case_name);

@@ -394,16 +394,16 @@ bool same_up_to_renaming(const QuadMesh& got, const QuadMesh& want) {
 TEST(SeparateSheets, TwoSheetsJoinedAtAnEdgeComeApartAndNothingElse) {
     // A valid mesh whose edge (c, d) is glued onto a far edge (a, b) that runs the same way (c
     // renamed a, d renamed b): the edge has four face sides (three on the disk, whose edge (a, b)
-    // is on its boundary) and each end two fans. Splitting each
-    // end into its fans gives the mesh back, up to the names of its vertices, whichever end goes
-    // first. A valid mesh is left as it is.
+    // is on its boundary) and each end two fans. Cutting it (each end split into its fans) gives
+    // the mesh back, up to the names of its vertices, whichever end goes first; so does a path of
+    // two edges glued onto another. A valid mesh is left as it is.
     for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
         const Input in = make_map(layout, 3, 3);
         const Result r = extract_valid(in);
         const QuadMesh& mesh = r.mesh;
-        for (const int end : {0, 1}) {
+        for (const bool larger_end_first : {false, true}) {
             QuadMesh same = mesh;
-            EXPECT_TRUE(detail::separate_sheets(in, same, end).empty()) << layout.name;
+            EXPECT_TRUE(detail::separate_sheets(in, same, larger_end_first).empty()) << layout.name;
             EXPECT_EQ(same.faces, mesh.faces) << layout.name;
             EXPECT_EQ(same.positions.size(), mesh.positions.size()) << layout.name;
         }
@@ -417,41 +417,64 @@ TEST(SeparateSheets, TwoSheetsJoinedAtAnEdgeComeApartAndNothingElse) {
                 out.insert(mesh.faces[f].begin(), mesh.faces[f].end());
             return out;
         };
-        // Edge (a, b): the first edge of face 0; edge (c, d): the first edge of a face whose
-        // corners' rings miss those of a and b, and which have three faces or more each.
-        const int a = mesh.faces[0][0], b = mesh.faces[0][1];
-        std::set<int> near = ring(a);
-        for (const int v : ring(b)) near.insert(v);
-        int c = -1, d = -1;
-        for (std::size_t f = 1; f < mesh.faces.size() && c < 0; ++f) {
-            const int x = mesh.faces[f][0], y = mesh.faces[f][1];
-            bool apart = true; // no vertex of their rings in those of a and b
-            for (const int u : ring(x)) apart = apart && !near.count(u);
-            for (const int u : ring(y)) apart = apart && !near.count(u);
-            if (!apart) continue;
-            if (around[static_cast<std::size_t>(x)].size() < 3 || around[static_cast<std::size_t>(y)].size() < 3)
-                continue;
-            c = x, d = y;
-        }
-        ASSERT_GE(c, 0) << layout.name;
-        const bool disk = layout.name == "disk"; // edge (a, b) on its boundary: one face side
-        QuadMesh glued = mesh;
-        for (auto& f : glued.faces)
-            for (int& v : f) v = v == c ? a : v == d ? b : v;
-        EXPECT_FALSE(verify(in, glued).valid) << layout.name;
-        for (const int end : {0, 1}) {
-            QuadMesh cut = glued;
-            const std::vector<Defect> separated = detail::separate_sheets(in, cut, end);
-            ASSERT_EQ(separated.size(), 1u) << layout.name << ", end " << end;
-            EXPECT_EQ(separated[0].kind, DefectKind::SheetsSeparated);
-            EXPECT_NE(
-                separated[0].message.find("(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) +
-                                          ") had " + std::to_string(disk ? 3 : 4) + " face sides"),
-                std::string::npos)
-                << separated[0].message;
-            EXPECT_EQ(cut.positions.size(), mesh.positions.size() + 2) << layout.name;
-            EXPECT_EQ(cut.provenance.size(), cut.positions.size()) << layout.name;
-            EXPECT_TRUE(same_up_to_renaming(cut, mesh)) << layout.name << ", end " << end;
+        // A path of one or two edges glued onto another: the first corners of face 0 (a, b, and
+        // g) and those of a face whose corners' rings miss theirs, each corner with three faces or
+        // more. Two edges meet at b: a vertex that ends two such edges is split last, once its
+        // edges have been cut at their other ends (its own sheet is not torn).
+        for (const std::size_t length : {1u, 2u}) {
+            const std::vector<int> path(mesh.faces[0].begin(), mesh.faces[0].begin() + length + 1);
+            std::set<int> near;
+            for (const int v : path)
+                for (const int u : ring(v)) near.insert(u);
+            std::vector<int> other;
+            for (std::size_t f = 1; f < mesh.faces.size() && other.empty(); ++f) {
+                bool apart = true; // no vertex of their rings in those of the path
+                for (std::size_t i = 0; i <= length; ++i) {
+                    const int x = mesh.faces[f][i];
+                    apart = apart && around[static_cast<std::size_t>(x)].size() >= 3;
+                    for (const int u : ring(x)) apart = apart && !near.count(u);
+                }
+                if (apart) other.assign(mesh.faces[f].begin(), mesh.faces[f].begin() + length + 1);
+            }
+            ASSERT_FALSE(other.empty()) << layout.name;
+            const bool disk = layout.name == "disk"; // face 0 on its boundary: one face side there
+            QuadMesh glued = mesh;
+            for (auto& f : glued.faces)
+                for (int& v : f)
+                    for (std::size_t i = 0; i <= length; ++i)
+                        if (v == other[i]) {
+                            v = path[i];
+                            break;
+                        }
+            EXPECT_FALSE(verify(in, glued).valid) << layout.name;
+            for (const bool larger_end_first : {false, true}) {
+                const std::string about = layout.name + ", " + std::to_string(length) + " edges, larger end first " +
+                                          std::to_string(larger_end_first);
+                QuadMesh cut = glued;
+                std::vector<std::vector<int>> groups;
+                const std::vector<Defect> separated = detail::cut_joined_edges(cut, larger_end_first, groups);
+                ASSERT_EQ(separated.size(), length) << about;
+                EXPECT_EQ(separated[0].kind, DefectKind::SheetsSeparated);
+                if (length == 1) {
+                    const int a = path[0], b = path[1];
+                    EXPECT_NE(separated[0].message.find("(" + std::to_string(std::min(a, b)) + ", " +
+                                                        std::to_string(std::max(a, b)) + ") had " +
+                                                        std::to_string(disk ? 3 : 4) + " face sides"),
+                              std::string::npos)
+                        << separated[0].message;
+                }
+                EXPECT_EQ(cut.positions.size(), mesh.positions.size() + length + 1) << about;
+                EXPECT_EQ(cut.provenance.size(), cut.positions.size()) << about;
+                EXPECT_TRUE(same_up_to_renaming(cut, mesh)) << about;
+                // Every vertex of the path split, each into two: it, then its copy.
+                ASSERT_EQ(groups.size(), length + 1) << about;
+                for (const auto& group : groups) EXPECT_EQ(group.size(), 2u) << about;
+                // No preimage of a path vertex's grid point lies near the other path's fans: each
+                // copy would stay on its vertex, where the sheets stay joined in space, and
+                // separate_sheets refuses.
+                QuadMesh refused = glued;
+                EXPECT_TRUE(detail::separate_sheets(in, refused, larger_end_first).empty()) << about;
+            }
         }
     }
 }

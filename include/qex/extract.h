@@ -142,9 +142,11 @@ enum class DefectKind {
     /// closed by the unit cells its rim encloses in the grid, and the checker accepted the mesh
     /// with them; names the rim's output vertices and how many cells.
     HoleClosed,
-    /// Two sheets of a fold-over were joined at an edge (four face sides: merging clones took a
-    /// vertex of each sheet for one on both its ends); one end was split into a vertex per fan,
-    /// and the checker accepted the mesh so; names the edge, the vertex and its grid point.
+    /// Sheets of a fold-over were joined at an edge of more than two face sides (merging clones
+    /// took a vertex of each sheet for one on both its ends). Its ends were split into a vertex per
+    /// fan, each moved onto the preimage of its grid point nearest its fan, and the checker
+    /// accepted the mesh so (holes closed too, if HoleClosed follows); names the edge, the
+    /// vertices split and the grid point.
     SheetsSeparated,
 };
 const char* to_string(DefectKind kind);

@@ -262,9 +262,9 @@ void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector
 }
 
 Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
-                         Point2 u0) {
+                         Point2 u0, double headroom) {
     const std::size_t n = corners.size();
-    double scale = 0.0;
+    double scale = headroom;
     for (std::size_t i = 0; i < n; ++i) {
         const Point2 p = to_c[i](u0);
         const Point2& c = m.uv[corners[i]];
@@ -281,7 +281,7 @@ Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, cons
             const Point2 p = to_c[i](t);
             reach = std::max({reach, std::abs(p[0]), std::abs(p[1])});
         }
-        if (reach <= delta) return t;
+        if (reach + headroom <= delta) return t;
     }
     return u0;
 }

@@ -150,9 +150,11 @@ std::vector<int> fan_in_3d_order(const TriMesh& m, int v) {
     return fan;
 }
 
-/// Writes x (in the fan's first chart), truncated so that it propagates exactly, to every corner.
+/// Writes x (in the fan's first chart), truncated so that it propagates exactly, to every corner;
+/// with a unit of headroom, so that the map times a power of two k, plus an integer point below
+/// k, stays exact too (coarsening splits its mesh back onto that map).
 void place(TriMesh& m, const FreeFan& fan, const Vec2& x) {
-    const Vec2 t = truncated_for_fan(m, fan.corners, fan.to_c, x);
+    const Vec2 t = truncated_for_fan(m, fan.corners, fan.to_c, x, 1.0);
     for (std::size_t i = 0; i < fan.corners.size(); ++i) m.uv[fan.corners[i]] = fan.to_c[i](t);
 }
 

@@ -1,19 +1,22 @@
 // Stage separate_sheets (not in the paper): a rung's mesh that the checker rejects may have an
-// edge with four face sides. Where a fold-over lays several sheets of the surface over the same
-// grid cells, a face walk can pass from one sheet to another, and merging the clones it meets
-// (Algorithm 7) makes one vertex of two on each end of an edge. Each end is then the corner of two
-// fans, joined only at that edge. The edge is cut by splitting one end into one vertex per fan.
-// The other end's faces then form one fan (where the two ends paired the edge's sides
+// edge with more than two face sides. Where a fold-over lays several sheets of the surface over
+// the same grid cells, a face walk can pass from one sheet to another, and merging the clones it
+// meets (Algorithm 7) makes one vertex of two on each end of an edge. Each end is then the corner
+// of two fans, joined only at that edge. The edge is cut by splitting one end into one vertex per
+// fan. The other end's faces then form one fan (where the two ends paired the edge's sides
 // differently: a vertex winding twice round its grid point, as a fold-over's branch point does)
 // or two, and then it is split too. The grid point has a preimage on each sheet: every vertex
-// split takes the one nearest the vertices round its fan. Which end goes first is the caller's
-// choice; the result is a candidate only, kept if the checker accepts it.
+// split takes the one nearest the vertices round its fan. Where the vertices of one split would
+// still coincide (the grid point has a single preimage there), the sheets would stay joined in
+// space: no candidate is made. Which end goes first is the caller's choice; the result is a
+// candidate only, kept if the checker accepts it.
 #include "pipeline.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
+#include <array>
 #include <cstdint>
+#include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -21,199 +24,297 @@
 namespace qex::detail {
 namespace {
 
-std::uint64_t edge_key(int a, int b) {
+using EdgeKey = std::uint64_t;
+
+EdgeKey undirected_key(int a, int b) {
     if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+    return (static_cast<EdgeKey>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+int lower_end(EdgeKey key) { return static_cast<int>(key >> 32); }
+int upper_end(EdgeKey key) { return static_cast<int>(key & 0xffffffffu); }
+
+/// The edges of more than two face sides, in key order, with their side counts: one sort of
+/// every face side's key (no table of all edges).
+std::vector<std::pair<EdgeKey, int>> non_manifold_edges(const QuadMesh& mesh) {
+    std::vector<EdgeKey> keys;
+    for (const std::vector<int>& f : mesh.faces)
+        for (std::size_t k = 0; k < f.size(); ++k) keys.push_back(undirected_key(f[k], f[(k + 1) % f.size()]));
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::pair<EdgeKey, int>> out;
+    for (std::size_t i = 0, j = 0; i < keys.size(); i = j) {
+        for (j = i + 1; j < keys.size() && keys[j] == keys[i];) ++j;
+        if (j - i > 2) out.push_back({keys[i], static_cast<int>(j - i)});
+    }
+    return out;
 }
 
-/// The mesh's edges with how many face sides each has, and each vertex's face corners, kept up
-/// to date as vertices are split.
+/// The face sides of the edges at the ends of the non-manifold edges, and those ends' face
+/// corners, kept up to date as the ends are split (the copies become ends too).
 class Sides {
 public:
-    explicit Sides(const QuadMesh& mesh) : mesh_(mesh), corners_(mesh.positions.size()) {
-        count_.reserve(2 * mesh.faces.size());
+    Sides(QuadMesh& mesh, const std::vector<std::pair<EdgeKey, int>>& edges) : mesh_(mesh) {
+        for (const auto& e : edges) {
+            corners_.emplace(lower_end(e.first), Corners{});
+            corners_.emplace(upper_end(e.first), Corners{});
+        }
         for (std::size_t f = 0; f < mesh.faces.size(); ++f)
             for (std::size_t k = 0; k < mesh.faces[f].size(); ++k) {
-                ++count_[edge_key(at(f, k), at(f, k + 1))];
-                corners_[static_cast<std::size_t>(at(f, k))].push_back({f, k});
+                const int a = at(f, k), b = at(f, k + 1);
+                if (corners_.count(a) || corners_.count(b)) ++count_[undirected_key(a, b)];
+                if (const auto it = corners_.find(a); it != corners_.end()) it->second.push_back({f, k});
             }
     }
-    int count(int a, int b) const {
-        const auto it = count_.find(edge_key(a, b));
+    int count(EdgeKey key) const {
+        const auto it = count_.find(key);
         return it == count_.end() ? 0 : it->second;
     }
-    /// The edges of more than two face sides, in order.
-    std::vector<std::uint64_t> non_manifold() const {
-        std::vector<std::uint64_t> keys;
-        for (const auto& [key, n] : count_)
-            if (n > 2) keys.push_back(key);
-        std::sort(keys.begin(), keys.end());
-        return keys;
-    }
-    /// Splits vertex v of `mesh` (the one this was built from) into one vertex per fan of the
-    /// faces round it: faces are joined across an edge (v, w) that one leaves v by and the other
-    /// enters v by, when that edge has two face sides. The fan of v's first corner keeps v; the
-    /// others get copies, appended in the order of their first corners. Returns the number of fans.
-    int split(QuadMesh& mesh, int v) {
-        const std::vector<std::pair<std::size_t, std::size_t>> around = corners_[static_cast<std::size_t>(v)];
-        std::vector<int> parent(around.size());
-        std::iota(parent.begin(), parent.end(), 0);
-        const auto find = [&](int x) {
-            while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)];
-            return x;
+    /// Splits end v into one vertex per fan of the faces round it: faces are joined across an
+    /// edge (v, w) that one leaves v by and the other enters v by, when that edge has two face
+    /// sides; across an edge of three or four, two faces leave v by it or enter by it, and they
+    /// are paired so that v has the most fans (pairing faces of two sheets would join them; up
+    /// to four such edges, the first best pairing in order). The fan of v's first corner keeps
+    /// v; the others get copies (position and provenance), appended in the order of their first
+    /// corners. Returns the number of fans.
+    int split(int v) {
+        const Corners around = corners_.at(v);
+        const std::size_t n = around.size();
+        const auto next = [&](std::size_t i) { return at(around[i].first, around[i].second + 1); };
+        const auto prev = [&](std::size_t i) {
+            return at(around[i].first, around[i].second + mesh_.faces[around[i].first].size() - 1);
         };
-        for (std::size_t i = 0; i < around.size(); ++i) {
-            const int w = at(around[i].first, around[i].second + 1);
-            if (count(v, w) != 2) continue;
-            for (std::size_t j = 0; j < around.size(); ++j) {
-                const auto [f, k] = around[j];
-                if (i == j || at(f, k + mesh.faces[f].size() - 1) != w) continue;
-                const int a = find(static_cast<int>(i)), b = find(static_cast<int>(j));
-                if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+        // Joins across edges of two sides; per edge of three or four, the faces leaving and entering.
+        std::vector<std::pair<std::size_t, std::size_t>> joins;
+        std::map<int, std::pair<std::vector<std::size_t>, std::vector<std::size_t>>> crowded;
+        for (std::size_t i = 0; i < n; ++i) {
+            const int w = next(i), sides = count(undirected_key(v, w));
+            if (sides == 2) {
+                for (std::size_t j = 0; j < n; ++j)
+                    if (j != i && prev(j) == w) joins.push_back({i, j});
+            } else if (sides == 3 || sides == 4) {
+                crowded[w].first.push_back(i);
+            }
+            if (const int u = prev(i), su = count(undirected_key(v, u)); su == 3 || su == 4)
+                crowded[u].second.push_back(i);
+        }
+        // The pairings to choose from: two per edge whose leaving and entering faces number two
+        // and two, two and one, or one and two.
+        std::vector<std::array<std::pair<std::size_t, std::size_t>, 2>> first, second;
+        for (const auto& [w, sides] : crowded) {
+            const auto& [out, in] = sides;
+            if (first.size() == 4 || out.empty() || in.empty() || out.size() > 2 || in.size() > 2 ||
+                out.size() + in.size() < 3)
+                continue;
+            if (out.size() == 2 && in.size() == 2) {
+                first.push_back({{{out[0], in[0]}, {out[1], in[1]}}});
+                second.push_back({{{out[0], in[1]}, {out[1], in[0]}}});
+            } else { // one face on one side: it joins one of the two on the other (listed twice)
+                const std::size_t o1 = out.size() > 1 ? out[1] : out[0], i1 = in.size() > 1 ? in[1] : in[0];
+                first.push_back({{{out[0], in[0]}, {out[0], in[0]}}});
+                second.push_back({{{o1, i1}, {o1, i1}}});
             }
         }
-        std::vector<int> number(around.size(), -1);
-        int fans = 0;
-        for (std::size_t i = 0; i < around.size(); ++i) {
-            const auto r = static_cast<std::size_t>(find(static_cast<int>(i)));
-            if (number[r] < 0) number[r] = fans++;
-        }
+        std::vector<std::size_t> parent(n);
+        std::vector<int> number(n);
+        const auto find = [&](std::size_t x) {
+            while (parent[x] != x) x = parent[x];
+            return x;
+        };
+        const auto join = [&](std::size_t a, std::size_t b) {
+            a = find(a), b = find(b);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        };
+        const auto fans_with = [&](unsigned choice) {
+            std::iota(parent.begin(), parent.end(), std::size_t{0});
+            for (const auto& [a, b] : joins) join(a, b);
+            for (std::size_t e = 0; e < first.size(); ++e)
+                for (const auto& [a, b] : (choice >> e & 1u) ? second[e] : first[e])
+                    if (a != b) join(a, b);
+            std::fill(number.begin(), number.end(), -1);
+            int fans = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                if (number[find(i)] < 0) number[find(i)] = fans++;
+            return fans;
+        };
+        unsigned best = 0;
+        for (unsigned choice = 1, most = static_cast<unsigned>(fans_with(0)); choice < (1u << first.size()); ++choice)
+            if (const auto f = static_cast<unsigned>(fans_with(choice)); f > most) best = choice, most = f;
+        const int fans = fans_with(best);
         if (fans < 2) return fans;
-        const int first_copy = static_cast<int>(mesh.positions.size());
+        const int first_copy = static_cast<int>(mesh_.positions.size());
         for (int c = 1; c < fans; ++c) {
-            mesh.positions.push_back(mesh.positions[static_cast<std::size_t>(v)]);
-            if (static_cast<std::size_t>(v) < mesh.provenance.size())
-                mesh.provenance.push_back(mesh.provenance[static_cast<std::size_t>(v)]);
-            corners_.emplace_back();
+            mesh_.positions.push_back(mesh_.positions[static_cast<std::size_t>(v)]);
+            mesh_.provenance.push_back(mesh_.provenance[static_cast<std::size_t>(v)]);
+            corners_.emplace(first_copy + c - 1, Corners{});
         }
-        corners_[static_cast<std::size_t>(v)].clear();
-        for (std::size_t i = 0; i < around.size(); ++i) {
-            const int fan = number[static_cast<std::size_t>(find(static_cast<int>(i)))];
+        corners_.at(v).clear();
+        for (std::size_t i = 0; i < n; ++i) {
+            const int fan = number[find(i)];
             const auto [f, k] = around[i];
-            const std::size_t n = mesh.faces[f].size();
             const int to = fan == 0 ? v : first_copy + fan - 1;
-            corners_[static_cast<std::size_t>(to)].push_back({f, k});
+            corners_.at(to).push_back({f, k});
             if (to == v) continue;
-            const int prev = at(f, k + n - 1), next = at(f, k + 1);
-            --count_[edge_key(v, prev)], --count_[edge_key(v, next)];
-            mesh.faces[f][k] = to;
-            ++count_[edge_key(to, prev)], ++count_[edge_key(to, next)];
+            const int before = prev(i), after = next(i);
+            --count_[undirected_key(v, before)], --count_[undirected_key(v, after)];
+            mesh_.faces[f][k] = to;
+            ++count_[undirected_key(to, before)], ++count_[undirected_key(to, after)];
         }
         return fans;
     }
 
 private:
+    using Corners = std::vector<std::pair<std::size_t, std::size_t>>; ///< (face, corner)
     /// Vertex of face f at corner k (mod its size).
     int at(std::size_t f, std::size_t k) const { return mesh_.faces[f][k % mesh_.faces[f].size()]; }
 
-    const QuadMesh& mesh_;
-    std::unordered_map<std::uint64_t, int> count_;
-    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> corners_;
+    QuadMesh& mesh_;
+    std::unordered_map<EdgeKey, int> count_;
+    std::map<int, Corners> corners_; ///< per end (and copy)
 };
 
-/// The explanation of edge (a, b) cut by splitting its ends as `split` says (vertex, fans).
-Defect explain(const QuadMesh& mesh, int a, int b, int sides, const std::vector<std::pair<int, int>>& split) {
+/// The explanation of edge (a, b), of `sides` face sides, cut by the splits `split` (vertex,
+/// fans); the grid point is the first vertex's, before it was split.
+Defect explain(EdgeKey key, int sides, const std::vector<std::pair<int, int>>& split, const Provenance& where) {
     std::string what;
     for (const auto& [v, fans] : split)
         what += (what.empty() ? "vertex " : " and vertex ") + std::to_string(v) + " into " + std::to_string(fans);
-    Defect d{DefectKind::SheetsSeparated,
-             "edge (" + std::to_string(a) + ", " + std::to_string(b) + ") had " + std::to_string(sides) +
-                 " face sides, where merged clones joined sheets of a fold-over: " + what + " vertices, one per fan",
-             -1,
-             -1,
-             {0, 0},
-             std::nullopt};
-    const int v = split.front().first;
-    if (static_cast<std::size_t>(v) < mesh.provenance.size()) {
-        const Provenance& p = mesh.provenance[static_cast<std::size_t>(v)];
-        d.input_element = p.chart_triangle;
-        d.grid = {p.grid[0], p.grid[1]};
-        d.message += " (grid point (" + std::to_string(p.grid[0]) + ", " + std::to_string(p.grid[1]) +
-                     ") of input triangle " + std::to_string(p.chart_triangle) + ")";
-    }
+    return {DefectKind::SheetsSeparated,
+            "edge (" + std::to_string(lower_end(key)) + ", " + std::to_string(upper_end(key)) + ") had " +
+                std::to_string(sides) + " face sides, where merged clones joined sheets of a fold-over: " + what +
+                " vertices, one per fan, each on the preimage of its grid point nearest its fan (grid point (" +
+                std::to_string(where.grid[0]) + ", " + std::to_string(where.grid[1]) + ") of input triangle " +
+                std::to_string(where.chart_triangle) + ")",
+            where.chart_triangle,
+            -1,
+            {where.grid[0], where.grid[1]},
+            std::nullopt};
+}
+
+double squared_distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    double d = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
     return d;
 }
 
 /// Each vertex of every group (a vertex split, then its copies: one grid point) moved onto the
 /// preimage of its grid point in the mesh's map nearest the mean of the vertices round its fan
-/// (those of its group left out), one not taken by another of its group where there is one.
-/// Vertices keep their place where no preimage is found (a mesh without its map).
-void place_on_own_sheets(const Input& input, const std::vector<std::vector<int>>& groups, QuadMesh& mesh) {
-    if (groups.empty() || mesh.provenance.size() != mesh.positions.size()) return;
+/// (those of its group left out): one no other vertex of its group took, if there is one within
+/// twice the fan's reach from that mean, else the nearest. Vertices keep their place where no
+/// preimage is found (a mesh without its map). False if two vertices of a group coincide then.
+bool place_on_own_sheets(const Input& input, const std::vector<std::vector<int>>& groups, QuadMesh& mesh) {
+    if (groups.empty()) return true;
     std::vector<Provenance> points;
     for (const std::vector<int>& group : groups) points.push_back(mesh.provenance[static_cast<std::size_t>(group[0])]);
     const auto found = preimages(input, mesh.map_uvs, points);
-    // Per vertex of a group: the summed positions of the vertices round it, and how many.
     std::vector<int> group_of(mesh.positions.size(), -1);
     for (std::size_t g = 0; g < groups.size(); ++g)
         for (const int v : groups[g]) group_of[static_cast<std::size_t>(v)] = static_cast<int>(g);
-    std::vector<std::array<double, 3>> sum(mesh.positions.size(), {0, 0, 0});
-    std::vector<int> count(mesh.positions.size(), 0);
+    // Per vertex of a group: the vertices round it (of other groups).
+    std::vector<std::vector<int>> round(mesh.positions.size());
     for (const std::vector<int>& f : mesh.faces)
         for (std::size_t k = 0; k < f.size(); ++k) {
             const auto v = static_cast<std::size_t>(f[k]);
             if (group_of[v] < 0) continue;
-            for (const int u : {f[(k + 1) % f.size()], f[(k + f.size() - 1) % f.size()]}) {
-                if (group_of[static_cast<std::size_t>(u)] == group_of[v]) continue;
-                for (std::size_t d = 0; d < 3; ++d) sum[v][d] += mesh.positions[static_cast<std::size_t>(u)][d];
-                ++count[v];
-            }
+            for (const int u : {f[(k + 1) % f.size()], f[(k + f.size() - 1) % f.size()]})
+                if (group_of[static_cast<std::size_t>(u)] != group_of[v]) round[v].push_back(u);
         }
     for (std::size_t g = 0; g < groups.size(); ++g) {
         const auto& candidates = found[g];
-        if (candidates.empty()) continue;
         std::vector<char> taken(candidates.size(), 0);
         for (const int v : groups[g]) {
             const auto vi = static_cast<std::size_t>(v);
-            if (count[vi] == 0) continue;
-            std::size_t best = candidates.size();
-            double best_distance = std::numeric_limits<double>::infinity();
-            for (const bool free_only : {true, false}) {
-                for (std::size_t c = 0; c < candidates.size(); ++c) {
-                    if (free_only && taken[c]) continue;
-                    double distance = 0.0;
-                    for (std::size_t d = 0; d < 3; ++d) {
-                        const double x = candidates[c].second[d] - sum[vi][d] / count[vi];
-                        distance += x * x;
-                    }
-                    if (distance < best_distance) best = c, best_distance = distance;
-                }
-                if (best < candidates.size()) break;
+            if (candidates.empty() || round[vi].empty()) continue;
+            std::array<double, 3> mean{0, 0, 0};
+            for (const int u : round[vi])
+                for (std::size_t d = 0; d < 3; ++d)
+                    mean[d] += mesh.positions[static_cast<std::size_t>(u)][d] / static_cast<double>(round[vi].size());
+            double reach = 0.0;
+            for (const int u : round[vi])
+                reach = std::max(reach, squared_distance(mesh.positions[static_cast<std::size_t>(u)], mean));
+            std::size_t nearest = 0, nearest_free = candidates.size();
+            for (std::size_t c = 0; c < candidates.size(); ++c) {
+                const double d = squared_distance(candidates[c].second, mean);
+                if (d < squared_distance(candidates[nearest].second, mean)) nearest = c;
+                if (!taken[c] && d <= 4 * reach &&
+                    (nearest_free == candidates.size() || d < squared_distance(candidates[nearest_free].second, mean)))
+                    nearest_free = c;
             }
-            if (best == candidates.size()) continue;
+            const std::size_t best = nearest_free < candidates.size() ? nearest_free : nearest;
             taken[best] = 1;
             mesh.provenance[vi] = candidates[best].first;
             mesh.positions[vi] = candidates[best].second;
         }
+        for (std::size_t i = 0; i < groups[g].size(); ++i)
+            for (std::size_t j = i + 1; j < groups[g].size(); ++j)
+                if (mesh.positions[static_cast<std::size_t>(groups[g][i])] ==
+                    mesh.positions[static_cast<std::size_t>(groups[g][j])])
+                    return false;
     }
+    return true;
 }
 
 } // namespace
 
-std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, int end) {
+std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups) {
+    groups.clear();
     const auto nv = static_cast<int>(mesh.positions.size());
+    if (mesh.provenance.size() != mesh.positions.size()) return {};
     for (const std::vector<int>& f : mesh.faces)
         for (const int v : f)
             if (v < 0 || v >= nv) return {};
-    Sides sides(mesh);
-    std::vector<Defect> separated;
-    std::vector<std::vector<int>> groups; // per vertex split: it, then its copies
-    for (const std::uint64_t key : sides.non_manifold()) {
-        const int lo = static_cast<int>(key >> 32), hi = static_cast<int>(key & 0xffffffffu);
-        const int n = sides.count(lo, hi);
-        if (n <= 2) continue; // cut already, at a vertex shared with an earlier edge
-        std::vector<std::pair<int, int>> split;
-        for (const int v : end == 0 ? std::array<int, 2>{lo, hi} : std::array<int, 2>{hi, lo}) {
-            const int first_copy = static_cast<int>(mesh.positions.size());
-            const int fans = sides.split(mesh, v);
-            if (fans < 2) continue;
-            split.push_back({v, fans});
-            groups.push_back({v});
-            for (int c = first_copy; c < static_cast<int>(mesh.positions.size()); ++c) groups.back().push_back(c);
-        }
-        if (!split.empty()) separated.push_back(explain(mesh, lo, hi, n, split));
+    const std::vector<std::pair<EdgeKey, int>> edges = non_manifold_edges(mesh);
+    if (edges.empty()) return {};
+    Sides sides(mesh, edges);
+    const auto ends = [&](std::size_t e) {
+        const int lo = lower_end(edges[e].first), hi = upper_end(edges[e].first);
+        return larger_end_first ? std::array<int, 2>{hi, lo} : std::array<int, 2>{lo, hi};
+    };
+    std::vector<std::vector<std::pair<int, int>>> cut(edges.size()); // per edge: (vertex, fans) split for it
+    std::vector<Provenance> where(edges.size());                     // per edge: its first split's grid point
+    const auto split = [&](std::size_t e, int v) {
+        const Provenance before = mesh.provenance[static_cast<std::size_t>(v)];
+        const int first_copy = static_cast<int>(mesh.positions.size());
+        const int fans = sides.split(v);
+        if (fans < 2) return false;
+        if (cut[e].empty()) where[e] = before;
+        cut[e].push_back({v, fans});
+        groups.push_back({v});
+        for (int c = first_copy; c < static_cast<int>(mesh.positions.size()); ++c) groups.back().push_back(c);
+        return true;
+    };
+    // While an edge has more than two sides, it is cut at an end that ends no other such edge
+    // (whose fans are then its sheets), the first such in order; else at the first end of the
+    // first edge. Each split leaves one edge fewer with more than two sides, or the loop ends.
+    for (std::size_t round = 0; round < 2 * edges.size(); ++round) {
+        std::map<int, int> open_at; // per end: how many of its edges have more than two sides
+        std::vector<std::size_t> open;
+        for (std::size_t e = 0; e < edges.size(); ++e)
+            if (sides.count(edges[e].first) > 2) {
+                open.push_back(e);
+                for (const int v : ends(e)) ++open_at[v];
+            }
+        if (open.empty()) break;
+        std::size_t e = open[0];
+        int v = ends(e)[0];
+        bool lone = false;
+        for (std::size_t i = 0; i < open.size() && !lone; ++i)
+            for (const int x : ends(open[i]))
+                if (!lone && open_at[x] == 1) e = open[i], v = x, lone = true;
+        if (!split(e, v) && !split(e, ends(e)[0] == v ? ends(e)[1] : ends(e)[0])) break;
     }
-    place_on_own_sheets(input, groups, mesh);
+    // Every end still the corner of more than one fan is split too (the far end of a cut edge
+    // whose two ends paired its sides alike).
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        for (const int v : ends(e)) (void)split(e, v);
+    std::vector<Defect> separated;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        if (!cut[e].empty()) separated.push_back(explain(edges[e].first, edges[e].second, cut[e], where[e]));
+    return separated;
+}
+
+std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first) {
+    std::vector<std::vector<int>> groups;
+    std::vector<Defect> separated = cut_joined_edges(mesh, larger_end_first, groups);
+    if (separated.empty() || !place_on_own_sheets(input, groups, mesh)) return {};
     return separated;
 }
 

@@ -386,30 +386,31 @@ bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool rela
     return false;
 }
 
-/// Stages separate_sheets and close_holes, on a mesh the checker rejected. Edges that join two
-/// sheets of a fold-over are cut at their smaller ends, else at their larger; each such mesh is
-/// kept if it is accepted(), or once its holes are closed too; else the holes of the mesh as it
-/// is are closed (close_holes_if_accepted).
+/// Stages separate_sheets and close_holes, on a mesh the checker rejected. Where the checker
+/// found an edge of more than two face sides, the edges that join sheets of a fold-over are cut
+/// (the smaller end of each first, then the larger); each such mesh is kept if it is accepted(),
+/// or once its holes are closed too. Else the holes of the mesh as it is are closed
+/// (close_holes_if_accepted).
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
                       Result& attempt) {
-    std::vector<std::vector<int>> first_faces;
-    for (const int end : {0, 1}) {
+    const bool joined = std::any_of(attempt.check.violations.begin(), attempt.check.violations.end(),
+                                    [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
+    for (const bool larger_end_first : {false, true}) {
+        if (!joined) break;
         QuadMesh separated = attempt.mesh;
-        std::vector<Defect> explanations = separate_sheets(input, separated, end);
-        if (explanations.empty() || (end == 1 && separated.faces == first_faces)) continue;
-        if (end == 0) first_faces = separated.faces;
-        VerifyResult check;
-        if (accepted(input, separated, relaxed, verify_options, check)) {
-            keep(std::move(separated), std::move(check), std::move(explanations), attempt);
-            timer.done(Stage::separate_sheets);
-            return;
-        }
+        std::vector<Defect> explanations = separate_sheets(input, separated, larger_end_first);
         timer.done(Stage::separate_sheets);
-        if (close_holes_if_accepted(input, separated, relaxed, verify_options, explanations, attempt)) {
-            timer.done(Stage::close_holes);
+        if (explanations.empty()) continue;
+        VerifyResult check;
+        const bool ok = accepted(input, separated, relaxed, verify_options, check);
+        timer.done(Stage::separate_sheets);
+        if (ok) {
+            keep(std::move(separated), std::move(check), std::move(explanations), attempt);
             return;
         }
+        const bool closed = close_holes_if_accepted(input, separated, relaxed, verify_options, explanations, attempt);
         timer.done(Stage::close_holes);
+        if (closed) return;
     }
     const QuadMesh mesh = attempt.mesh;
     (void)close_holes_if_accepted(input, mesh, relaxed, verify_options, {}, attempt);

@@ -132,20 +132,26 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 /// Per point (a provenance: a grid point in the chart of its triangle), the preimages of its grid
 /// point in `map` (per input corner) that a breadth-first search from its triangle finds, as
 /// place_on_given_map searches (crossing edges with their transitions, up to its budget):
-/// positive triangles' first, else flipped ones'; one per place on the surface, with its
+/// positive triangles' first, then flipped ones'; one per place on the surface, with its
 /// position, in the order found.
 std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
     const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
 
 /// For a mesh the checker rejected: each edge with more than two face sides (sheets of a
-/// fold-over joined there by merged clones) is cut by splitting one end, its smaller vertex
-/// (`end` 0) or its larger (`end` 1), into one vertex per fan round it (faces joined across edges
-/// of two face sides), then the other end likewise if its faces still form more than one fan; the
-/// copies are appended. Each vertex split then takes the preimage of its grid point in the mesh's
-/// map (preimages) nearest the vertices round its fan. Returns one explanation
-/// (SheetsSeparated) per edge cut. A candidate only: the caller keeps it if the checker accepts
-/// the result.
-std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, int end);
+/// fold-over joined there by merged clones) is cut by splitting an end into one vertex per fan
+/// round it (faces joined across edges of two face sides): an end that ends no other such edge
+/// first, and of an edge's ends the one of smaller index first, or of larger with
+/// `larger_end_first`; then every end still the corner of several fans. The copies are appended.
+/// Each vertex split then takes the preimage of its grid point in the mesh's map (preimages)
+/// nearest the vertices round its fan. Returns one explanation (SheetsSeparated) per edge cut;
+/// none, and no candidate, if the mesh has no such edge, lacks provenance, or the vertices of one
+/// split would coincide (a grid point with one preimage there: the sheets stay joined in space).
+/// A candidate only: the caller keeps it if the checker accepts the result.
+std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first);
+
+/// The cuts of separate_sheets alone, without moving a vertex: returns the explanations, and per
+/// vertex split, it then its copies (`groups`).
+std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups);
 
 /// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
 /// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
@@ -194,10 +200,11 @@ void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector
 
 /// u0 (in the chart of corners[0]) truncated to a power of two at least as large as every
 /// coordinate of the fan's corners, before and after propagation through `to_c` (chart of
-/// corners[0] -> chart of corners[i]): truncated to it, u0 propagates exactly. u0 itself if the
-/// fan is all zero or no such power is found.
+/// corners[0] -> chart of corners[i]), plus `headroom`: truncated to it, u0 propagates exactly,
+/// and with a headroom of 1 so does k u0 + o for any power of two k and integer o in [0, k) (the
+/// map coarsening splits back onto). u0 itself if the fan is all zero or no such power is found.
 Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
-                         Point2 u0);
+                         Point2 u0, double headroom = 0.0);
 
 /// The most sanitize rounds after the first; the last round is not followed by a collapse.
 inline constexpr int kMaxSanitizeRounds = 8;
