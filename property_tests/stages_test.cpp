@@ -302,6 +302,14 @@ std::vector<std::vector<int>> face_set(const QuadMesh& mesh) {
     return faces;
 }
 
+/// Per vertex of `mesh`, the faces round it, in face order.
+std::vector<std::vector<std::size_t>> faces_around(const QuadMesh& mesh) {
+    std::vector<std::vector<std::size_t>> around(mesh.positions.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+        for (const int v : mesh.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+    return around;
+}
+
 TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
     // A valid mesh with one face, or two faces side by side, taken out: the hole is closed by
     // exactly those faces (the checker passes the mesh again). A hole round a vertex (its four
@@ -311,9 +319,7 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
         const Result r = extract_valid(in);
         const QuadMesh& mesh = r.mesh;
         // An interior vertex with four faces, none on the input's boundary, and two faces sharing an edge.
-        std::vector<std::vector<std::size_t>> around(mesh.positions.size());
-        for (std::size_t f = 0; f < mesh.faces.size(); ++f)
-            for (const int v : mesh.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+        const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
         std::size_t centre = SIZE_MAX;
         for (std::size_t v = 0; v < around.size() && centre == SIZE_MAX; ++v) {
             bool inner = around[v].size() == 4;
@@ -407,9 +413,7 @@ TEST(SeparateSheets, TwoSheetsJoinedAtAnEdgeComeApartAndNothingElse) {
             EXPECT_EQ(same.faces, mesh.faces) << layout.name;
             EXPECT_EQ(same.positions.size(), mesh.positions.size()) << layout.name;
         }
-        std::vector<std::vector<std::size_t>> around(mesh.positions.size());
-        for (std::size_t f = 0; f < mesh.faces.size(); ++f)
-            for (const int v : mesh.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+        const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
         // Vertices of faces round a vertex: its ring.
         const auto ring = [&](int v) {
             std::set<int> out;
