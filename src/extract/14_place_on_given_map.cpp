@@ -363,7 +363,7 @@ struct CellFrame {
 /// quarter turn under which the cell's triangles hold the most of its other corners where the
 /// coarse mesh has them, and none elsewhere. On success, `search` lists that cell.
 bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, const std::vector<int>& face,
-               const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, ChartSearch& search, ChartSearch* wide,
+               const std::vector<std::array<std::int64_t, 2>>& uv, int a, int k, ChartSearch& search,
                CellFrame& frame) {
     for (int i = 0; i < 4; ++i)
         frame.corners[static_cast<std::size_t>(i)] = face[static_cast<std::size_t>((a + i) % 4)];
@@ -402,15 +402,7 @@ bool find_cell(const TriMesh& g, const std::vector<Provenance>& provenance, cons
             const std::array<std::pair<int, int>, 3> ij{{{k, 0}, {k, k}, {0, k}}};
             for (std::size_t j = 0; j < 3; ++j) {
                 const Provenance& pj = provenance[static_cast<std::size_t>(frame.corners[j + 1])];
-                const IPoint q = frame.point(ij[j].first, ij[j].second);
-                int found = corner_found(search, pj, corner_at[j], q);
-                if (found == 0 && wide) {
-                    // Not inside the cell (a fold cut it apart): found from the start beyond it.
-                    const auto& [s0, to_s0] = starts[start][0];
-                    for (const auto& [t, at_t] : wide->find_all(s0, to_s0(q)))
-                        for (const auto& [u, to_u] : corner_at[j])
-                            if (u == t && at_t == to_u(IPoint{pj.grid[0], pj.grid[1]})) found = 1;
-                }
+                const int found = corner_found(search, pj, corner_at[j], frame.point(ij[j].first, ij[j].second));
                 matched += found > 0;
                 contradicted = contradicted || found < 0;
             }
@@ -464,12 +456,10 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
             return rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(x)])].kind) <
                    rank(out.provenance[static_cast<std::size_t>(face[static_cast<std::size_t>(y)])].kind);
         });
-        // The corners found inside the cell, else (a fold cut the cell apart) beyond it.
         CellFrame frame;
         bool found = false;
-        for (ChartSearch* beyond : {static_cast<ChartSearch*>(nullptr), &wide})
-            for (std::size_t n = 0; n < 4 && !found; ++n)
-                found = find_cell(g, out.provenance, face, coarse.face_uvs[f], anchors[n], k, search, beyond, frame);
+        for (std::size_t n = 0; n < 4 && !found; ++n)
+            found = find_cell(g, out.provenance, face, coarse.face_uvs[f], anchors[n], k, search, frame);
         if (!found) return false;
         const std::array<int, 4>& c = frame.corners;
         auto place = [&](int i, int j) -> int {

@@ -628,23 +628,12 @@ bool extract_coarsened(const Input& input, const Options& options, Result& resul
         std::vector<char> repaired(map.size() / 3, 0);
         for (const std::int32_t t : attempt.mesh.map_repaired)
             if (t >= 0 && static_cast<std::size_t>(t) < repaired.size()) repaired[static_cast<std::size_t>(t)] = 1;
-        // A triangle of no UV area can be collapsed away at one scale and kept at the other (which
-        // of a degenerate fan's edges goes first depends on its UVs' last bits). One the coarse
-        // map lost keeps the given map's UVs (the split walks vertex fans through it; the checker
-        // judges the carried map exactly, this triangle too).
-        const auto degenerate = [](const std::vector<std::array<double, 2>>& uv, std::size_t t) {
-            return sign(orient2d(uv[3 * t], uv[3 * t + 1], uv[3 * t + 2])) == 0;
-        };
         bool same = map.size() == given.size();
         for (std::size_t c = 0; c < map.size() && same; ++c) {
             if (repaired[c / 3]) continue;
-            const bool kept = !std::isnan(map[c][0]), kept_given = !std::isnan(given[c][0]);
-            if (kept != kept_given) {
-                same = degenerate(kept ? map : given, c / 3);
-                if (same && !kept) map[c] = given[c];
-                continue;
-            }
-            for (int d = 0; d < 2 && same && kept; ++d) same = std::abs(map[c][d] - given[c][d]) <= spread;
+            same = std::isnan(map[c][0]) == std::isnan(given[c][0]);
+            for (int d = 0; d < 2 && same && !std::isnan(map[c][0]); ++d)
+                same = std::abs(map[c][d] - given[c][d]) <= spread;
         }
         StageTimer timer(attempt.report);
         QuadMesh split;
