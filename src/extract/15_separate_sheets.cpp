@@ -2,20 +2,21 @@
 // edge with more than two face sides. Where a fold-over lays several sheets of the surface over
 // the same grid cells, a face walk can pass from one sheet to another, and merging the clones it
 // meets (Algorithm 7) makes one vertex of two on each end of an edge. Each end is then the corner
-// of two fans, joined only at that edge. The edge is cut by splitting one end into one vertex per
-// fan. The other end's faces then form one fan (where the two ends paired the edge's sides
-// differently: a vertex winding twice round its grid point, as a fold-over's branch point does)
-// or two, and then it is split too. The grid point has a preimage on each sheet: every vertex
-// split takes the one nearest the vertices round its fan. Where the vertices of one split would
-// still coincide (the grid point has a single preimage there), the sheets would stay joined in
-// space: no candidate is made. Which end goes first is the caller's choice; the result is a
-// candidate only, kept if the checker accepts it.
+// of two fans, joined only at that edge. The edge is cut by splitting an end into one vertex per
+// fan: an end that ends no other such edge first (a run of joined edges comes apart from its
+// ends inward). The other end's faces then form one fan (where the two ends paired the edge's
+// sides differently: a vertex winding twice round its grid point, as a fold-over's branch point
+// does) or two, and then it is split too. The grid point has a preimage on each sheet: every
+// vertex split takes the one nearest the vertices round its fan. Where the vertices of one split
+// would still coincide (the grid point has a single preimage there), the sheets would stay
+// joined in space: no candidate is made. Of an edge's two ends, which is tried first (when both
+// or neither end another such edge) is the caller's choice; the result is a candidate only, kept
+// if the checker accepts it.
 #include "pipeline.h"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <map>
 #include <numeric>
 #include <string>
@@ -171,7 +172,7 @@ private:
     std::map<int, Corners> corners_; ///< per end (and copy)
 };
 
-/// The explanation of edge (a, b), of `sides` face sides, cut by the splits `split` (vertex,
+/// The explanation of the edge `key`, of `sides` face sides, cut by the splits `split` (vertex,
 /// fans); the grid point is the first vertex's, before it was split.
 Defect explain(EdgeKey key, int sides, const std::vector<std::pair<int, int>>& split, const Provenance& where) {
     std::string what;
@@ -198,8 +199,8 @@ double squared_distance(const std::array<double, 3>& a, const std::array<double,
 /// Each vertex of every group (a vertex split, then its copies: one grid point) moved onto the
 /// preimage of its grid point in the mesh's map nearest the mean of the vertices round its fan
 /// (those of its group left out): one no other vertex of its group took, if there is one within
-/// twice the fan's reach from that mean, else the nearest. Vertices keep their place where no
-/// preimage is found (a mesh without its map). False if two vertices of a group coincide then.
+/// twice the fan's reach from that mean, else the nearest. False if two vertices of a group
+/// coincide then (as they do where no preimage is found, on a mesh without its map).
 bool place_on_own_sheets(const Input& input, const std::vector<std::vector<int>>& groups, QuadMesh& mesh) {
     if (groups.empty()) return true;
     std::vector<Provenance> points;
@@ -283,12 +284,13 @@ std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std:
     };
     // While an edge has more than two sides, it is cut at an end that ends no other such edge
     // (whose fans are then its sheets), the first such in order; else at the first end of the
-    // first edge. Each split leaves one edge fewer with more than two sides, or the loop ends.
+    // first edge. An edge neither of whose ends splits is left (the rounds are bounded).
+    std::vector<char> stuck(edges.size(), 0);
     for (std::size_t round = 0; round < 2 * edges.size(); ++round) {
         std::map<int, int> open_at; // per end: how many of its edges have more than two sides
         std::vector<std::size_t> open;
         for (std::size_t e = 0; e < edges.size(); ++e)
-            if (sides.count(edges[e].first) > 2) {
+            if (!stuck[e] && sides.count(edges[e].first) > 2) {
                 open.push_back(e);
                 for (const int v : ends(e)) ++open_at[v];
             }
@@ -299,7 +301,7 @@ std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std:
         for (std::size_t i = 0; i < open.size() && !lone; ++i)
             for (const int x : ends(open[i]))
                 if (!lone && open_at[x] == 1) e = open[i], v = x, lone = true;
-        if (!split(e, v) && !split(e, ends(e)[0] == v ? ends(e)[1] : ends(e)[0])) break;
+        if (!split(e, v) && !split(e, ends(e)[0] == v ? ends(e)[1] : ends(e)[0])) stuck[e] = 1;
     }
     // Every end still the corner of more than one fan is split too (the far end of a cut edge
     // whose two ends paired its sides alike).

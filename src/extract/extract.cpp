@@ -388,9 +388,9 @@ bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool rela
 
 /// Stages separate_sheets and close_holes, on a mesh the checker rejected. Where the checker
 /// found an edge of more than two face sides, the edges that join sheets of a fold-over are cut
-/// (the smaller end of each first, then the larger); each such mesh is kept if it is accepted(),
-/// or once its holes are closed too. Else the holes of the mesh as it is are closed
-/// (close_holes_if_accepted).
+/// (of an edge's ends, the smaller first where the order is free, then the larger); each such
+/// mesh is kept if it is accepted(), or once its holes are closed too. Else the holes of the mesh
+/// as it is are closed (close_holes_if_accepted).
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
                       Result& attempt) {
     const bool joined = std::any_of(attempt.check.violations.begin(), attempt.check.violations.end(),

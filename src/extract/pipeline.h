@@ -201,8 +201,9 @@ void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector
 /// u0 (in the chart of corners[0]) truncated to a power of two at least as large as every
 /// coordinate of the fan's corners, before and after propagation through `to_c` (chart of
 /// corners[0] -> chart of corners[i]), plus `headroom`: truncated to it, u0 propagates exactly,
-/// and with a headroom of 1 so does k u0 + o for any power of two k and integer o in [0, k) (the
-/// map coarsening splits back onto). u0 itself if the fan is all zero or no such power is found.
+/// and with a headroom of 1 every propagated corner p also stays exact as k p + o for any power
+/// of two k and integer point o in [0, k)^2 (the map coarsening splits back onto), while k times
+/// that power is at most 2^52. u0 itself if the fan is all zero or no such power is found.
 Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, const std::vector<GridAutomorphism>& to_c,
                          Point2 u0, double headroom = 0.0);
 
