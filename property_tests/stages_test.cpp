@@ -310,14 +310,31 @@ std::vector<std::vector<std::size_t>> faces_around(const QuadMesh& mesh) {
     return around;
 }
 
+/// A torus, an icosahedron (valence-5 singularities) and a disk (a boundary), each with its map
+/// (3 quads per layout edge, on the grid) and its valid mesh.
+struct LayoutMesh {
+    QuadLayout layout;
+    Input in;
+    QuadMesh mesh;
+};
+std::vector<LayoutMesh> layout_meshes() {
+    std::vector<LayoutMesh> out;
+    for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
+        Input in = make_map(layout, 3, 3);
+        QuadMesh mesh = extract_valid(in).mesh;
+        out.push_back({layout, std::move(in), std::move(mesh)});
+    }
+    return out;
+}
+
 TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
     // A valid mesh with one face, or two faces side by side, taken out: the hole is closed by
     // exactly those faces (the checker passes the mesh again). A hole round a vertex (its four
     // faces taken out) is left open: the grid point inside has no vertex on the rim.
-    for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
-        const Input in = make_map(layout, 3, 3);
-        const Result r = extract_valid(in);
-        const QuadMesh& mesh = r.mesh;
+    for (const LayoutMesh& made : layout_meshes()) {
+        const QuadLayout& layout = made.layout;
+        const Input& in = made.in;
+        const QuadMesh& mesh = made.mesh;
         // An interior vertex with four faces, none on the input's boundary, and two faces sharing an edge.
         const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
         std::size_t centre = SIZE_MAX;
@@ -403,10 +420,10 @@ TEST(SeparateSheets, TwoSheetsJoinedAtAnEdgeComeApartAndNothingElse) {
     // is on its boundary) and each end two fans. Cutting it (each end split into its fans) gives
     // the mesh back, up to the names of its vertices, whichever end goes first; so does a path of
     // two edges glued onto another. A valid mesh is left as it is.
-    for (const QuadLayout& layout : {torus_layout(), icosahedron_layout(), disk_layout(3)}) {
-        const Input in = make_map(layout, 3, 3);
-        const Result r = extract_valid(in);
-        const QuadMesh& mesh = r.mesh;
+    for (const LayoutMesh& made : layout_meshes()) {
+        const QuadLayout& layout = made.layout;
+        const Input& in = made.in;
+        const QuadMesh& mesh = made.mesh;
         for (const bool larger_end_first : {false, true}) {
             QuadMesh same = mesh;
             EXPECT_TRUE(detail::separate_sheets(in, same, larger_end_first).empty()) << layout.name;
