@@ -53,19 +53,10 @@ TEST_P(ScaleSweep, ValidMeshOfTheScaledArea) {
     const std::string about = c.map + " x " + std::to_string(c.k) + ": " + summary(r, v);
     std::cout << about << "\n";
 
-    // Known failures (README, "scale sweep"): duck_miq_28 from x8 on. Its x2 mesh loses 3 quads
-    // in folds that neither the repair nor the paper's handling resolve, and split K/2 x K/2
-    // those cells leave grid points outside the folds uncovered, which the oracle rejects. Until
-    // that is fixed they must fail as every failure must: with located defects, no mesh passed off.
-    const bool known_failure = c.map == "duck_miq_28" && c.k >= 8;
-    if (known_failure && !r.check.valid) {
-        EXPECT_TRUE(std::any_of(r.report.defects.begin(), r.report.defects.end(),
-                                [](const Defect& d) { return d.input_element >= 0; }))
-            << about << ": no defect names an input triangle";
-        EXPECT_FALSE(v.valid) << about;
-        std::cout << "known failure: " << about << "\n";
-        return;
-    }
+    // duck_miq_28 from x8 on was a known failure: its x2 mesh loses 3 quads in folds that neither
+    // the repair nor the paper's handling resolve, and split K/2 x K/2 those cells left grid
+    // points outside the folds uncovered (the split put vertices on another sheet's preimages,
+    // where vertices already lay). It must now be valid like every other case.
     EXPECT_TRUE(r.check.valid) << about << "\nextract's check: " << violations_text(r.check.violations);
     EXPECT_TRUE(v.valid) << about << "\nverify: " << violations_text(v.violations);
     EXPECT_EQ(v.euler, v.input_euler) << about;

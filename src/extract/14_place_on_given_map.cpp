@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <set>
 
 namespace qex::detail {
 namespace {
@@ -134,16 +136,16 @@ public:
     const GridAutomorphism& to(int t) const { return to_[static_cast<std::size_t>(t)]; }
     const std::vector<int>& triangles() const { return queue_; }
 
-    /// The first listed triangle that holds q (the search's chart), positive before flipped; -1
-    /// if none.
-    int holder(const IPoint& q) const {
-        int flipped = -1;
+    /// Every listed triangle that holds q (the search's chart): positive ones first, in order.
+    std::vector<int> holders(const IPoint& q) const {
+        std::vector<int> positive, flipped;
         for (const int t : queue_) {
             const int s = holding_sign(g_, t, to_point(to(t)(q)));
-            if (s > 0) return t;
-            if (s < 0 && flipped < 0) flipped = t;
+            if (s > 0) positive.push_back(t);
+            if (s < 0) flipped.push_back(t);
         }
-        return flipped;
+        positive.insert(positive.end(), flipped.begin(), flipped.end());
+        return positive;
     }
 
 private:
@@ -223,6 +225,11 @@ Provenance located(const Input& input, const TriMesh& g, int found, const IPoint
     }
     np.barycentric = w;
     return np;
+}
+
+/// Squared distance between two points.
+double distance2(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
 
 /// The 3D position of a provenance from located(): the input vertex's own position on a corner,
@@ -439,6 +446,8 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
             located(input, g, p.chart_triangle, {p.grid[0] * k + origin[0], p.grid[1] * k + origin[1]}, p.merged));
         out.positions.push_back(position_of(input, out.provenance.back()));
     }
+    // Where vertices lie (a new vertex takes a preimage where none lies yet, if it has one).
+    std::set<std::array<double, 3>> placed(out.positions.begin(), out.positions.end());
     // Per coarse edge (its vertices, smaller first): the first of its k - 1 new vertices,
     // numbered from the smaller vertex on.
     std::map<std::pair<int, int>, int> side_first;
@@ -462,26 +471,49 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
             found = find_cell(g, out.provenance, face, coarse.face_uvs[f], anchors[n], k, search, frame);
         if (!found) return false;
         const std::array<int, 4>& c = frame.corners;
+        // A free preimage is taken only near the cell: within twice its corners' spread of
+        // their mean (a grid point found round a singularity can lie across the surface).
+        std::array<double, 3> mean{0, 0, 0};
+        for (const int v : c)
+            for (std::size_t d = 0; d < 3; ++d) mean[d] += out.positions[static_cast<std::size_t>(v)][d] / 4;
+        double reach = 0.0;
+        for (const int v : c) reach = std::max(reach, distance2(out.positions[static_cast<std::size_t>(v)], mean));
+        const auto usable = [&](const std::array<double, 3>& x) {
+            return !placed.count(x) && distance2(x, mean) <= 4 * reach;
+        };
         auto place = [&](int i, int j) -> int {
             const IPoint q = frame.point(i, j);
-            int t = search.holder(q);
-            IPoint at_t = t >= 0 ? search.to(t)(q) : IPoint{};
-            if (t < 0) {
-                // A fold can cut the cell's triangles in parts: the one that holds q is not
-                // reached inside the cell. It is searched for from the start, unbounded.
-                const IPoint from_start = frame.to_start(q);
-                t = wide.find(frame.start, from_start);
-                at_t = t >= 0 ? wide.to(t)(from_start) : IPoint{};
-                for (std::size_t n = 0; t < 0 && n < search.triangles().size(); n += 8) {
-                    const int s0 = search.triangles()[n];
-                    const IPoint from = search.to(s0)(q);
-                    t = wide.find(s0, from);
-                    if (t >= 0) at_t = wide.to(t)(from);
+            // A preimage of q inside the cell where no vertex lies yet (a fold-over can give the
+            // grid point several, one another sheet's, where a vertex is), else the first.
+            std::optional<Provenance> first, free;
+            for (const int t : search.holders(q)) {
+                Provenance p = located(input, g, t, search.to(t)(q), 1);
+                if (!first) first = p;
+                if (usable(position_of(input, p))) {
+                    free = std::move(p);
+                    break;
                 }
-                if (t < 0) return -1;
             }
-            out.provenance.push_back(located(input, g, t, at_t, 1));
+            // A fold can cut the cell's triangles in parts: the one that holds q is not reached
+            // inside the cell. It is searched for from the start, unbounded, then from the
+            // cell's triangles, until a free preimage is found.
+            const auto beyond = [&](int s0, const IPoint& from) {
+                for (const auto& [u, at_u] : wide.find_all(s0, from)) {
+                    Provenance p = located(input, g, u, at_u, 1);
+                    if (!first) first = p;
+                    if (usable(position_of(input, p))) {
+                        free = std::move(p);
+                        return;
+                    }
+                }
+            };
+            if (!free) beyond(frame.start, frame.to_start(q));
+            for (std::size_t n = 0; !free && n < search.triangles().size(); n += 8)
+                beyond(search.triangles()[n], search.to(search.triangles()[n])(q));
+            if (!first) return -1;
+            out.provenance.push_back(free ? *free : *first);
             out.positions.push_back(position_of(input, out.provenance.back()));
+            placed.insert(out.positions.back());
             return static_cast<int>(out.positions.size()) - 1;
         };
         // The vertex at (i, j), 0..k each, of the split cell.
