@@ -485,12 +485,12 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
             const IPoint q = frame.point(i, j);
             // A preimage of q inside the cell where no vertex lies yet (a fold-over can give the
             // grid point several, one another sheet's, where a vertex is), else the first.
-            std::optional<Provenance> first, free;
+            std::optional<Provenance> first, free_one;
             for (const int t : search.holders(q)) {
                 Provenance p = located(input, g, t, search.to(t)(q), 1);
                 if (!first) first = p;
                 if (usable(position_of(input, p))) {
-                    free = std::move(p);
+                    free_one = std::move(p);
                     break;
                 }
             }
@@ -502,16 +502,20 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
                     Provenance p = located(input, g, u, at_u, 1);
                     if (!first) first = p;
                     if (usable(position_of(input, p))) {
-                        free = std::move(p);
+                        free_one = std::move(p);
                         return;
                     }
                 }
             };
-            if (!free) beyond(frame.start, frame.to_start(q));
-            for (std::size_t n = 0; !free && n < search.triangles().size(); n += 8)
+            // Once some preimage is known, a free one is looked for from at most four more
+            // starts (each search lists up to 4096 triangles: a cell of a thousand triangles
+            // with no free preimage would otherwise cost a hundred searches per vertex).
+            if (!free_one) beyond(frame.start, frame.to_start(q));
+            for (std::size_t n = 0, tries = 0; !free_one && n < search.triangles().size() && (!first || tries < 4);
+                 n += 8, tries += first ? 1 : 0)
                 beyond(search.triangles()[n], search.to(search.triangles()[n])(q));
             if (!first) return -1;
-            out.provenance.push_back(free ? *free : *first);
+            out.provenance.push_back(free_one ? *free_one : *first);
             out.positions.push_back(position_of(input, out.provenance.back()));
             placed.insert(out.positions.back());
             return static_cast<int>(out.positions.size()) - 1;
