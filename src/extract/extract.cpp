@@ -366,7 +366,7 @@ void keep(QuadMesh&& mended, VerifyResult&& check, std::vector<Defect>&& explana
 
 /// Stage close_holes, on a mesh the checker rejected: the holes its face walks left, closed by the
 /// grid cells their rims enclose. Kept (with `done`, what was done to `mesh` before) only if it
-/// is then accepted().
+/// is then accepted(). `mesh` is read only before the result is kept, so it may be attempt.mesh.
 bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool relaxed,
                              const VerifyOptions& verify_options, const std::vector<Defect>& done, Result& attempt) {
     // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
@@ -412,8 +412,7 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
         timer.done(Stage::close_holes);
         if (closed) return;
     }
-    const QuadMesh mesh = attempt.mesh;
-    (void)close_holes_if_accepted(input, mesh, relaxed, verify_options, {}, attempt);
+    (void)close_holes_if_accepted(input, attempt.mesh, relaxed, verify_options, {}, attempt);
     timer.done(Stage::close_holes);
 }
 
