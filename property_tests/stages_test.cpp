@@ -73,6 +73,60 @@ std::array<int, 2> counted_fan(int n, bool mirrored) {
     return {0, 0};
 }
 
+/// A disk of n triangles round vertex 0 in one chart: vertex 0 at `centre`, ring vertex i at
+/// angle angles[i] round it (one UV per vertex: every transition is the identity). Vertex 0
+/// after sanitizing: whether it is singular, and how far it moved.
+std::pair<bool, double> sanitized_centre(const std::array<double, 2>& centre, const std::vector<double>& angles) {
+    Input in;
+    const std::size_t n = angles.size();
+    in.positions.push_back({0, 0, 1});
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = 2.0 * M_PI * static_cast<double>(i) / static_cast<double>(n);
+        in.positions.push_back({std::cos(a), std::sin(a), 0});
+    }
+    const auto ring = [&](std::size_t i) {
+        return std::array<double, 2>{centre[0] + 2 * std::cos(angles[i]), centre[1] + 2 * std::sin(angles[i])};
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        in.triangles.push_back({0, static_cast<int>(1 + i), static_cast<int>(1 + j)});
+        for (const auto& uv : {centre, ring(i), ring(j)}) in.uvs.push_back(uv);
+    }
+    detail::TriMesh m = detail::make_mesh(in);
+    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    Report rep;
+    detail::compute_transitions(m);
+    detail::count_valences(m);
+    EXPECT_EQ(detail::sanitize(m, {}, {}, rep, true).code, ErrorCode::None);
+    for (int v = 0; v < m.num_vertices; ++v)
+        if (m.input_vertex[v] == 0) {
+            const auto& u = m.uv[static_cast<std::size_t>(m.fan_start[v])];
+            return {m.map.singular[v] != 0, std::max(std::abs(u[0] - centre[0]), std::abs(u[1] - centre[1]))};
+        }
+    ADD_FAILURE() << "vertex 0 is not in the working mesh";
+    return {false, 0.0};
+}
+
+TEST(Sanitize, AFoldThatWindsAFanTwiceOffTheGridIsNotABranchPoint) {
+    // Eight quarter turns round vertex 0 with transitions that do not turn: a branch point, or a
+    // fold that winds the fan twice. Folded: ten steps, nine of 760/9 degrees and one of -40 (a
+    // flipped triangle). Positive: eight right angles, no triangle flipped.
+    std::vector<double> folded(10), positive(8);
+    for (std::size_t i = 1; i < folded.size(); ++i)
+        folded[i] = folded[i - 1] + (i == 5 ? -40.0 : 760.0 / 9.0) * M_PI / 180.0;
+    for (std::size_t i = 0; i < positive.size(); ++i) positive[i] = 0.5 * M_PI * static_cast<double>(i) + 0.1;
+    for (const auto& angles : {folded, positive}) {
+        // Off every grid point: a fold, not snapped (snapping would move it 0.3).
+        const auto [fold_singular, fold_moved] = sanitized_centre({0.3, 0.2}, angles);
+        EXPECT_FALSE(fold_singular) << angles.size();
+        EXPECT_LT(fold_moved, 1e-9) << angles.size();
+        // On a grid point up to solver noise: a branch point, snapped to it.
+        const auto [singular, moved] = sanitized_centre({3.0 + 1e-7, -2.0}, angles);
+        EXPECT_TRUE(singular) << angles.size();
+        EXPECT_NEAR(moved, 1e-7, 1e-12) << angles.size();
+    }
+}
+
 TEST(Valences, WhollyFlippedFanCountsAsItsTransitionsTurn) {
     // A cone of three quarter turns, given as is or mirrored: mirrored, the signed sum is -3
     // quarter turns and the transitions turn by +1, so an unfolded fan must span 1 (or 5, ...)

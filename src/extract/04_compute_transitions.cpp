@@ -260,9 +260,6 @@ void compute_transitions(TriMesh& m) {
 
 Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report) {
     if (policy == SeamPolicy::Trusted) return {};
-    // Solver noise and float storage leave seams off by about 1e-6 cells on real maps (the worst
-    // of the shared MIQ and paper maps: 9.5e-7); an offset this large is not noise.
-    constexpr double kSeamTolerance = 1.0 / 1024;
     const int nh = 3 * m.num_faces();
     for (int h = 0; h < nh; ++h) {
         const int o = m.opp[h];
@@ -272,10 +269,8 @@ Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report) {
         const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
         const Point2 ga = g(a), gb = g(b);
         const double off = std::max(norm_inf({ga[0] - a2[0], ga[1] - a2[1]}), norm_inf({gb[0] - b2[0], gb[1] - b2[1]}));
-        // Far from the origin the coordinates themselves carry less: allow a few of their ulps.
         const double magnitude = std::max({norm_inf(a), norm_inf(b), norm_inf(a2), norm_inf(b2)});
-        const double tolerance = std::max(kSeamTolerance, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
-        if (off <= tolerance) continue;
+        if (off <= solver_noise_bound(magnitude)) continue;
         char what[160];
         std::snprintf(what, sizeof what, "%.3g cells off (rotation %d quarter turns, translation (%lld, %lld))", off,
                       g.r, static_cast<long long>(g.tx), static_cast<long long>(g.ty));

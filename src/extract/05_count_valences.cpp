@@ -27,19 +27,6 @@ using SignedAngle = std::pair<int, double>;
 /// The exact orientation sign of triangle f in the parameter domain.
 int triangle_sign(const TriMesh& m, int f) { return sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])); }
 
-/// Each triangle's orientation once, when every fan is counted (a corner's is its triangle's: the
-/// exact sign does not change under a cyclic shift of the corners); empty when only the few
-/// singular fans are, which take theirs per corner.
-std::vector<signed char> triangle_signs(const TriMesh& m, bool singular_only) {
-    std::vector<signed char> tri_sign(singular_only ? 0 : static_cast<std::size_t>(m.num_faces()));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    for (int f = 0; f < static_cast<int>(tri_sign.size()); ++f)
-        tri_sign[static_cast<std::size_t>(f)] = static_cast<signed char>(triangle_sign(m, f));
-    return tri_sign;
-}
-
 /// The corners of interior vertex v's fan, clockwise. Returns whether every triangle is
 /// positive; if so, `approx` is the sum of their approximate angles.
 bool gather_corners(const TriMesh& m, int v, const std::vector<signed char>& tri_sign, bool singular_only,
@@ -168,6 +155,16 @@ void count_fans(TriMesh& m, bool singular_only, const std::vector<signed char>& 
 
 } // namespace
 
+std::vector<signed char> triangle_signs(const TriMesh& m) {
+    std::vector<signed char> signs(static_cast<std::size_t>(m.num_faces()));
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
+#endif
+    for (int f = 0; f < m.num_faces(); ++f)
+        signs[static_cast<std::size_t>(f)] = static_cast<signed char>(triangle_sign(m, f));
+    return signs;
+}
+
 double approximate_angle(double y, double x) {
     const double ax = std::abs(x);
     const double hi = std::max(ax, y), lo = std::min(ax, y);
@@ -185,7 +182,10 @@ void count_valences(TriMesh& m, bool singular_only) {
     const int nv = m.num_vertices;
     m.map.valence.assign(nv, 4);
     m.map.winding_valence.assign(nv, 4);
-    const std::vector<signed char> tri_sign = triangle_signs(m, singular_only);
+    // Each triangle's orientation once, when every fan is counted (a corner's is its triangle's:
+    // the exact sign does not change under a cyclic shift of the corners); empty when only the
+    // few singular fans are, which take theirs per corner.
+    const std::vector<signed char> tri_sign = singular_only ? std::vector<signed char>{} : triangle_signs(m);
     count_fans(m, singular_only, tri_sign);
 }
 

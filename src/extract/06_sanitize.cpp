@@ -154,6 +154,12 @@ void propagate(TriMesh& m, const Fan& fan, const Point2& u0, double& max_disp, d
 
 // ============================================================================ every fan
 
+/// Whether u lies on a grid point up to solver noise (solver_noise_bound).
+bool near_grid_point(const Point2& u) {
+    const double off = std::max(std::abs(u[0] - std::nearbyint(u[0])), std::abs(u[1] - std::nearbyint(u[1])));
+    return off <= solver_noise_bound(std::max(std::abs(u[0]), std::abs(u[1])));
+}
+
 /// What a sanitize call is told besides the mesh.
 struct Rules {
     const std::vector<int>& given_valences;
@@ -203,9 +209,15 @@ Totals sanitize_fans(TriMesh& m, const Rules& rules) {
             const GridAutomorphism& loop = fan.loop;
             // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
             // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
-            const int val = !rules.given_valences.empty() ? rules.given_valences[m.input_vertex[v]]
-                                                          : std::abs(m.map.winding_valence[v]);
-            const bool branch = fan.closed && loop.r == 0 && val >= 8;
+            // A fold can wind a fan twice too, with or without a flipped triangle: without given
+            // valences, a vertex off every grid point by more than solver noise is read as such a
+            // fold, not snapped (a solver puts its branch points on grid points; snapping would
+            // move an exact map by up to half a cell). The repair unfolds it (a regular vertex
+            // that winds more than once seeds a region).
+            const bool given = !rules.given_valences.empty();
+            const int val = given ? rules.given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
+            const bool branch =
+                fan.closed && loop.r == 0 && val >= 8 && (given || near_grid_point(m.uv[fan.corners[0]]));
             if (branch && !rules.branch_points) ++deferred_count;
             const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
             if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
@@ -237,14 +249,7 @@ Error pure_translation_error(const TriMesh& m, std::int64_t bad, const GridAutom
 }
 
 /// MapState::face_sign of every triangle, from the sanitized UVs.
-void set_face_signs(TriMesh& m) {
-    m.map.face_sign.resize(m.num_faces());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    for (int f = 0; f < m.num_faces(); ++f)
-        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
-}
+void set_face_signs(TriMesh& m) { m.map.face_sign = triangle_signs(m); }
 
 } // namespace
 

@@ -203,14 +203,20 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     if (Error e = sanitize_until_stable(m, input, features, report, timer, kMaxSanitizeRounds, seams);
         e.code != ErrorCode::None)
         return e;
+    // Regular interior vertices that the last round found winding other than once (a fold,
+    // with or without flipped triangles): the repair unfolds their fans too.
+    std::vector<int> wound;
+    for (int v = 0; v < m.num_vertices; ++v)
+        if (!m.map.singular[v] && !m.on_boundary[v] && m.fan_start[v] >= 0 && m.map.winding_valence[v] != 4)
+            wound.push_back(v);
     count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())
         for (int v = 0; v < m.num_vertices; ++v) m.map.valence[v] = input.valences[m.input_vertex[v]];
     timer.done(Stage::count_valences);
     report_map(m, report);
     timer.done(Stage::sanitize);
-    if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        RepairOutcome outcome = repair(m, features, !input.valences.empty(), report);
+    if (rung.repair && (report.flipped_triangles + report.degenerate_triangles > 0 || !wound.empty())) {
+        RepairOutcome outcome = repair(m, features, !input.valences.empty(), wound, report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = outcome.regions_failed;
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());

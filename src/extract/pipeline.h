@@ -9,9 +9,11 @@
 #include "tri_mesh.h"
 #include "qex/extract.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <functional>
+#include <limits>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -93,6 +95,13 @@ Error collapse(TriMesh& m, std::int64_t& collapsed);
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
 
+/// How far solver noise and float storage leave a real map from exact (1/1024 of a cell, or a few
+/// ulps of coordinates of this magnitude). The worst of the shared MIQ and paper maps is 9.5e-7
+/// cells; an offset beyond this is not noise. Reads the input; no geometric decision uses it.
+inline double solver_noise_bound(double magnitude) {
+    return std::max(1.0 / 1024, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
+}
+
 /// How the first sanitize round treats seams whose two UV copies the computed transition maps
 /// onto each other only up to more than solver noise (1/1024 of a cell, or a few ulps of the
 /// coordinates): such a seam is not an integer-grid transition, and sanitizing moves the map by
@@ -116,6 +125,9 @@ inline constexpr double kApproximateAngleError = 1e-4;
 /// Valence counting robust to fold-overs (Algorithm 8) and winding valences; interior vertices
 /// only. Vertices not counted (boundary, or regular when `singular_only`) get 4.
 void count_valences(TriMesh& m, bool singular_only = false);
+
+/// The orientation of every triangle's UVs (exact predicate), in parallel.
+std::vector<signed char> triangle_signs(const TriMesh& m);
 
 /// Last resort: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV
 /// area <= 0) towards the average of their neighbours, through exact transitions. Returns the
@@ -229,10 +241,12 @@ int fan_turn(const TriMesh& m, int v);
 /// which are merged first (the transitions of a path between them change; named in
 /// report.explanations, and undone unless their region is re-embedded). A region that does not
 /// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
-/// paper's local handling takes over there (named in report.explanations). Updates
-/// MapState::face_sign, and the valences of singularities it corrects or merges.
+/// paper's local handling takes over there (named in report.explanations). `wound`: regular
+/// interior vertices whose fans wind other than once before the repair (sorted); those whose
+/// triangles are all positive seed regions too. Updates MapState::face_sign, and the valences
+/// of singularities it corrects or merges.
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     Report& report);
+                     const std::vector<int>& wound, Report& report);
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.
