@@ -495,6 +495,31 @@ TEST(RealMaps, SheetsJoinedAtAnEdgeAreSeparated) {
     }
 }
 
+/// face_miq_10 with its UVs x4 (1,690 flipped triangles; folds the repair proves it cannot undo,
+/// with its singularities pinned): three face walks run clockwise over a fold's reversed sheet,
+/// each beside a face with its other three corners in reverse order, the fourth a clone of the
+/// same grid point on another sheet. Stage merge_vertices merges the clones and cancels the
+/// pair, as it does a ghost pair: the mesh is valid at the map's own scale from the first rung
+/// (it was valid at no scale), and valid without provenance too.
+TEST(RealMaps, ClockwiseFacesOverAFoldCancelWithTheirNearReverses) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "face_miq_10_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    ASSERT_EQ(transforms::scale_uvs(in, 4), 0);
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid) << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+    EXPECT_EQ(r.report.rung, "repaired");
+    EXPECT_EQ(r.mesh.grid_scale, 1);
+    EXPECT_EQ(r.report.coarsening, 1);
+    const auto near = std::count_if(r.report.explanations.begin(), r.report.explanations.end(), [](const Defect& d) {
+        return d.kind == DefectKind::GhostFacesCancelled && d.message.find("fourth corners") != std::string::npos;
+    });
+    EXPECT_GE(near, 1);
+    EXPECT_EQ(result_inconsistency(in, r), "");
+    expect_bare_valid(in, r.mesh, path);
+}
+
 /// duck_miq_8 with its UVs x 16: folds close the fans of valence-5 singularities (a run of
 /// flipped triangles in each, Algorithm 8 counting the turn the signed angles lack). Untangled as
 /// given, such a region keeps the cone a turn short and winds a neighbour twice, which the

@@ -127,6 +127,77 @@ TEST(Sanitize, AFoldThatWindsAFanTwiceOffTheGridIsNotABranchPoint) {
     }
 }
 
+/// Stage merge_vertices on hand-made face walks (q-vertex, local UV): q-vertex i lies inside the
+/// one triangle of a stand-in mesh, at position (i, 0, 0). The faces, as output vertices.
+std::vector<std::vector<int>> merged_walks(const std::vector<std::vector<std::pair<int, detail::IPoint>>>& walks,
+                                           int qvertices, Report& report) {
+    Input in;
+    in.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    in.triangles = {{0, 1, 2}};
+    in.uvs = {{0, 0}, {8, 0}, {0, 8}};
+    detail::TriMesh m = detail::make_mesh(in);
+    EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    detail::QState q;
+    for (int i = 0; i < qvertices; ++i)
+        q.qvertices.push_back({QVertexKind::Face, 0, 0, {i, 0}, {static_cast<double>(i), 0, 0}, {1, 0, 0}});
+    detail::FaceWalks w;
+    for (const auto& walk : walks) {
+        for (const auto& [v, uv] : walk) w.qv.push_back(v), w.uv.push_back(uv);
+        w.first.push_back(w.qv.size());
+    }
+    QuadMesh out;
+    const detail::FaceWalks merged = detail::merge_vertices(m, q, w, Options{}, out, report);
+    std::vector<std::vector<int>> faces;
+    for (std::size_t f = 0; f < merged.size(); ++f)
+        faces.emplace_back(merged.qv.begin() + static_cast<std::ptrdiff_t>(merged.first[f]),
+                           merged.qv.begin() + static_cast<std::ptrdiff_t>(merged.first[f + 1]));
+    return faces;
+}
+
+TEST(MergeVertices, AClockwiseFaceAndItsNearReverseCancelAndTheirOddCornersMerge) {
+    // Cells [0,1]x[0,1] (F1), [1,2]x[0,1] (B) and [0,1]x[1,2] (F3); q-vertex 6 is a clone of
+    // grid point (1, 1) (q-vertex 4) on another sheet, which F3 reaches. A walks B's cell
+    // clockwise through the clone: A and B cover it once each way, like a ghost pair.
+    using W = std::vector<std::pair<int, detail::IPoint>>;
+    const W f1{{0, {0, 0}}, {1, {1, 0}}, {4, {1, 1}}, {3, {0, 1}}};
+    const W b{{1, {1, 0}}, {2, {2, 0}}, {5, {2, 1}}, {4, {1, 1}}};
+    const W a{{1, {1, 0}}, {6, {1, 1}}, {5, {2, 1}}, {2, {2, 0}}};
+    const W f3{{3, {0, 1}}, {6, {1, 1}}, {7, {1, 2}}, {8, {0, 2}}};
+    {
+        Report report;
+        const auto faces = merged_walks({f1, b, a, f3}, 9, report);
+        ASSERT_EQ(faces.size(), 2u);
+        EXPECT_EQ(report.ghost_faces_cancelled, 2);
+        EXPECT_EQ(report.merged_qvertices, 1);
+        // F1 and F3 now share the edge from grid point (0, 1) to the merged (1, 1): six vertices
+        // (2 and 5 went with B).
+        std::set<int> vertices;
+        std::vector<int> shared;
+        for (const int v : faces[0]) {
+            vertices.insert(v);
+            if (std::count(faces[1].begin(), faces[1].end(), v)) shared.push_back(v);
+        }
+        vertices.insert(faces[1].begin(), faces[1].end());
+        EXPECT_EQ(vertices.size(), 6u);
+        EXPECT_EQ(shared.size(), 2u);
+    }
+    {
+        // The same corners with A's local UVs counter-clockwise: no face walked a reversed sheet.
+        W ccw = a;
+        ccw[1].second = {2, 0}, ccw[3].second = {1, 1};
+        Report report;
+        EXPECT_EQ(merged_walks({f1, b, ccw, f3}, 9, report).size(), 4u);
+        EXPECT_EQ(report.ghost_faces_cancelled, 0);
+    }
+    {
+        // The clones already share a face: merging them would put a corner twice in it.
+        const W joint{{4, {1, 1}}, {9, {2, 1}}, {6, {2, 2}}, {10, {1, 2}}};
+        Report report;
+        EXPECT_EQ(merged_walks({f1, b, a, f3, joint}, 11, report).size(), 5u);
+        EXPECT_EQ(report.ghost_faces_cancelled, 0);
+    }
+}
+
 TEST(Valences, WhollyFlippedFanCountsAsItsTransitionsTurn) {
     // A cone of three quarter turns, given as is or mirrored: mirrored, the signed sum is -3
     // quarter turns and the transitions turn by +1, so an unfolded fan must span 1 (or 5, ...)

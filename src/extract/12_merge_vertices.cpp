@@ -344,6 +344,89 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
     simple.swap(kept);
 }
 
+/// The explanation of a clockwise face and a near-reverse cancelled, their odd corners merged.
+void explain_near_ghosts(const TriMesh& m, const QState& q, const Loop& face, Report& report) {
+    const QVertex& v = q.qvertices[face[0].v];
+    report.explanations.push_back({DefectKind::GhostFacesCancelled,
+                                   "a face walked clockwise over a fold-over and a face with its other three corners "
+                                   "in reverse order cancelled near grid point (" +
+                                       std::to_string(v.grid[0]) + ", " + std::to_string(v.grid[1]) +
+                                       ") of input triangle " + std::to_string(m.input_triangle[v.chart]) +
+                                       "; their fourth corners, clones of one grid point on two sheets, merged",
+                                   m.input_triangle[v.chart],
+                                   -1,
+                                   {v.grid[0], v.grid[1]},
+                                   std::nullopt});
+}
+
+/// 5. Cancel near-ghost pairs. A quad whose local UVs run clockwise was walked over a
+///    fold-over's reversed sheet. When another quad has its corners in reverse order but one,
+///    the two cover one cell once each way, as a ghost pair does; their odd corners are clones
+///    of one grid point that no walk met together (they lie on two sheets). The clones are
+///    merged and both faces cancelled, unless the clones share a face (the merge would leave a
+///    corner twice in it). Taken in key order (CycleKeys), so the input's order does not matter.
+void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& simple, UnionFind& sets, Report& report) {
+    const CycleKeys keys(simple);
+    const std::vector<std::size_t> order = keys.sorted();
+    std::vector<std::size_t> clockwise;
+    for (const std::size_t i : order)
+        if (simple[i].size() == 4 && twice_area(simple[i]) < 0) clockwise.push_back(i);
+    if (clockwise.empty()) return;
+    std::vector<std::size_t> rank(simple.size());
+    for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = r;
+    std::vector<std::vector<std::size_t>> at(q.qvertices.size()); // the faces at each vertex
+    for (std::size_t i = 0; i < simple.size(); ++i)
+        for (const Corner& c : simple[i]) at[static_cast<std::size_t>(c.v)].push_back(i);
+    std::vector<char> drop(simple.size(), 0);
+    const auto holds = [&](std::size_t f, int v) {
+        return std::any_of(simple[f].begin(), simple[f].end(), [v](const Corner& c) { return c.v == v; });
+    };
+    for (const std::size_t a : clockwise) {
+        if (drop[a]) continue;
+        const Loop& fa = simple[a];
+        // A near-reverse shares three corners, so one of the first two: the first in key order.
+        std::size_t best = simple.size();
+        int odd_a = -1, odd_b = -1;
+        for (int k0 = 0; k0 < 2; ++k0)
+            for (const std::size_t b : at[static_cast<std::size_t>(fa[static_cast<std::size_t>(k0)].v)]) {
+                if (b == a || drop[b] || simple[b].size() != 4 || (best < simple.size() && rank[b] >= rank[best]))
+                    continue;
+                const Loop& fb = simple[b];
+                for (std::size_t s = 0; s < 4; ++s) {
+                    int mismatches = 0, x = -1, y = -1;
+                    for (std::size_t k = 0; k < 4; ++k) {
+                        const int rb = fb[(s + 4 - k) % 4].v; // fb reversed, from corner s
+                        if (rb != fa[k].v) ++mismatches, x = fa[k].v, y = rb;
+                    }
+                    if (mismatches != 1) continue;
+                    bool apart = true;
+                    for (const std::size_t f : at[static_cast<std::size_t>(x)])
+                        apart = apart && (f == a || drop[f] || !holds(f, y));
+                    if (apart) best = b, odd_a = x, odd_b = y;
+                    break;
+                }
+            }
+        if (best == simple.size()) continue;
+        int keep = odd_a, gone = odd_b;
+        if (qvertex_less(q, gone, keep)) std::swap(keep, gone);
+        sets.attach(gone, keep);
+        ++report.merged_qvertices;
+        for (const std::size_t f : at[static_cast<std::size_t>(gone)]) {
+            for (Corner& c : simple[f])
+                if (c.v == gone) c.v = keep;
+            at[static_cast<std::size_t>(keep)].push_back(f);
+        }
+        drop[a] = drop[best] = 1;
+        report.ghost_faces_cancelled += 2;
+        explain_near_ghosts(m, q, fa, report);
+    }
+    std::vector<Loop> kept;
+    kept.reserve(simple.size());
+    for (std::size_t i = 0; i < simple.size(); ++i)
+        if (!drop[i]) kept.push_back(std::move(simple[i]));
+    simple.swap(kept);
+}
+
 /// Per class of merged clones (indexed by its representative): the clone the output vertex takes
 /// (`chosen`) and the class's size (`count`). Every clone is an image of the same grid point; the
 /// output takes one clone's position and provenance, so the vertex lies on the input surface
@@ -466,6 +549,7 @@ FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, con
     if (opt.merge_vertices) merge_clones(q, loops, sets, report);
     std::vector<Loop> simple = simplify_faces(m, q, loops, sets, report);
     cancel_ghost_faces(m, q, simple, report);
+    if (opt.merge_vertices) cancel_near_ghosts(m, q, simple, sets, report);
     return write_output(m, q, simple, sets, out, report);
 }
 
