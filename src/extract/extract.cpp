@@ -542,6 +542,13 @@ void add_stage_seconds(const Report& from, Report& to) {
 /// and where, then `how`.
 Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how) {
     Defect d{kind, "", -1, -1, {0, 0}, std::nullopt};
+    if (at_scale_one.check.valid) { // over_covered
+        d.message = "the mesh at the map's own scale is valid, but has " +
+                    std::to_string(at_scale_one.mesh.faces.size()) + " quads for a signed UV area of " +
+                    std::to_string(std::llround(at_scale_one.report.signed_uv_area)) +
+                    " (faces on two sheets of a fold-over cover some cells twice); " + how;
+        return d;
+    }
     std::string what = std::to_string(at_scale_one.check.violations.size()) + " checker violations";
     if (!at_scale_one.report.defects.empty()) {
         const Defect& first = at_scale_one.report.defects.front();
@@ -579,7 +586,15 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
 /// power of two.
 constexpr double kTruncationSpread = 0x1p-40;
 
-/// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid:
+/// Whether a valid mesh has more quads than its map's signed UV area (at its grid scale): some
+/// cells are covered twice.
+bool over_covered(const Result& r) {
+    const double k = r.mesh.grid_scale;
+    return static_cast<double>(r.mesh.faces.size()) > std::llround(r.report.signed_uv_area * k * k);
+}
+
+/// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid
+/// (or valid but over_covered):
 /// the ladder on the map with its UVs divided by 2, 4, ... while that is an integer-grid map, and
 /// the first valid mesh there split back onto the given map. Replaces `result` and returns true
 /// when that mesh passes the checker against the given map.
@@ -700,7 +715,16 @@ Result extract(const Input& input, const Options& options) {
         ~Hook() { StageTimer::hook = nullptr; }
     } hook(options);
     Result result = extract_at_scale(input, options);
-    if (!result.ok() || result.check.valid || !options.fallback_ladder) return result;
+    if (!result.ok() || !options.fallback_ladder) return result;
+    if (result.check.valid) {
+        // More quads than the signed area: faces on two sheets of a fold-over cover some cells
+        // twice. A coarsened map's mesh that has fewer is taken instead.
+        if (options.max_coarsening < 2 || !over_covered(result)) return result;
+        Result coarse = result;
+        if (extract_coarsened(input, options, coarse) && coarse.mesh.faces.size() < result.mesh.faces.size())
+            return coarse;
+        return result;
+    }
     if (options.max_coarsening >= 2 && extract_coarsened(input, options, result)) return result;
     if (options.max_refinement < 2) return result;
     // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
