@@ -13,6 +13,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <random>
 #include <tuple>
 
 namespace qex::testing {
@@ -269,6 +270,45 @@ TEST(RealMaps, SanitizingMovesExactMapsByRoundingOnly) {
             ++seen;
         }
     if (seen == 0) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR;
+}
+
+/// cow_miq_20: a fold winds input vertex 620 twice round a point 0.44 cells from every grid
+/// point, with transitions that do not turn. Read as a branch point and snapped, it moved the
+/// exact map by 0.44 and only the last, uncertified rung gave a mesh; read as the fold it is,
+/// the first (certified) rung gives one at the map's own scale, and the map with its UVs x2
+/// gives one too (it gave none).
+TEST(RealMaps, AFoldThatWindsAVertexTwiceIsNotABranchPoint) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "cow_miq_20_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    for (const int k : {1, 2}) {
+        Input scaled = in;
+        ASSERT_EQ(transforms::scale_uvs(scaled, k), 0);
+        const Result r = extract(scaled);
+        ASSERT_TRUE(r.ok()) << r.error.message;
+        ASSERT_TRUE(r.check.valid) << k << ": " << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+        EXPECT_LE(r.report.max_sanitization_displacement, 1e-9) << k;
+        EXPECT_EQ(r.mesh.grid_scale, 1) << k;
+        if (k == 1) { EXPECT_EQ(r.report.rung, "repaired"); }
+        expect_bare_valid(scaled, r.mesh, path);
+    }
+}
+
+/// beetle_miq_20 with UV noise of 1e-4 cells: like the map without noise, it needs its UVs x8
+/// (holes a fraction of a quad across). Refining multiplies the noise with the map, past the
+/// seam check's bound (0.0011 cells at x8): the refined map is not an input error (its seams
+/// passed at scale 1), and the checker allows the multiplied noise when it locates the mesh.
+TEST(RealMaps, RefinementTakesTheNoiseItMultiplies) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "beetle_miq_20_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    std::mt19937 rng(3);
+    add_noise(in, 1e-4, rng);
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid) << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+    EXPECT_GE(r.mesh.grid_scale, 8);
+    expect_bare_valid(in, r.mesh, path);
 }
 
 /// A paper map with its UVs x k, extracted and judged: valid by both checkers, every fold

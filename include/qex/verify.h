@@ -187,7 +187,10 @@ struct VerifyOptions {
     bool locate = true;
     /// Located mode: a vertex must map within this UV distance (inf-norm) of an integer grid point
     /// (the map is the raw input, with its solver noise; qex's own output is within 1e-6), plus
-    /// what rounding its position may move it in UV (see position_digits).
+    /// what rounding its position may move it in UV (see position_digits); and seams whose UV
+    /// copies no transition relates within it are not crossed. A mesh with QuadMesh::grid_scale
+    /// K is judged against the map times K, whose noise is K times the map's: K times this (at
+    /// most 0.1, or this where larger) then.
     double uv_tolerance = 1e-3;
     /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface,
     /// plus what rounding its position may move it (see position_digits).

@@ -212,8 +212,8 @@ Totals sanitize_fans(TriMesh& m, const Rules& rules) {
             // A fold can wind a fan twice too, with or without a flipped triangle: without given
             // valences, a vertex off every grid point by more than solver noise is read as such a
             // fold, not snapped (a solver puts its branch points on grid points; snapping would
-            // move an exact map by up to half a cell). The repair unfolds it (a regular vertex
-            // that winds more than once seeds a region).
+            // move an exact map by up to half a cell). It stays a regular vertex: the repair
+            // unfolds its flipped triangles, if it has any; the paper's handling takes the rest.
             const bool given = !rules.given_valences.empty();
             const int val = given ? rules.given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
             const bool branch =

@@ -1253,32 +1253,6 @@ void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vecto
         }
 }
 
-/// Adds to `seeds` the fans of the free vertices of `wound` whose triangles are all positive yet
-/// do not wind once round them (a fold without a flipped triangle); a fan with a flipped or
-/// degenerate triangle is a seed already. Returns how many fans it added.
-std::size_t add_wound_fans(const TriMesh& m, const std::vector<char>& pinned, const std::vector<int>& wound,
-                           std::vector<int>& seeds) {
-    std::size_t added = 0;
-    for (const int v : wound) {
-        if (pinned[v]) continue;
-        double angle = 0.0;
-        bool all_positive = true;
-        for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) {
-            all_positive = all_positive && positive(m, TriMesh::face(h));
-            angle += corner_angle(m, h);
-        }
-        if (!all_positive || std::abs(angle - 2.0 * M_PI) < 1.0) continue;
-        for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
-            seeds.push_back(TriMesh::face(h));
-        ++added;
-    }
-    if (added > 0) { // fans share triangles, and a fold's may be seeds already
-        std::sort(seeds.begin(), seeds.end());
-        seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-    }
-    return added;
-}
-
 /// Connected groups (through shared vertices) of the given triangles, for the report.
 std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vector<int>& faces) {
     std::vector<int> parent(faces.size());
@@ -1307,21 +1281,14 @@ std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vecto
 void explain_unrepaired(const TriMesh& m, const std::vector<int>& group, const char* why, Report& report) {
     int first = m.input_triangle[group[0]];
     double area = 0.0;
-    std::size_t bad = 0;
     for (const int f : group) {
         first = std::min(first, m.input_triangle[f]);
         const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
         area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-        bad += !positive(m, f);
     }
-    // A fold with no flipped triangle is a fan that winds twice (add_wound_fans).
-    const std::string what =
-        bad == group.size() ? std::to_string(bad) + " flipped or degenerate triangles"
-        : bad == 0 ? "the " + std::to_string(group.size()) + " triangles of fans that wind twice (none flipped)"
-                   : std::to_string(group.size()) + " triangles (" + std::to_string(bad) +
-                         " flipped or degenerate, the others round fans that wind twice)";
     report.explanations.push_back({DefectKind::FoldOverNotRepaired,
-                                   "a fold-over of " + what + " (UV area " + std::to_string(area) +
+                                   "a fold-over of " + std::to_string(group.size()) +
+                                       " flipped or degenerate triangles (UV area " + std::to_string(area) +
                                        ", from input triangle " + std::to_string(first) +
                                        ") stays as the map gives it: " + why,
                                    first,
@@ -1333,12 +1300,11 @@ void explain_unrepaired(const TriMesh& m, const std::vector<int>& group, const c
 } // namespace
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     const std::vector<int>& wound, Report& report) {
+                     Report& report) {
     RepairOutcome out;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
     bad_triangles(m, pinned, seeds_faces, stuck);
-    add_wound_fans(m, pinned, wound, seeds_faces);
     if (seeds_faces.empty() && stuck.empty()) return out;
     // Co-located dipoles next to the fold-overs are merged first (their vertices become free),
     // in an order that does not depend on the input's; not against the user's valences.
@@ -1357,7 +1323,6 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     if (!merges.empty()) { // merged vertices are free now
         pinned = pinned_vertices(m, feature_edges);
         bad_triangles(m, pinned, seeds_faces, stuck);
-        add_wound_fans(m, pinned, wound, seeds_faces);
     }
     // A merge stands only if every vertex of its path was re-embedded by a certified region.
     std::vector<char> reembedded(static_cast<std::size_t>(m.num_vertices), 0);
@@ -1445,7 +1410,6 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             if (!repaired) restore_region_uvs(m, r, before);
         }
         bad_triangles(m, pinned, seeds_faces, stuck);
-        add_wound_fans(m, pinned, wound, seeds_faces);
     }
     // Undone in reverse order (a later path may run along an earlier one's edges).
     for (std::size_t k = merges.size(); k-- > 0;)

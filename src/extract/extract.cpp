@@ -187,9 +187,10 @@ void report_map(const TriMesh& m, Report& report) {
 }
 
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
-/// triangles whose UVs the repair changed.
+/// triangles whose UVs the repair changed. `seams_checked`: the map is a refinement of one whose
+/// seams passed check_seams (its solver noise is multiplied with it, and is noise still).
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer, std::vector<int>& repaired_faces) {
+                  StageTimer& timer, std::vector<int>& repaired_faces, bool seams_checked = false) {
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
         count_valences(m);
@@ -199,24 +200,19 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
     const SeamPolicy seams = rung.untangle_rings > 0            ? SeamPolicy::Trusted
                              : options.round_inconsistent_seams ? SeamPolicy::Rounded
+                             : seams_checked                    ? SeamPolicy::Trusted
                                                                 : SeamPolicy::Checked;
     if (Error e = sanitize_until_stable(m, input, features, report, timer, kMaxSanitizeRounds, seams);
         e.code != ErrorCode::None)
         return e;
-    // Regular interior vertices that the last round found winding other than once (a fold,
-    // with or without flipped triangles): the repair unfolds their fans too.
-    std::vector<int> wound;
-    for (int v = 0; v < m.num_vertices; ++v)
-        if (!m.map.singular[v] && !m.on_boundary[v] && m.fan_start[v] >= 0 && m.map.winding_valence[v] != 4)
-            wound.push_back(v);
     count_valences(m, true); // on the sanitized map, for lost-edge detection at singularities
     if (!input.valences.empty())
         for (int v = 0; v < m.num_vertices; ++v) m.map.valence[v] = input.valences[m.input_vertex[v]];
     timer.done(Stage::count_valences);
     report_map(m, report);
     timer.done(Stage::sanitize);
-    if (rung.repair && (report.flipped_triangles + report.degenerate_triangles > 0 || !wound.empty())) {
-        RepairOutcome outcome = repair(m, features, !input.valences.empty(), wound, report);
+    if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
+        RepairOutcome outcome = repair(m, features, !input.valences.empty(), report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = outcome.regions_failed;
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
@@ -316,11 +312,13 @@ std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
 
 /// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
 /// input error (in result.error), which no rung can help.
-bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result) {
+bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
+              bool seams_checked) {
     Report& report = result.report;
     StageTimer timer(report);
     std::vector<int> repaired_faces;
-    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces)).code != ErrorCode::None)
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, seams_checked)).code !=
+        ErrorCode::None)
         return false;
     std::vector<std::int32_t> certificate; // the repaired triangles, by input index
     for (const int f : repaired_faces) certificate.push_back(m.input_triangle[f]);
@@ -476,8 +474,8 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
     return {};
 }
 
-/// The whole ladder on `input` at its own scale.
-Result extract_at_scale(const Input& input, const Options& options) {
+/// The whole ladder on `input` at its own scale (`seams_checked`: see prepare_map).
+Result extract_at_scale(const Input& input, const Options& options, bool seams_checked = false) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
@@ -501,7 +499,7 @@ Result extract_at_scale(const Input& input, const Options& options) {
             prepared.report.stage_seconds = std::move(again.stage_seconds);
         }
         Result attempt = start_attempt(prepared.report, r, r - first + 1);
-        if (!run_rung(std::move(m), input, options, kLadder[r], attempt)) return attempt;
+        if (!run_rung(std::move(m), input, options, kLadder[r], attempt, seams_checked)) return attempt;
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
@@ -737,7 +735,9 @@ Result extract(const Input& input, const Options& options) {
         if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
         StageTimer::hook_scale = scale;
-        Result refined = extract_at_scale(scaled, options);
+        // The map at scale 1 passed the seam check (or this would not run): its noise, doubled
+        // with it, can exceed the check's bound and is noise still.
+        Result refined = extract_at_scale(scaled, options, true);
         ++result.report.refinements_tried;
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;

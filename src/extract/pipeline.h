@@ -97,7 +97,8 @@ void compute_transitions(TriMesh& m);
 
 /// How far solver noise and float storage leave a real map from exact (1/1024 of a cell, or a few
 /// ulps of coordinates of this magnitude). The worst of the shared MIQ and paper maps is 9.5e-7
-/// cells; an offset beyond this is not noise. Reads the input; no geometric decision uses it.
+/// cells; an offset beyond this is not noise. It classifies the input (a seam no transition
+/// explains; a vertex that winds twice off every grid point is a fold, not a branch point).
 inline double solver_noise_bound(double magnitude) {
     return std::max(1.0 / 1024, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
 }
@@ -195,7 +196,8 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
 
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.
-/// Branch points (r = 0, valence 8 or more) are snapped only when `branch_points` is set; with
+/// Branch points (r = 0, valence 8 or more; without given valences, only on a grid point up to
+/// solver_noise_bound: elsewhere a fold winds the fan twice) are snapped only when `branch_points` is set; with
 /// it unset they are truncated like regular vertices and counted in `*deferred`. (Their
 /// valence comes from angles, which noise makes meaningless next to an edge that is about to
 /// become degenerate: the caller decides them once such edges are collapsed.)
@@ -241,12 +243,10 @@ int fan_turn(const TriMesh& m, int v);
 /// which are merged first (the transitions of a path between them change; named in
 /// report.explanations, and undone unless their region is re-embedded). A region that does not
 /// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
-/// paper's local handling takes over there (named in report.explanations). `wound`: regular
-/// interior vertices whose fans wind other than once before the repair (sorted); those whose
-/// triangles are all positive seed regions too. Updates MapState::face_sign, and the valences
-/// of singularities it corrects or merges.
+/// paper's local handling takes over there (named in report.explanations). Updates
+/// MapState::face_sign, and the valences of singularities it corrects or merges.
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     const std::vector<int>& wound, Report& report);
+                     Report& report);
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.

@@ -105,12 +105,18 @@ std::vector<double> triangle_stretch(const Input& in) {
     return s;
 }
 
+/// The UV tolerance for noise on a map that is a given map times `noise_scale` (check_located).
+double grid_tolerance(const VerifyOptions& opt, double noise_scale) {
+    return std::min(opt.uv_tolerance * std::max(1.0, noise_scale), std::max(opt.uv_tolerance, 0.1));
+}
+
 /// Vertices: the closest surface point, its UV in that triangle's chart (on an input vertex:
 /// the vertex's UV there), the nearest grid point. A vertex off the surface or off the grid is
 /// reported (and not `ok`). Each vertex's tolerances grow with what rounding its coordinates to
 /// opt.position_digits may move it (VerifyOptions).
 std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh, const VerifyOptions& opt,
-                                     VerifyResult& r, std::vector<Violation>& out) {
+                                     double noise_scale, VerifyResult& r, std::vector<Violation>& out) {
+    const double off_grid_tolerance = grid_tolerance(opt, noise_scale);
     const double diag = map.surface.diagonal(), max_dist = map.surface.max_distance();
     const double rounding = opt.position_digits > 0 ? 0.5 * std::pow(10.0, 1 - opt.position_digits) : 0.0;
     const std::vector<double> stretch = rounding > 0 ? triangle_stretch(map.in) : std::vector<double>{};
@@ -132,7 +138,7 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
             const auto off_grid = [](const std::array<double, 2>& p) {
                 return std::max(std::abs(p[0] - std::nearbyint(p[0])), std::abs(p[1] - std::nearbyint(p[1])));
             };
-            if (!(off_grid(corner) > opt.uv_tolerance && off_grid(hit.uv) <= opt.uv_tolerance)) {
+            if (!(off_grid(corner) > off_grid_tolerance && off_grid(hit.uv) <= off_grid_tolerance)) {
                 loc[v].on_vertex = map.in.triangles[loc[v].triangle][hit.corner];
                 uv = corner;
             }
@@ -167,7 +173,7 @@ std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh
         double magnitude = 0.0;
         for (std::size_t k = 0; k < 3; ++k)
             for (const double c : map.in.uvs[3 * loc[v].triangle + k]) magnitude = std::max(magnitude, std::abs(c));
-        const double uv_tol = opt.uv_tolerance + uv_round + 8 * std::numeric_limits<double>::epsilon() * magnitude;
+        const double uv_tol = off_grid_tolerance + uv_round + 8 * std::numeric_limits<double>::epsilon() * magnitude;
         const double gx = std::nearbyint(uv[0]), gy = std::nearbyint(uv[1]);
         const double off = std::max(std::abs(uv[0] - gx), std::abs(uv[1] - gy));
         // In a fold-over region the map a correct mesh follows may be a repaired one (moved within
@@ -284,7 +290,7 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
 
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
                    std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle,
-                   std::vector<std::int64_t>* closest_triangle) {
+                   std::vector<std::int64_t>* closest_triangle, double noise_scale) {
     if (mesh.positions.empty()) return; // nothing to locate
     const std::unique_ptr<Surface> surface = Surface::build(in, opt.distance_tolerance);
     if (!surface) return;
@@ -293,13 +299,15 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     // The input's half-edges and transitions, its singular vertices, and its fold-overs
     // (triangles flipped or degenerate in UV: there the map is not locally injective, and a path
     // across them does not fix the chart it arrives in).
-    LocatedMap map{in, *surface, input_edges(in, opt.uv_tolerance), {}, {}, {}};
+    // The noise of a refined map is the given map's times the scale: in its seams too.
+    const double seam_tolerance = grid_tolerance(opt, noise_scale);
+    LocatedMap map{in, *surface, input_edges(in, seam_tolerance), {}, {}, {}};
     map.singular = singular_vertices(in, map.edges);
     map.fold_over = fold_overs(in, r);
     // Where a repair may have moved the map: around the fold-overs (VerifyResult::fold_regions).
     map.region_of =
         opt.fold_regions ? fold_regions(in, map.fold_over, r) : std::vector<std::int32_t>(in.triangles.size(), -1);
-    const std::vector<Located> loc = locate_vertices(map, mesh, opt, r, out);
+    const std::vector<Located> loc = locate_vertices(map, mesh, opt, noise_scale, r, out);
     if (located_triangle) {
         located_triangle->assign(loc.size(), -1);
         for (std::size_t v = 0; v < loc.size(); ++v)

@@ -75,9 +75,12 @@ void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs,
 /// checks to `r.undecided`. With `located_triangle`, per output vertex the input triangle it
 /// was located in (-1 where it was not); with `closest_triangle`, the input triangle of its
 /// closest surface point, on the surface or not (-1 for a non-finite position).
+/// `noise_scale`: the map is a given map with its UVs multiplied by this (QuadMesh::grid_scale),
+/// its solver noise too: a vertex may lie that many times opt.uv_tolerance off its grid point
+/// (at most 0.1, or opt.uv_tolerance itself when larger).
 void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& opt, VerifyResult& r,
                    std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr,
-                   std::vector<std::int64_t>* closest_triangle = nullptr);
+                   std::vector<std::int64_t>* closest_triangle = nullptr, double noise_scale = 1.0);
 
 // ============================================================================ places (places.cpp)
 

@@ -186,8 +186,11 @@ void compare_topology(const VerifyResult& r, std::vector<Violation>& out) {
 } // namespace
 } // namespace verify_detail
 
-VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
-    using namespace verify_detail;
+namespace verify_detail {
+namespace {
+
+/// verify(), with the map's solver noise multiplied by `noise_scale` (a refined mesh's map).
+VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOptions& options, double noise_scale) {
     if (mesh.grid_scale != 1) {
         // A refined mesh is judged against the input map with its UVs multiplied by the scale, a
         // power of two, so the product is exact (or overflows to Inf, which the map check rejects).
@@ -202,7 +205,7 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
         for (auto& uv : scaled.uvs) uv = {uv[0] * mesh.grid_scale, uv[1] * mesh.grid_scale};
         QuadMesh at_scale = mesh; // the same mesh, judged at its own scale
         at_scale.grid_scale = 1;
-        return verify(scaled, at_scale, options);
+        return verify_at(scaled, at_scale, options, static_cast<double>(mesh.grid_scale));
     }
     VerifyResult r;
     auto& out = r.violations;
@@ -238,13 +241,20 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     PlaceContext places;
     places.indices_ok = indices_ok;
     if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
-        check_located(input, mesh, options, r, out, &places.located_triangle, &places.closest_triangle);
+        check_located(input, mesh, options, r, out, &places.located_triangle, &places.closest_triangle, noise_scale);
     r.valid = out.empty();
     if (it.ok) {
         places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
         place_violations(input, mesh, places, r);
     }
     return r;
+}
+
+} // namespace
+} // namespace verify_detail
+
+VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
+    return verify_detail::verify_at(input, mesh, options, 1.0);
 }
 
 } // namespace qex
