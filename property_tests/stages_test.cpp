@@ -190,6 +190,15 @@ TEST(MergeVertices, AClockwiseFaceAndItsNearReverseCancelAndTheirOddCornersMerge
         EXPECT_EQ(report.ghost_faces_cancelled, 0);
     }
     {
+        // B clockwise too: two clockwise faces with three corners in common are mirror images
+        // across an edge, their fourth corners two grid points.
+        W mirrored = b;
+        mirrored[1].second = {1, 1}, mirrored[3].second = {2, 0};
+        Report report;
+        EXPECT_EQ(merged_walks({f1, mirrored, a, f3}, 9, report).size(), 4u);
+        EXPECT_EQ(report.ghost_faces_cancelled, 0);
+    }
+    {
         // The clones already share a face: merging them would put a corner twice in it.
         const W joint{{4, {1, 1}}, {9, {2, 1}}, {6, {2, 2}}, {10, {1, 2}}};
         Report report;

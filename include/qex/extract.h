@@ -186,6 +186,10 @@ struct Report {
     std::int64_t faces_traced = 0, boundary_faces_discarded = 0, open_face_walks = 0;
     std::int64_t recovered_edges = 0, merged_qvertices = 0, collapsed_faces = 0;
     std::int64_t ghost_faces_cancelled = 0; ///< faces removed in pairs with their reverse (Figure 2 (c))
+    /// Of those, faces removed in near pairs (a face walked clockwise over a fold and a face with
+    /// its other three corners reversed, their fourth corners merged). A mesh with any must also
+    /// pass the oracle without provenance (as `qex check --param` judges it) to be accepted.
+    std::int64_t near_ghost_faces_cancelled = 0;
     std::int64_t non_quad_faces = 0;
     /// Signed UV area of the map the mesh was extracted from (sanitized and repaired), a double
     /// sum: the expected quad count for fold-over-free closed maps. A repair keeps it.

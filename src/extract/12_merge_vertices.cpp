@@ -364,33 +364,56 @@ void explain_near_ghosts(const TriMesh& m, const QState& q, const Loop& face, Re
 ///    the two cover one cell once each way, as a ghost pair does; their odd corners are clones
 ///    of one grid point that no walk met together (they lie on two sheets). The clones are
 ///    merged and both faces cancelled, unless the clones share a face (the merge would leave a
-///    corner twice in it). Taken in key order (CycleKeys), so the input's order does not matter.
+///    corner twice in it). The partner runs counter-clockwise (two clockwise faces with three
+///    corners in common are mirror images across an edge, their fourth corners two grid
+///    points). A clockwise face may have two partners, and two clockwise faces one: the face
+///    with the fewest partners left is matched first, so that none is left without one where
+///    the matching allows. Ties go by the faces' corners in canonical order (qvertex_less, by
+///    position), so the input's order does not matter.
 void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& simple, UnionFind& sets, Report& report) {
-    const CycleKeys keys(simple);
-    const std::vector<std::size_t> order = keys.sorted();
     std::vector<std::size_t> clockwise;
-    for (const std::size_t i : order)
+    for (std::size_t i = 0; i < simple.size(); ++i)
         if (simple[i].size() == 4 && twice_area(simple[i]) < 0) clockwise.push_back(i);
     if (clockwise.empty()) return;
-    std::vector<std::size_t> rank(simple.size());
-    for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = r;
     std::vector<std::vector<std::size_t>> at(q.qvertices.size()); // the faces at each vertex
     for (std::size_t i = 0; i < simple.size(); ++i)
         for (const Corner& c : simple[i]) at[static_cast<std::size_t>(c.v)].push_back(i);
+    // A face's corners from its canonically smallest, compared corner by corner (qvertex_less).
+    const auto face_less = [&](std::size_t x, std::size_t y) {
+        const Loop &fx = simple[x], &fy = simple[y];
+        if (fx.size() != fy.size()) return fx.size() < fy.size();
+        const auto start = [&](const Loop& l) {
+            std::size_t s0 = 0;
+            for (std::size_t k = 1; k < l.size(); ++k)
+                if (qvertex_less(q, l[k].v, l[s0].v)) s0 = k;
+            return s0;
+        };
+        const std::size_t sx = start(fx), sy = start(fy);
+        for (std::size_t k = 0; k < fx.size(); ++k) {
+            const int u = fx[(sx + k) % fx.size()].v, w = fy[(sy + k) % fy.size()].v;
+            if (u != w) return qvertex_less(q, u, w);
+        }
+        return false;
+    };
+    std::sort(clockwise.begin(), clockwise.end(), face_less);
     std::vector<char> drop(simple.size(), 0);
     const auto holds = [&](std::size_t f, int v) {
         return std::any_of(simple[f].begin(), simple[f].end(), [v](const Corner& c) { return c.v == v; });
     };
-    for (const std::size_t a : clockwise) {
-        if (drop[a]) continue;
+    struct Partner {
+        std::size_t face;
+        int odd_a, odd_b; // the odd corners of the clockwise face and of the partner
+    };
+    // The partners of clockwise face a: each shares three corners, so one of a's first two.
+    const auto partners = [&](std::size_t a, std::vector<Partner>& out) {
+        out.clear();
         const Loop& fa = simple[a];
-        // A near-reverse shares three corners, so one of the first two: the first in key order.
-        std::size_t best = simple.size();
-        int odd_a = -1, odd_b = -1;
         for (int k0 = 0; k0 < 2; ++k0)
             for (const std::size_t b : at[static_cast<std::size_t>(fa[static_cast<std::size_t>(k0)].v)]) {
-                if (b == a || drop[b] || simple[b].size() != 4 || (best < simple.size() && rank[b] >= rank[best]))
-                    continue;
+                // The partner runs counter-clockwise: two clockwise faces with three corners in
+                // common are mirror images across an edge, their fourth corners two grid points.
+                if (b == a || drop[b] || simple[b].size() != 4 || twice_area(simple[b]) <= 0) continue;
+                if (std::any_of(out.begin(), out.end(), [b](const Partner& p) { return p.face == b; })) continue;
                 const Loop& fb = simple[b];
                 for (std::size_t s = 0; s < 4; ++s) {
                     int mismatches = 0, x = -1, y = -1;
@@ -402,12 +425,37 @@ void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& si
                     bool apart = true;
                     for (const std::size_t f : at[static_cast<std::size_t>(x)])
                         apart = apart && (f == a || drop[f] || !holds(f, y));
-                    if (apart) best = b, odd_a = x, odd_b = y;
+                    if (apart) out.push_back({b, x, y});
                     break;
                 }
             }
-        if (best == simple.size()) continue;
-        int keep = odd_a, gone = odd_b;
+    };
+    // Fewest partners first costs a pass over the clockwise faces per match: beyond this many,
+    // they are taken in canonical order only.
+    constexpr std::size_t kMatchedByCount = 256;
+    const bool by_count = clockwise.size() <= kMatchedByCount;
+    std::vector<Partner> options, best_options;
+    for (std::size_t next = 0;;) {
+        std::size_t a = simple.size();
+        if (by_count) {
+            std::size_t fewest = SIZE_MAX;
+            for (const std::size_t c : clockwise) {
+                if (drop[c]) continue;
+                partners(c, options);
+                if (!options.empty() && options.size() < fewest) fewest = options.size(), a = c, best_options = options;
+            }
+        } else {
+            for (; next < clockwise.size() && a == simple.size(); ++next) {
+                if (drop[clockwise[next]]) continue;
+                partners(clockwise[next], best_options);
+                if (!best_options.empty()) a = clockwise[next];
+            }
+        }
+        if (a == simple.size()) break;
+        const Partner p =
+            *std::min_element(best_options.begin(), best_options.end(),
+                              [&](const Partner& x, const Partner& y) { return face_less(x.face, y.face); });
+        int keep = p.odd_a, gone = p.odd_b;
         if (qvertex_less(q, gone, keep)) std::swap(keep, gone);
         sets.attach(gone, keep);
         ++report.merged_qvertices;
@@ -416,9 +464,10 @@ void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& si
                 if (c.v == gone) c.v = keep;
             at[static_cast<std::size_t>(keep)].push_back(f);
         }
-        drop[a] = drop[best] = 1;
+        drop[a] = drop[p.face] = 1;
         report.ghost_faces_cancelled += 2;
-        explain_near_ghosts(m, q, fa, report);
+        report.near_ghost_faces_cancelled += 2;
+        explain_near_ghosts(m, q, simple[a], report);
     }
     std::vector<Loop> kept;
     kept.reserve(simple.size());

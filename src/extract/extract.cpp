@@ -198,10 +198,9 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         timer.done(Stage::untangle);
     }
     const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
-    const SeamPolicy seams = rung.untangle_rings > 0            ? SeamPolicy::Trusted
-                             : options.round_inconsistent_seams ? SeamPolicy::Rounded
-                             : seams_checked                    ? SeamPolicy::Trusted
-                                                                : SeamPolicy::Checked;
+    const SeamPolicy seams = rung.untangle_rings > 0 || seams_checked ? SeamPolicy::Trusted
+                             : options.round_inconsistent_seams       ? SeamPolicy::Rounded
+                                                                      : SeamPolicy::Checked;
     if (Error e = sanitize_until_stable(m, input, features, report, timer, kMaxSanitizeRounds, seams);
         e.code != ErrorCode::None)
         return e;
@@ -445,6 +444,15 @@ void judge(const Input& input, const Options& options, const Rung& rung,
             attempt.check.violations.push_back(
                 {v.kind, v.message + " (against the given map; this rung relaxed it)", v.element});
         attempt.check.valid = attempt.check.violations.empty();
+    } else if (attempt.check.valid && attempt.report.near_ghost_faces_cancelled > 0) {
+        // Merged clones of two sheets take one clone's place: the faces round it must still join
+        // neighbouring grid points on the given map, as `qex check --param` judges (fold-over
+        // regions on the surface only).
+        for (const Violation& v : located_violations(input, attempt.mesh, verify_options, true))
+            attempt.check.violations.push_back(
+                {v.kind, v.message + " (against the given map, without provenance; clones of two sheets were merged)",
+                 v.element});
+        attempt.check.valid = attempt.check.violations.empty();
     }
     attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
     timer.done(Stage::check);
@@ -541,10 +549,12 @@ void add_stage_seconds(const Report& from, Report& to) {
 Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how) {
     Defect d{kind, "", -1, -1, {0, 0}, std::nullopt};
     if (at_scale_one.check.valid) { // over_covered
-        d.message = "the mesh at the map's own scale is valid, but has " +
+        d.message = "the mesh at the map's own scale is valid but has " +
                     std::to_string(at_scale_one.mesh.faces.size()) + " quads for a signed UV area of " +
                     std::to_string(std::llround(at_scale_one.report.signed_uv_area)) +
-                    " (faces on two sheets of a fold-over cover some cells twice); " + how;
+                    " (faces on two sheets of a fold-over cover some cells twice); this mesh is closer to the "
+                    "area: " +
+                    how;
         return d;
     }
     std::string what = std::to_string(at_scale_one.check.violations.size()) + " checker violations";
@@ -584,11 +594,9 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
 /// power of two.
 constexpr double kTruncationSpread = 0x1p-40;
 
-/// Whether a valid mesh has more quads than its map's signed UV area (at its grid scale): some
-/// cells are covered twice.
+/// Whether a valid mesh at the map's own scale has more quads than the map's signed UV area.
 bool over_covered(const Result& r) {
-    const double k = r.mesh.grid_scale;
-    return static_cast<double>(r.mesh.faces.size()) > std::llround(r.report.signed_uv_area * k * k);
+    return static_cast<double>(r.mesh.faces.size()) > static_cast<double>(std::llround(r.report.signed_uv_area));
 }
 
 /// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid
@@ -716,12 +724,14 @@ Result extract(const Input& input, const Options& options) {
     if (!result.ok() || !options.fallback_ladder) return result;
     if (result.check.valid) {
         // More quads than the signed area: faces on two sheets of a fold-over cover some cells
-        // twice. A coarsened map's mesh that has fewer is taken instead.
+        // twice (a pleat the checker, judging fold-over regions on the surface, lets pass). The
+        // coarsened map's mesh is taken instead if its count is closer to the area.
         if (options.max_coarsening < 2 || !over_covered(result)) return result;
         Result coarse = result;
-        if (extract_coarsened(input, options, coarse) && coarse.mesh.faces.size() < result.mesh.faces.size())
-            return coarse;
-        return result;
+        if (!extract_coarsened(input, options, coarse)) return result;
+        const double area = result.report.signed_uv_area;
+        const auto off = [area](const Result& r) { return std::abs(static_cast<double>(r.mesh.faces.size()) - area); };
+        return off(coarse) < off(result) ? coarse : result;
     }
     if (options.max_coarsening >= 2 && extract_coarsened(input, options, result)) return result;
     if (options.max_refinement < 2) return result;
@@ -748,6 +758,10 @@ Result extract(const Input& input, const Options& options) {
             refined.report.stage_seconds = std::move(result.report.stage_seconds);
             refined.report.explanations.insert(refined.report.explanations.begin(),
                                                refinement_explanation(result, scale));
+            // Seams rounded at scale 1 (Options::round_inconsistent_seams) are the refined map's
+            // too, rounded there without a check: their explanations carry over.
+            for (const Defect& d : result.report.explanations)
+                if (d.kind == DefectKind::SeamRounded) refined.report.explanations.push_back(d);
             return refined;
         }
     }

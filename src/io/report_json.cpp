@@ -112,6 +112,7 @@ nlohmann::json report_object(const Report& r) {
                   {"merged_qvertices", r.merged_qvertices},
                   {"collapsed", r.collapsed_faces},
                   {"ghosts_cancelled", r.ghost_faces_cancelled},
+                  {"near_ghosts_cancelled", r.near_ghost_faces_cancelled},
                   {"non_quad", r.non_quad_faces}};
     j["fallback"] = {{"rung", r.rung},
                      {"rungs_tried", r.rungs_tried},
