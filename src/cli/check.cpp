@@ -132,7 +132,8 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
         ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
     check
         ->add_option("--uv-tolerance", a.options.uv_tolerance,
-                     "largest UV distance of a vertex to its grid point (default 1e-3)")
+                     "largest UV distance of a vertex to its grid point (default 1e-3; K times it, at most 0.1, "
+                     "with --grid-scale K)")
         ->check(CLI::NonNegativeNumber);
     check
         ->add_option("--distance-tolerance", a.options.distance_tolerance,
