@@ -279,6 +279,15 @@ private:
     std::vector<std::size_t> first_{0};
 };
 
+/// Removes the faces marked in `drop`, keeping the others' order.
+void erase_dropped(std::vector<Loop>& simple, const std::vector<char>& drop) {
+    std::vector<Loop> kept;
+    kept.reserve(simple.size());
+    for (std::size_t i = 0; i < simple.size(); ++i)
+        if (!drop[i]) kept.push_back(std::move(simple[i]));
+    simple.swap(kept);
+}
+
 /// The explanation of a face and its reverse cancelled, near the first corner of `face`.
 void explain_ghosts(const TriMesh& m, const QState& q, const Loop& face, Report& report) {
     const QVertex& v = q.qvertices[face[0].v];
@@ -337,11 +346,7 @@ void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& si
         report.ghost_faces_cancelled += 2;
         explain_ghosts(m, q, simple[i], report);
     }
-    std::vector<Loop> kept;
-    kept.reserve(simple.size());
-    for (std::size_t i = 0; i < simple.size(); ++i)
-        if (!drop[i]) kept.push_back(std::move(simple[i]));
-    simple.swap(kept);
+    erase_dropped(simple, drop);
 }
 
 /// The explanation of a clockwise face and a near-reverse cancelled, their odd corners merged.
@@ -469,11 +474,7 @@ void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& si
         report.near_ghost_faces_cancelled += 2;
         explain_near_ghosts(m, q, simple[a], report);
     }
-    std::vector<Loop> kept;
-    kept.reserve(simple.size());
-    for (std::size_t i = 0; i < simple.size(); ++i)
-        if (!drop[i]) kept.push_back(std::move(simple[i]));
-    simple.swap(kept);
+    erase_dropped(simple, drop);
 }
 
 /// Per class of merged clones (indexed by its representative): the clone the output vertex takes
