@@ -227,11 +227,6 @@ Provenance located(const Input& input, const TriMesh& g, int found, const IPoint
     return np;
 }
 
-/// Squared distance between two points.
-double distance2(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-}
-
 /// The 3D position of a provenance from located(): the input vertex's own position on a corner,
 /// else the barycentric combination of its triangle's corners.
 std::array<double, 3> position_of(const Input& input, const Provenance& p) {
@@ -473,14 +468,8 @@ bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>
         const std::array<int, 4>& c = frame.corners;
         // A free preimage is taken only near the cell: within twice its corners' spread of
         // their mean (a grid point found round a singularity can lie across the surface).
-        std::array<double, 3> mean{0, 0, 0};
-        for (const int v : c)
-            for (std::size_t d = 0; d < 3; ++d) mean[d] += out.positions[static_cast<std::size_t>(v)][d] / 4;
-        double reach = 0.0;
-        for (const int v : c) reach = std::max(reach, distance2(out.positions[static_cast<std::size_t>(v)], mean));
-        const auto usable = [&](const std::array<double, 3>& x) {
-            return !placed.count(x) && distance2(x, mean) <= 4 * reach;
-        };
+        const Neighbourhood cell(out.positions, c);
+        const auto usable = [&](const std::array<double, 3>& x) { return !placed.count(x) && cell.near(x); };
         auto place = [&](int i, int j) -> int {
             const IPoint q = frame.point(i, j);
             // A preimage of q inside the cell where no vertex lies yet (a fold-over can give the

@@ -190,12 +190,6 @@ Defect explain(EdgeKey key, int sides, const std::vector<std::pair<int, int>>& s
             std::nullopt};
 }
 
-double squared_distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    double d = 0.0;
-    for (std::size_t k = 0; k < 3; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
-    return d;
-}
-
 /// Each vertex of every group (a vertex split, then its copies: one grid point) moved onto the
 /// preimage of its grid point in the mesh's map nearest the mean of the vertices round its fan
 /// (those of its group left out): one no other vertex of its group took, if there is one within
@@ -224,19 +218,13 @@ bool place_on_own_sheets(const Input& input, const std::vector<std::vector<int>>
         for (const int v : groups[g]) {
             const auto vi = static_cast<std::size_t>(v);
             if (candidates.empty() || round[vi].empty()) continue;
-            std::array<double, 3> mean{0, 0, 0};
-            for (const int u : round[vi])
-                for (std::size_t d = 0; d < 3; ++d)
-                    mean[d] += mesh.positions[static_cast<std::size_t>(u)][d] / static_cast<double>(round[vi].size());
-            double reach = 0.0;
-            for (const int u : round[vi])
-                reach = std::max(reach, squared_distance(mesh.positions[static_cast<std::size_t>(u)], mean));
+            const Neighbourhood around(mesh.positions, round[vi]);
             std::size_t nearest = 0, nearest_free = candidates.size();
             for (std::size_t c = 0; c < candidates.size(); ++c) {
-                const double d = squared_distance(candidates[c].second, mean);
-                if (d < squared_distance(candidates[nearest].second, mean)) nearest = c;
-                if (!taken[c] && d <= 4 * reach &&
-                    (nearest_free == candidates.size() || d < squared_distance(candidates[nearest_free].second, mean)))
+                const double d = around.distance2(candidates[c].second);
+                if (d < around.distance2(candidates[nearest].second)) nearest = c;
+                if (!taken[c] && around.near(candidates[c].second) &&
+                    (nearest_free == candidates.size() || d < around.distance2(candidates[nearest_free].second)))
                     nearest_free = c;
             }
             const std::size_t best = nearest_free < candidates.size() ? nearest_free : nearest;

@@ -13,6 +13,7 @@
 #include <array>
 #include <chrono>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <cstdint>
 #include <memory>
@@ -141,6 +142,27 @@ std::int64_t untangle(TriMesh& m, int rings, int iterations);
 /// by a breadth-first search from its provenance triangle, and sets its provenance and the
 /// mesh's map to that map. Returns the number of vertices it could not place.
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+
+/// Where some vertices lie in space: the mean of their positions and the largest squared distance
+/// of one from it. A point within twice that distance of the mean is near them (the split and
+/// separate_sheets take a free preimage only there).
+struct Neighbourhood {
+    std::array<double, 3> mean{0, 0, 0};
+    double reach2 = 0.0;
+    template <class Indices>
+    Neighbourhood(const std::vector<std::array<double, 3>>& positions, const Indices& vertices) {
+        const auto n = static_cast<double>(std::size(vertices));
+        for (const int v : vertices)
+            for (std::size_t d = 0; d < 3; ++d) mean[d] += positions[static_cast<std::size_t>(v)][d] / n;
+        for (const int v : vertices) reach2 = std::max(reach2, distance2(positions[static_cast<std::size_t>(v)]));
+    }
+    double distance2(const std::array<double, 3>& x) const {
+        double d = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) d += (x[k] - mean[k]) * (x[k] - mean[k]);
+        return d;
+    }
+    bool near(const std::array<double, 3>& x) const { return distance2(x) <= 4 * reach2; }
+};
 
 /// Per point (a provenance: a grid point in the chart of its triangle), the preimages of its grid
 /// point in `map` (per input corner) that a breadth-first search from its triangle finds, as
