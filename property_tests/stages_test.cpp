@@ -350,6 +350,57 @@ TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
     }
 }
 
+TEST(Transitions, EdgesShorterThanTheirNoiseTakeTheRotationTheirCopiesPositionsAdmit) {
+    // A cube corner s (valence 3) and a seam s-a leaving it. Both triangles on the seam get a
+    // vertex joined to s by a collapsed edge, and the map is subdivided 1-to-4: the midpoint of
+    // s-a then has a collapsed edge on each side of the seam, off the grid, at points no quarter
+    // turn about a grid point or a cell centre fixes. Every corner is then perturbed by
+    // independent noise far below the seam check's bound, so the short edges' copies point any
+    // way and the midpoint's fan crosses two of them: only the copies' positions tell their
+    // rotations. Every seed must pass the seam check and give the noiseless map's quads.
+    Input base = make_map(cube_layout(), 3, 4); // layout vertices on grid points, others at multiples of 3/4
+    const auto is_corner = [&](int v) {
+        const auto& p = base.positions[static_cast<std::size_t>(v)];
+        return (p[0] == 0 || p[0] == 1) && (p[1] == 0 || p[1] == 1) && (p[2] == 0 || p[2] == 1);
+    };
+    // Two triangles at s sharing the edge s-a with different UV copies of a.
+    std::array<std::size_t, 2> on_seam{};
+    std::array<int, 2> at_s{};
+    bool found = false;
+    for (std::size_t f = 0; f < base.triangles.size() && !found; ++f)
+        for (int k = 0; k < 3 && !found; ++k) {
+            const int s_vertex = base.triangles[f][k], a = base.triangles[f][(k + 1) % 3];
+            if (!is_corner(s_vertex)) continue;
+            for (std::size_t g = 0; g < base.triangles.size() && !found; ++g)
+                for (int j = 0; j < 3 && !found; ++j)
+                    if (base.triangles[g][j] == a && base.triangles[g][(j + 1) % 3] == s_vertex &&
+                        base.uvs[3 * g + j] != base.uvs[3 * f + (k + 1) % 3]) {
+                        on_seam = {f, g}, at_s = {k, (j + 1) % 3};
+                        found = true;
+                    }
+        }
+    ASSERT_TRUE(found);
+    insert_collapsed_edge(base, static_cast<int>(on_seam[0]), at_s[0]);
+    insert_collapsed_edge(base, static_cast<int>(on_seam[1]), at_s[1]);
+    const Input fine = subdivide(base);
+    const auto quads = static_cast<std::int64_t>(extract_valid(fine).mesh.faces.size());
+    for (std::uint32_t seed = 1; seed <= 16; ++seed) {
+        Input in = fine;
+        std::mt19937 rng(seed);
+        add_noise(in, 1e-6, rng);
+        detail::TriMesh m = detail::make_mesh(in);
+        ASSERT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+        detail::compute_transitions(m);
+        Report rep;
+        const Error seams = detail::check_seams(m, detail::SeamPolicy::Checked, rep);
+        EXPECT_EQ(seams.code, ErrorCode::None) << "seed " << seed << ": " << seams.message;
+        const Result r = extract(in);
+        ASSERT_TRUE(r.ok()) << "seed " << seed << ": " << r.error.message;
+        EXPECT_TRUE(r.check.valid) << "seed " << seed;
+        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), quads) << "seed " << seed;
+    }
+}
+
 // ---------------------------------------------------------------------------- coarsening
 
 Input times(Input in, std::int64_t k) {

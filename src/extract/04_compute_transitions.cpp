@@ -1,5 +1,7 @@
 // Transition functions between adjacent charts (Section 3.1): the rotation that best maps one
 // chart's copy of the shared edge onto the other's, then the rounded integer translation.
+// Where exactly one rotation relates the copies' positions by a grid transition up to solver
+// noise, that rotation is taken whatever the edge's direction says.
 //
 // An edge whose two copies differ by about as much as the edge is long (solver noise on an edge
 // that is nearly degenerate in the parameter domain) does not determine its rotation. Such an
@@ -86,6 +88,37 @@ int nearest_rotation(const Point2& e, const Point2& e2) {
     return best;
 }
 
+/// How far the transition of rotation r (with its rounded translation) leaves half-edge h's
+/// copies of the edge from the opposite copies: the seam check's measure.
+double seam_offset(const TriMesh& m, int h, int r) {
+    const int o = m.opp[h];
+    const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
+    const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
+    const Point2 ra = GridAutomorphism::rotate(a, r), rb = GridAutomorphism::rotate(b, r);
+    const double tx = std::round(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0])));
+    const double ty = std::round(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1])));
+    return std::max(norm_inf({ra[0] + tx - a2[0], ra[1] + ty - a2[1]}),
+                    norm_inf({rb[0] + tx - b2[0], rb[1] + ty - b2[1]}));
+}
+
+/// The one rotation under which half-edge h's copies are related by a grid transition up to
+/// solver noise (solver_noise_bound, as the seam check), or -1 when none is or several are:
+/// copies on points that quarter turns about grid points or cell centres fix, such as a
+/// collapsed edge at a singularity.
+int rotation_by_position(const TriMesh& m, int h) {
+    const int o = m.opp[h];
+    const double magnitude = std::max(
+        {norm_inf(m.uv[h]), norm_inf(m.uv[TriMesh::next(h)]), norm_inf(m.uv[o]), norm_inf(m.uv[TriMesh::next(o)])});
+    const double bound = solver_noise_bound(magnitude);
+    int found = -1;
+    for (int r = 0; r < 4; ++r) {
+        if (!(seam_offset(m, h, r) <= bound)) continue;
+        if (found >= 0) return -1;
+        found = r;
+    }
+    return found;
+}
+
 /// What the first pass lists, each in index order: undetermined edges, and short edges with
 /// their lengths.
 struct Listed {
@@ -118,10 +151,19 @@ void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std:
         determined[h] = determined[o] = 0;
         return;
     }
-    // Seen from the edge's canonical half-edge: a tie (the copies 45 degrees apart) resolves to
-    // the first rotation from that side, whatever the input's numbering.
+    // Seen from the edge's canonical half-edge, so that neither the input's numbering nor float
+    // rounding on the two sides decides. Where the copies' positions admit one rotation only,
+    // it is the transition's, however short the edge: noise on an edge shorter than itself (a
+    // collapsed triangle subdivided, then perturbed) can point its copies any way.
+    const int canonical = canonical_half_edge(m, h);
+    if (const int by_position = rotation_by_position(m, canonical); by_position >= 0) {
+        set_transition(m, canonical, by_position);
+        return;
+    }
+    // Else the nearest direction. A tie (the copies 45 degrees apart) resolves to the first
+    // rotation from the canonical side.
     int best = 0;
-    if (canonical_half_edge(m, h) == h) {
+    if (canonical == h) {
         best = nearest_rotation(e, e2);
         set_transition(m, h, best);
     } else {
