@@ -139,6 +139,47 @@ TEST(RealMaps, ShuffledPaperMapsGiveTheIdenticalMesh) {
     }
 }
 
+// Refining multiplies the map by a power of two, which leaves the repair's problem as it was: the
+// refined attempt takes the repair of the map's own scale, times the factor, bit for bit (and
+// with it the repair's report), instead of repairing again.
+TEST(RealMaps, ARefinedMapTakesTheRepairOfItsOwnScale) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "kitten_miq_10_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    Options repaired_only;
+    repaired_only.fallback_ladder = false; // the first rung at the map's own scale
+    const Result at_one = extract(in, repaired_only);
+    ASSERT_TRUE(at_one.ok());
+    ASSERT_EQ(at_one.report.rung, "repaired");
+    ASSERT_GT(at_one.report.repaired_triangles, 0);
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(r.check.valid);
+    ASSERT_EQ(r.mesh.grid_scale, 2);
+    EXPECT_EQ(r.report.rung, "repaired");
+    EXPECT_EQ(r.mesh.map_repaired, at_one.mesh.map_repaired);
+    ASSERT_EQ(r.mesh.map_uvs.size(), at_one.mesh.map_uvs.size());
+    std::size_t differ = 0;
+    for (std::size_t c = 0; c < r.mesh.map_uvs.size(); ++c)
+        for (int d = 0; d < 2; ++d) {
+            const double once = at_one.mesh.map_uvs[c][d], twice = r.mesh.map_uvs[c][d];
+            differ += !(twice == 2 * once || (std::isnan(twice) && std::isnan(once)));
+        }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_EQ(r.report.repaired_regions, at_one.report.repaired_regions);
+    EXPECT_EQ(r.report.unrepaired_regions, at_one.report.unrepaired_regions);
+    // The fold-overs left are named alike, where and why (their UV areas are the refined map's).
+    const auto unrepaired = [](const Report& rep) {
+        std::vector<std::pair<std::int64_t, std::string>> out;
+        for (const Defect& d : rep.explanations)
+            if (d.kind == DefectKind::FoldOverNotRepaired)
+                out.push_back({d.input_element, d.message.substr(d.message.find(") stays"))});
+        return out;
+    };
+    EXPECT_FALSE(unrepaired(at_one.report).empty());
+    EXPECT_EQ(unrepaired(r.report), unrepaired(at_one.report));
+}
+
 // A map too coarse for its surface (kitten_miq_10: its handle is about a quad around, and at
 // its own scale the mesh loses it) is extracted refined: valid against the map scaled by 2, said
 // so in the report, and rejected at its own scale.

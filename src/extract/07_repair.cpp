@@ -1277,27 +1277,29 @@ std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vecto
     return groups;
 }
 
-/// Names a fold-over that stays in the map, with why.
-void explain_unrepaired(const TriMesh& m, const std::vector<int>& group, const char* why, Report& report) {
-    int first = m.input_triangle[group[0]];
-    double area = 0.0;
-    for (const int f : group) {
-        first = std::min(first, m.input_triangle[f]);
-        const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
-        area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-    }
-    report.explanations.push_back({DefectKind::FoldOverNotRepaired,
-                                   "a fold-over of " + std::to_string(group.size()) +
-                                       " flipped or degenerate triangles (UV area " + std::to_string(area) +
-                                       ", from input triangle " + std::to_string(first) +
-                                       ") stays as the map gives it: " + why,
-                                   first,
-                                   -1,
-                                   {0, 0},
-                                   std::nullopt});
-}
-
 } // namespace
+
+void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
+    for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
+        if (u.triangles.empty()) continue;
+        int first = m.input_triangle[u.triangles[0]];
+        double area = 0.0;
+        for (const int f : u.triangles) {
+            first = std::min(first, m.input_triangle[f]);
+            const Vec2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+            area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        }
+        report.explanations.push_back({DefectKind::FoldOverNotRepaired,
+                                       "a fold-over of " + std::to_string(u.triangles.size()) +
+                                           " flipped or degenerate triangles (UV area " + std::to_string(area) +
+                                           ", from input triangle " + std::to_string(first) +
+                                           ") stays as the map gives it: " + u.why,
+                                       first,
+                                       -1,
+                                       {0, 0},
+                                       std::nullopt});
+    }
+}
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
                      Report& report) {
@@ -1437,11 +1439,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
     }
     out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, out.repaired_faces).size());
-    for (const auto& group : triangle_groups(m, stuck)) {
-        explain_unrepaired(m, group, "all its corners are singular, boundary or feature vertices, which stay fixed",
-                           report);
-        ++out.regions_failed;
-    }
+    for (auto& group : triangle_groups(m, stuck))
+        out.unrepaired.push_back(
+            {std::move(group), "all its corners are singular, boundary or feature vertices, which stay fixed"});
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         // The latest attempt at a region that held one of its vertices (the largest radius).
         int last = -1, proof = -1;
@@ -1452,9 +1452,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             "vertex, a singularity's valence round it) was found: " +
             (last >= 0 ? failures[static_cast<std::size_t>(last)].text() : std::string("no region held it"));
         if (proof >= 0 && proof != last) why += "; and before, " + failures[static_cast<std::size_t>(proof)].text();
-        explain_unrepaired(m, group, why.c_str(), report);
-        ++out.regions_failed;
+        out.unrepaired.push_back({group, std::move(why)});
     }
+    out.regions_failed = static_cast<std::int64_t>(out.unrepaired.size());
     return out;
 }
 

@@ -186,11 +186,118 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
+/// The sanitized map before stage repair and after it, with what the repair reported: kept from
+/// the map at its own scale for its refinements. Refining multiplies the UVs by a power of two,
+/// exactly, and leaves the repair's problem as it was (the same triangles, rims and
+/// singularities), so the repair is not run again where the refined map's sanitized state is
+/// exactly the kept one times the factor.
+struct RepairMemo {
+    bool filled = false;
+    // Before the repair: connectivity, UVs and map state.
+    std::vector<std::array<int, 3>> tri;
+    std::vector<int> input_triangle;
+    std::vector<Point2> sanitized;
+    std::vector<GridAutomorphism> transitions;
+    std::vector<char> singular;
+    std::vector<int> valence, winding_valence;
+    // After it.
+    std::vector<Point2> repaired;
+    std::vector<GridAutomorphism> repaired_transitions;
+    std::vector<char> repaired_singular;
+    std::vector<int> repaired_valence, repaired_winding_valence;
+    RepairOutcome outcome;
+    std::vector<Defect> explanations; ///< the ones the repair added (merged singularities)
+};
+
+/// One attempt at the ladder: the map's own scale, or a refinement of it.
+struct Scale {
+    /// The UVs times this power of two (1: the map as given).
+    std::int64_t factor = 1;
+    /// The map at its own scale passed check_seams: its solver noise, multiplied with it, can
+    /// exceed the check's bound and is noise still, so a refinement's seams are trusted.
+    bool seams_checked = false;
+    /// Factor 1: filled by the repair, if one runs. Larger: the repair it holds is taken, times
+    /// the factor, where it applies (RepairMemo).
+    RepairMemo* memo = nullptr;
+};
+
+/// The transitions of every half-edge of m.
+std::vector<GridAutomorphism> all_transitions(const TriMesh& m) {
+    std::vector<GridAutomorphism> out(m.map.transition.size());
+    for (std::size_t h = 0; h < out.size(); ++h) out[h] = m.map.transition[h];
+    return out;
+}
+
+/// A UV of the map at its own scale, `factor` times (exact for a power of two; NaN stays NaN).
+Point2 times(const Point2& u, std::int64_t factor) {
+    const auto k = static_cast<double>(factor);
+    return {k * u[0], k * u[1]};
+}
+
+/// A transition of the map at its own scale, in the map `factor` times it.
+GridAutomorphism times(const GridAutomorphism& g, std::int64_t factor) { return {g.r, factor * g.tx, factor * g.ty}; }
+
+/// Whether m's sanitized state is exactly the memo's times `factor`.
+bool memo_applies(const TriMesh& m, const RepairMemo& memo, std::int64_t factor) {
+    if (!memo.filled || m.tri != memo.tri || m.input_triangle != memo.input_triangle ||
+        m.uv.size() != memo.sanitized.size() || m.map.singular != memo.singular || m.map.valence != memo.valence ||
+        m.map.winding_valence != memo.winding_valence || m.map.transition.size() != memo.transitions.size())
+        return false;
+    for (std::size_t c = 0; c < m.uv.size(); ++c) {
+        const Point2 u = times(memo.sanitized[c], factor);
+        for (int d = 0; d < 2; ++d)
+            if (m.uv[c][d] != u[d] && !(std::isnan(m.uv[c][d]) && std::isnan(u[d]))) return false;
+    }
+    for (std::size_t h = 0; h < memo.transitions.size(); ++h)
+        if (!(m.map.transition[h] == times(memo.transitions[h], factor))) return false;
+    return true;
+}
+
+/// Stage repair on the sanitized map m, or its result at the map's own scale taken from
+/// `scale.memo` (see RepairMemo), which the repair at that scale fills.
+RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
+                              const Scale& scale, Report& report) {
+    RepairMemo* memo = scale.memo;
+    if (memo && scale.factor > 1 && memo_applies(m, *memo, scale.factor)) {
+        for (std::size_t c = 0; c < m.uv.size(); ++c) m.uv[c] = times(memo->repaired[c], scale.factor);
+        for (std::size_t h = 0; h < memo->repaired_transitions.size(); ++h)
+            m.map.transition.set(h, times(memo->repaired_transitions[h], scale.factor));
+        m.map.singular = memo->repaired_singular;
+        m.map.valence = memo->repaired_valence;
+        m.map.winding_valence = memo->repaired_winding_valence;
+        for (int f = 0; f < m.num_faces(); ++f)
+            m.map.face_sign[f] =
+                static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+        report.explanations.insert(report.explanations.end(), memo->explanations.begin(), memo->explanations.end());
+        return memo->outcome;
+    }
+    if (!memo || scale.factor != 1) return repair(m, features, valences_given, report);
+    *memo = RepairMemo{};
+    memo->tri = m.tri;
+    memo->input_triangle = m.input_triangle;
+    memo->sanitized = m.uv;
+    memo->transitions = all_transitions(m);
+    memo->singular = m.map.singular;
+    memo->valence = m.map.valence;
+    memo->winding_valence = m.map.winding_valence;
+    const std::size_t explained = report.explanations.size();
+    RepairOutcome outcome = repair(m, features, valences_given, report);
+    memo->repaired = m.uv;
+    memo->repaired_transitions = all_transitions(m);
+    memo->repaired_singular = m.map.singular;
+    memo->repaired_valence = m.map.valence;
+    memo->repaired_winding_valence = m.map.winding_valence;
+    memo->outcome = outcome;
+    memo->explanations.assign(report.explanations.begin() + static_cast<std::ptrdiff_t>(explained),
+                              report.explanations.end());
+    memo->filled = true;
+    return outcome;
+}
+
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
-/// triangles whose UVs the repair changed. `seams_checked`: the map is a refinement of one whose
-/// seams passed check_seams (its solver noise is multiplied with it, and is noise still).
+/// triangles whose UVs the repair changed.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer, std::vector<int>& repaired_faces, bool seams_checked = false) {
+                  StageTimer& timer, std::vector<int>& repaired_faces, const Scale& scale = {}) {
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
         count_valences(m);
@@ -198,9 +305,9 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         timer.done(Stage::untangle);
     }
     const std::vector<std::array<int, 2>> features = feature_edges(m, input, options);
-    const SeamPolicy seams = rung.untangle_rings > 0 || seams_checked ? SeamPolicy::Trusted
-                             : options.round_inconsistent_seams       ? SeamPolicy::Rounded
-                                                                      : SeamPolicy::Checked;
+    const SeamPolicy seams = rung.untangle_rings > 0 || scale.seams_checked ? SeamPolicy::Trusted
+                             : options.round_inconsistent_seams             ? SeamPolicy::Rounded
+                                                                            : SeamPolicy::Checked;
     if (Error e = sanitize_until_stable(m, input, features, report, timer, kMaxSanitizeRounds, seams);
         e.code != ErrorCode::None)
         return e;
@@ -211,7 +318,8 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     report_map(m, report);
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        RepairOutcome outcome = repair(m, features, !input.valences.empty(), report);
+        RepairOutcome outcome = repair_at_scale(m, features, !input.valences.empty(), scale, report);
+        explain_unrepaired(m, outcome, report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = outcome.regions_failed;
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
@@ -312,11 +420,11 @@ std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
 /// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
 /// input error (in result.error), which no rung can help.
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
-              bool seams_checked) {
+              const Scale& scale) {
     Report& report = result.report;
     StageTimer timer(report);
     std::vector<int> repaired_faces;
-    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, seams_checked)).code !=
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, scale)).code !=
         ErrorCode::None)
         return false;
     std::vector<std::int32_t> certificate; // the repaired triangles, by input index
@@ -482,8 +590,8 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
     return {};
 }
 
-/// The whole ladder on `input` at its own scale (`seams_checked`: see prepare_map).
-Result extract_at_scale(const Input& input, const Options& options, bool seams_checked = false) {
+/// The whole ladder on `input` at its own scale (`scale`: which attempt this is).
+Result extract_at_scale(const Input& input, const Options& options, const Scale& scale = {}) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
@@ -507,7 +615,7 @@ Result extract_at_scale(const Input& input, const Options& options, bool seams_c
             prepared.report.stage_seconds = std::move(again.stage_seconds);
         }
         Result attempt = start_attempt(prepared.report, r, r - first + 1);
-        if (!run_rung(std::move(m), input, options, kLadder[r], attempt, seams_checked)) return attempt;
+        if (!run_rung(std::move(m), input, options, kLadder[r], attempt, scale)) return attempt;
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
@@ -720,7 +828,8 @@ Result extract(const Input& input, const Options& options) {
         }
         ~Hook() { StageTimer::hook = nullptr; }
     } hook(options);
-    Result result = extract_at_scale(input, options);
+    RepairMemo memo; // the repair at the map's own scale, for its refinements
+    Result result = extract_at_scale(input, options, Scale{1, false, &memo});
     if (!result.ok() || !options.fallback_ladder) return result;
     if (result.check.valid) {
         // More quads than the signed area: faces on two sheets of a fold-over cover some cells
@@ -745,9 +854,8 @@ Result extract(const Input& input, const Options& options) {
         if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
         StageTimer::hook_scale = scale;
-        // The map at scale 1 passed the seam check (or this would not run): its noise, doubled
-        // with it, can exceed the check's bound and is noise still.
-        Result refined = extract_at_scale(scaled, options, true);
+        // The map at scale 1 passed the seam check (or this would not run).
+        Result refined = extract_at_scale(scaled, options, Scale{scale, true, &memo});
         ++result.report.refinements_tried;
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;

@@ -247,11 +247,20 @@ Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, cons
 inline constexpr int kMaxSanitizeRounds = 8;
 
 /// What stage repair did: the triangles whose UVs it changed (working indices, sorted), and the
-/// fold-over regions it could not repair within its budget (in the report's explanations).
+/// fold-over regions it could not repair within its budget (explain_unrepaired names them).
 struct RepairOutcome {
     std::vector<int> repaired_faces;
     std::int64_t regions_repaired = 0, regions_failed = 0;
+    /// A fold-over left as the map gives it: its triangles (working indices), and why.
+    struct Unrepaired {
+        std::vector<int> triangles;
+        std::string why;
+    };
+    std::vector<Unrepaired> unrepaired;
 };
+
+/// One explanation (FoldOverNotRepaired) per fold-over the repair left, with its UV area in m.
+void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
 
 /// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
 /// an open fan.
