@@ -139,6 +139,40 @@ TEST(RealMaps, ShuffledPaperMapsGiveTheIdenticalMesh) {
     }
 }
 
+// A map no refinement helps (fertility_miq_5 collapses a handle to no UV area, so every scale
+// loses it) ends invalid with one RefinementFailed explanation per factor tried, in order, each
+// naming that attempt's first violation, located on the input; max_refinement bounds them.
+TEST(RealMaps, AMapNoRefinementHelpsNamesEveryRefinementTried) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq" / "fertility_miq_5_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    for (const int most : {4, 16}) {
+        Options options;
+        options.max_refinement = most;
+        const Result r = extract(in, options);
+        ASSERT_TRUE(r.ok());
+        ASSERT_FALSE(r.check.valid);
+        EXPECT_EQ(r.mesh.grid_scale, 1);
+        std::vector<const Defect*> failed;
+        for (const Defect& d : r.report.explanations)
+            if (d.kind == DefectKind::RefinementFailed) failed.push_back(&d);
+        ASSERT_EQ(static_cast<std::int64_t>(failed.size()), r.report.refinements_tried);
+        ASSERT_EQ(failed.size(), most == 4 ? 2u : 4u);
+        for (std::size_t i = 0; i < failed.size(); ++i) {
+            const std::string factor = "multiplied by " + std::to_string(2 << i) + " gives no valid mesh";
+            EXPECT_NE(failed[i]->message.find(factor), std::string::npos) << failed[i]->message;
+            EXPECT_NE(failed[i]->message.find("the first: "), std::string::npos) << failed[i]->message;
+            EXPECT_GE(failed[i]->input_element, 0) << failed[i]->message;
+        }
+    }
+    // Without refinement there is nothing to name.
+    Options own_scale;
+    own_scale.max_refinement = 1;
+    const Result r = extract(in, own_scale);
+    EXPECT_TRUE(std::none_of(r.report.explanations.begin(), r.report.explanations.end(),
+                             [](const Defect& d) { return d.kind == DefectKind::RefinementFailed; }));
+}
+
 // Refining multiplies the map by a power of two, which leaves the repair's problem as it was: the
 // refined attempt takes the repair of the map's own scale, times the factor, bit for bit (and
 // with it the repair's report), instead of repairing again.

@@ -1,6 +1,7 @@
 // Stage-level unit tests: sanitization (Section 3) and the transition table on the working mesh.
 #include "pipeline.h"
 #include "test_support.h"
+#include "transform_checks.h"
 
 #include <cmath>
 #include <limits>
@@ -350,15 +351,15 @@ TEST(Transitions, AnUndeterminedEdgeAtASingularityClosesTheSameFanInAnyOrder) {
     }
 }
 
-TEST(Transitions, EdgesShorterThanTheirNoiseTakeTheRotationTheirCopiesPositionsAdmit) {
-    // A cube corner s (valence 3) and a seam s-a leaving it. Both triangles on the seam get a
-    // vertex joined to s by a collapsed edge, and the map is subdivided 1-to-4: the midpoint of
-    // s-a then has a collapsed edge on each side of the seam, off the grid, at points no quarter
-    // turn about a grid point or a cell centre fixes. Every corner is then perturbed by
-    // independent noise far below the seam check's bound, so the short edges' copies point any
-    // way and the midpoint's fan crosses two of them: only the copies' positions tell their
-    // rotations. Every seed must pass the seam check and give the noiseless map's quads.
-    Input base = make_map(cube_layout(), 3, 4); // layout vertices on grid points, others at multiples of 3/4
+/// A cube corner s (valence 3) and a seam s-a leaving it. Both triangles on the seam get a vertex
+/// joined to s by a collapsed edge, and the map is subdivided 1-to-4: the midpoint of s-a then
+/// has a collapsed edge on each side of the seam. Every corner is then perturbed by independent
+/// noise far below the seam check's bound, so the short edges' copies point any way and the
+/// midpoint's fan crosses two of them: only the copies' positions tell their rotations. Every
+/// seed must pass the seam check and give the noiseless map's quads (refined, if it must be),
+/// the same in any input order.
+void expect_short_edges_take_their_positions_rotations(int n, int k) {
+    Input base = make_map(cube_layout(), n, k);
     const auto is_corner = [&](int v) {
         const auto& p = base.positions[static_cast<std::size_t>(v)];
         return (p[0] == 0 || p[0] == 1) && (p[1] == 0 || p[1] == 1) && (p[2] == 0 || p[2] == 1);
@@ -397,8 +398,28 @@ TEST(Transitions, EdgesShorterThanTheirNoiseTakeTheRotationTheirCopiesPositionsA
         const Result r = extract(in);
         ASSERT_TRUE(r.ok()) << "seed " << seed << ": " << r.error.message;
         EXPECT_TRUE(r.check.valid) << "seed " << seed;
-        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), quads) << "seed " << seed;
+        // At the map's own scale, or refined (each quad split into grid_scale x grid_scale).
+        EXPECT_EQ(static_cast<std::int64_t>(r.mesh.faces.size()), quads * r.mesh.grid_scale * r.mesh.grid_scale)
+            << "seed " << seed;
+        std::mt19937 order(seed);
+        shuffle(in, order);
+        const Result shuffled = extract(in);
+        ASSERT_TRUE(shuffled.ok()) << "seed " << seed << ", shuffled: " << shuffled.error.message;
+        EXPECT_EQ(mesh_difference(r.mesh, shuffled.mesh, 0.0), "") << "seed " << seed;
     }
+}
+
+TEST(Transitions, EdgesShorterThanTheirNoiseTakeTheRotationTheirCopiesPositionsAdmit) {
+    // Layout vertices on grid points, the others at multiples of 3/4: the midpoint's collapsed
+    // edges lie where no quarter or half turn about a grid point, cell centre or edge midpoint
+    // fixes them, so their positions single one rotation out.
+    expect_short_edges_take_their_positions_rotations(3, 4);
+}
+
+TEST(Transitions, EdgesShorterThanTheirNoiseAtAnEdgeMidpointTakeARotationItsPositionsAllow) {
+    // Every vertex on a grid point: the midpoint's collapsed edges lie on edge midpoints, which a
+    // half turn fixes, so their positions allow two rotations, and the choice is made among those.
+    expect_short_edges_take_their_positions_rotations(2, 2);
 }
 
 // ---------------------------------------------------------------------------- coarsening

@@ -148,6 +148,12 @@ enum class DefectKind {
     /// accepted the mesh so (holes closed too, if HoleClosed follows); names the edge, the
     /// vertices split and the grid point.
     SheetsSeparated,
+    /// No valid mesh at the map's own scale, and none on the map with its UVs multiplied by a
+    /// refinement factor either (Options::max_refinement): one per factor tried, naming the first
+    /// of that attempt's checker violations, located (its grid point is in the refined map, so
+    /// `grid` is left (0, 0); `input_element` is -1 for a violation of the whole mesh that names
+    /// no place). Only in a report whose mesh is invalid.
+    RefinementFailed,
 };
 const char* to_string(DefectKind kind);
 

@@ -45,6 +45,8 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
                   << (defects[i].violation ? std::string(" ") + qex::to_string(*defects[i].violation) : "") << ": "
                   << defects[i].message << "\n";
     print_violations(check);
+    for (const qex::Defect& d : result.report.explanations)
+        if (d.kind == qex::DefectKind::RefinementFailed) std::cerr << "  RefinementFailed: " << d.message << "\n";
     if (a.poly) {
         if (const auto e = write_quads(a.out_path, result.mesh, a.threads); !e.ok()) {
             std::cerr << "qex: " << e.message << "\n";

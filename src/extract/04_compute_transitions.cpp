@@ -1,13 +1,18 @@
 // Transition functions between adjacent charts (Section 3.1): the rotation that best maps one
 // chart's copy of the shared edge onto the other's, then the rounded integer translation.
-// Where exactly one rotation relates the copies' positions by a grid transition up to solver
-// noise, that rotation is taken whatever the edge's direction says.
+//
+// The copies' positions come first. Where exactly one rotation relates them by a grid transition
+// up to solver noise (and every other misses by far more), that rotation is the edge's, whatever
+// its direction says: noise on an edge shorter than itself (a collapsed triangle subdivided, then
+// perturbed) can point its copies any way. Where several do (copies on a point that quarter or
+// half turns about a grid point, cell centre or edge midpoint fix), the choices below are made
+// among those.
 //
 // An edge whose two copies differ by about as much as the edge is long (solver noise on an edge
-// that is nearly degenerate in the parameter domain) does not determine its rotation. Such an
-// edge takes the rotation that closes the fan of one of its ends with the other edges'
-// transitions: noise never creates a singularity. Only when neither end has a closed fan of
-// determined edges does the nearest rotation stand.
+// that is nearly degenerate in the parameter domain) does not determine its rotation by its
+// direction. Such an edge takes the rotation that closes the fan of one of its ends with the
+// other edges' transitions: noise never creates a singularity. Only when neither end has a
+// closed fan of determined edges does the nearest rotation stand.
 #include "pipeline.h"
 
 #include <algorithm>
@@ -72,22 +77,6 @@ std::vector<double> longest_edges(const TriMesh& m) {
     return longest;
 }
 
-/// The rotation r (quarter turns) whose R90^r e is closest to e2 (largest dot product; the
-/// first such r on ties).
-int nearest_rotation(const Point2& e, const Point2& e2) {
-    int best = 0;
-    double best_dot = -HUGE_VAL;
-    for (int r = 0; r < 4; ++r) {
-        const Point2 re = GridAutomorphism::rotate(e, r);
-        const double dot = re[0] * e2[0] + re[1] * e2[1];
-        if (dot > best_dot) {
-            best_dot = dot;
-            best = r;
-        }
-    }
-    return best;
-}
-
 /// How far the transition of rotation r (with its rounded translation) leaves half-edge h's
 /// copies of the edge from the opposite copies: the seam check's measure.
 double seam_offset(const TriMesh& m, int h, int r) {
@@ -101,22 +90,55 @@ double seam_offset(const TriMesh& m, int h, int r) {
                     norm_inf({rb[0] + tx - b2[0], rb[1] + ty - b2[1]}));
 }
 
-/// The one rotation under which half-edge h's copies are related by a grid transition up to
-/// solver noise (solver_noise_bound, as the seam check), or -1 when none is or several are:
-/// copies on points that quarter turns about grid points or cell centres fix, such as a
-/// collapsed edge at a singularity.
-int rotation_by_position(const TriMesh& m, int h) {
+/// Another rotation fits only by chance unless it misses by more than this many noise bounds:
+/// a unique fit must stand clear of the others.
+constexpr double kClearOfNoise = 4;
+
+/// What the positions of half-edge h's copies say of its rotation.
+struct ByPosition {
+    /// Bit r: the transition of rotation r relates the copies up to solver noise
+    /// (solver_noise_bound, as the seam check). 0 when none does.
+    unsigned fits = 0;
+    /// The one rotation that fits, every other missing by more than kClearOfNoise bounds; -1
+    /// when there is no such rotation.
+    int unique = -1;
+    /// Whether rotation r is allowed: one that fits, or any when none does.
+    bool allows(int r) const { return fits == 0 || ((fits >> r) & 1u) != 0; }
+};
+
+ByPosition by_position(const TriMesh& m, int h) {
     const int o = m.opp[h];
     const double magnitude = std::max(
         {norm_inf(m.uv[h]), norm_inf(m.uv[TriMesh::next(h)]), norm_inf(m.uv[o]), norm_inf(m.uv[TriMesh::next(o)])});
-    const double bound = solver_noise_bound(magnitude);
-    int found = -1;
+    const double bound = solver_noise_bound(magnitude, m.noise_scale);
+    ByPosition out;
+    int clear = 0;
     for (int r = 0; r < 4; ++r) {
-        if (!(seam_offset(m, h, r) <= bound)) continue;
-        if (found >= 0) return -1;
-        found = r;
+        const double off = seam_offset(m, h, r);
+        if (off <= bound) out.fits |= 1u << r;
+        clear += off > kClearOfNoise * bound;
     }
-    return found;
+    if (out.fits != 0 && (out.fits & (out.fits - 1)) == 0 && clear == 3)
+        for (int r = 0; r < 4; ++r)
+            if (out.fits == 1u << r) out.unique = r;
+    return out;
+}
+
+/// The rotation r (quarter turns) among those `allowed` whose R90^r e is closest to e2 (largest
+/// dot product; the first such r on ties).
+int nearest_rotation(const Point2& e, const Point2& e2, const ByPosition& allowed = {}) {
+    int best = -1;
+    double best_dot = -HUGE_VAL;
+    for (int r = 0; r < 4; ++r) {
+        if (!allowed.allows(r)) continue;
+        const Point2 re = GridAutomorphism::rotate(e, r);
+        const double dot = re[0] * e2[0] + re[1] * e2[1];
+        if (best < 0 || dot > best_dot) {
+            best_dot = dot;
+            best = r;
+        }
+    }
+    return best;
 }
 
 /// What the first pass lists, each in index order: undetermined edges, and short edges with
@@ -127,10 +149,11 @@ struct Listed {
 };
 
 /// The first pass at half-edge h: a boundary half-edge gets the identity (it is never read); an
-/// interior edge is visited at its smaller half-edge, writing only its own two entries, with the
-/// nearest rotation seen from its canonical half-edge, and listed in `mine` if undetermined or
-/// short. An edge with a missing UV (a collapsed triangle's) gets the identity both ways and is
-/// undetermined but not listed.
+/// interior edge is visited at its smaller half-edge, writing only its own two entries, seen
+/// from its canonical half-edge: the rotation its copies' positions single out (ByPosition), else
+/// the nearest rotation among those they allow; listed in `mine` if undetermined or short
+/// (never when its positions singled its rotation out). An edge with a missing UV (a collapsed
+/// triangle's) gets the identity both ways and is undetermined but not listed.
 void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std::vector<char>& determined,
                      Listed& mine) {
     const int o = m.opp[h];
@@ -139,10 +162,14 @@ void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std:
         return;
     }
     if (o < h) return; // set as the inverse of o
-    const Point2& a = m.uv[h];
-    const Point2& b = m.uv[TriMesh::next(h)];
-    const Point2& a2 = m.uv[TriMesh::next(o)];
-    const Point2& b2 = m.uv[o];
+    // Seen from the canonical half-edge, so that neither the input's numbering nor float
+    // rounding on the two sides decides (a tie between two directions, 45 degrees apart,
+    // resolves to the first rotation from that side).
+    const int c = canonical_half_edge(m, h), co = m.opp[c];
+    const Point2& a = m.uv[c];
+    const Point2& b = m.uv[TriMesh::next(c)];
+    const Point2& a2 = m.uv[TriMesh::next(co)];
+    const Point2& b2 = m.uv[co];
     const Point2 e{b[0] - a[0], b[1] - a[1]};
     const Point2 e2{b2[0] - a2[0], b2[1] - a2[1]};
     if (!std::isfinite(e[0] + e[1] + e2[0] + e2[1] + a[0] + a[1] + a2[0] + a2[1])) {
@@ -151,26 +178,13 @@ void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std:
         determined[h] = determined[o] = 0;
         return;
     }
-    // Seen from the edge's canonical half-edge, so that neither the input's numbering nor float
-    // rounding on the two sides decides. Where the copies' positions admit one rotation only,
-    // it is the transition's, however short the edge: noise on an edge shorter than itself (a
-    // collapsed triangle subdivided, then perturbed) can point its copies any way.
-    const int canonical = canonical_half_edge(m, h);
-    if (const int by_position = rotation_by_position(m, canonical); by_position >= 0) {
-        set_transition(m, canonical, by_position);
+    const ByPosition position = by_position(m, c);
+    if (position.unique >= 0) {
+        set_transition(m, c, position.unique);
         return;
     }
-    // Else the nearest direction. A tie (the copies 45 degrees apart) resolves to the first
-    // rotation from the canonical side.
-    int best = 0;
-    if (canonical == h) {
-        best = nearest_rotation(e, e2);
-        set_transition(m, h, best);
-    } else {
-        const int from_o = nearest_rotation(e2, e);
-        set_transition(m, o, from_o);
-        best = (4 - from_o) & 3;
-    }
+    const int best = nearest_rotation(e, e2, position);
+    set_transition(m, c, best);
     const Point2 re = GridAutomorphism::rotate(e, best);
     // Determined: the rotated copies differ by less than half the shorter one's length.
     if (!(2 * norm_inf({re[0] - e2[0], re[1] - e2[1]}) < std::min(norm_inf(e), norm_inf(e2)))) {
@@ -230,7 +244,7 @@ int closing_rotation(const TriMesh& m, const std::vector<char>& determined, int 
 
 /// Undetermined edges: the rotation that closes the fan round the edge's end with the smaller 3D
 /// position (canonical_half_edge; a: corner h in face(h), corner next(o) in face(o)), else its
-/// other end; else the nearest stands. When both fans close but disagree, which end is tried
+/// other end, if the copies' positions allow it; else the nearest stands. When both fans close but disagree, which end is tried
 /// first decides, so it must not be the input's order. Each edge's walks cross determined edges
 /// only, so the order of the edges does not matter.
 void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const std::vector<int>& undetermined) {
@@ -242,13 +256,14 @@ void settle_undetermined(TriMesh& m, const std::vector<char>& determined, const 
             const int rb = closing_rotation(m, determined, o, TriMesh::next(h)); // o's rotation
             if (rb >= 0) r = (4 - rb) & 3;
         }
-        if (r >= 0) set_transition(m, h, r);
+        if (r >= 0 && by_position(m, h).allows(r)) set_transition(m, h, r);
     }
 }
 
 /// Dipoles: noise can still turn a short edge by a quarter, which puts singularities of
 /// opposite index on its two ends. A short edge whose ends turn by opposite amounts takes the
-/// rotation that makes both regular. Shortest edges first, edges of one length by their ends'
+/// rotation that makes both regular, if its copies' positions allow it (an edge whose positions
+/// single its rotation out is not listed as short). Shortest edges first, edges of one length by their ends'
 /// 3D positions, so the outcome does not depend on the input's order.
 void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
     // The turn of each short edge's ends, walked when first needed (-2: not yet walked).
@@ -272,7 +287,9 @@ void fix_dipoles(TriMesh& m, std::vector<std::pair<double, int>>& short_edges) {
         int &ta = turn(m.origin(h)), &tb = turn(m.target(h));
         if (ta <= 0 || tb <= 0 || ((ta + tb) & 3) != 0) continue; // regular, open, or not opposite
         const int delta = (4 - ta) & 3;                           // a's walk crosses h, b's walk crosses opp(h)
-        set_transition(m, h, (m.map.transition[h].r + delta) & 3);
+        const int r = (m.map.transition[h].r + delta) & 3;
+        if (!by_position(m, h).allows(r)) continue; // the copies' positions rule it out
+        set_transition(m, h, r);
         ta = 0;
         tb = 0;
     }

@@ -154,10 +154,10 @@ void propagate(TriMesh& m, const Fan& fan, const Point2& u0, double& max_disp, d
 
 // ============================================================================ every fan
 
-/// Whether u lies on a grid point up to solver noise (solver_noise_bound).
-bool near_grid_point(const Point2& u) {
+/// Whether u lies on a grid point up to solver noise (solver_noise_bound, `noise_scale` times).
+bool near_grid_point(const Point2& u, double noise_scale) {
     const double off = std::max(std::abs(u[0] - std::nearbyint(u[0])), std::abs(u[1] - std::nearbyint(u[1])));
-    return off <= solver_noise_bound(std::max(std::abs(u[0]), std::abs(u[1])));
+    return off <= solver_noise_bound(std::max(std::abs(u[0]), std::abs(u[1])), noise_scale);
 }
 
 /// What a sanitize call is told besides the mesh.
@@ -216,8 +216,8 @@ Totals sanitize_fans(TriMesh& m, const Rules& rules) {
             // unfolds its flipped triangles, if it has any; the paper's handling takes the rest.
             const bool given = !rules.given_valences.empty();
             const int val = given ? rules.given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
-            const bool branch =
-                fan.closed && loop.r == 0 && val >= 8 && (given || near_grid_point(m.uv[fan.corners[0]]));
+            const bool branch = fan.closed && loop.r == 0 && val >= 8 &&
+                                (given || near_grid_point(m.uv[fan.corners[0]], m.noise_scale));
             if (branch && !rules.branch_points) ++deferred_count;
             const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
             if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {

@@ -1281,7 +1281,6 @@ std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vecto
 
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
     for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
-        if (u.triangles.empty()) continue;
         int first = m.input_triangle[u.triangles[0]];
         double area = 0.0;
         for (const int f : u.triangles) {

@@ -186,6 +186,10 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
+/// Refinement stops short of this many quads: a map with many quads is not too coarse, and
+/// refining it would only multiply the cost.
+constexpr double kMaxRefinedQuads = 200'000;
+
 /// The sanitized map before stage repair and after it, with what the repair reported: kept from
 /// the map at its own scale for its refinements. Refining multiplies the UVs by a power of two,
 /// exactly, and leaves the repair's problem as it was (the same triangles, rims and
@@ -195,7 +199,7 @@ struct RepairMemo {
     bool filled = false;
     // Before the repair: connectivity, UVs and map state.
     std::vector<std::array<int, 3>> tri;
-    std::vector<int> input_triangle;
+    std::vector<int> input_triangle, input_vertex, corner_vertex;
     std::vector<Point2> sanitized;
     std::vector<GridAutomorphism> transitions;
     std::vector<char> singular;
@@ -210,7 +214,7 @@ struct RepairMemo {
 };
 
 /// One attempt at the ladder: the map's own scale, or a refinement of it.
-struct Scale {
+struct AtScale {
     /// The UVs times this power of two (1: the map as given).
     std::int64_t factor = 1;
     /// The map at its own scale passed check_seams: its solver noise, multiplied with it, can
@@ -240,6 +244,7 @@ GridAutomorphism times(const GridAutomorphism& g, std::int64_t factor) { return 
 /// Whether m's sanitized state is exactly the memo's times `factor`.
 bool memo_applies(const TriMesh& m, const RepairMemo& memo, std::int64_t factor) {
     if (!memo.filled || m.tri != memo.tri || m.input_triangle != memo.input_triangle ||
+        m.input_vertex != memo.input_vertex || m.corner_vertex != memo.corner_vertex ||
         m.uv.size() != memo.sanitized.size() || m.map.singular != memo.singular || m.map.valence != memo.valence ||
         m.map.winding_valence != memo.winding_valence || m.map.transition.size() != memo.transitions.size())
         return false;
@@ -256,7 +261,7 @@ bool memo_applies(const TriMesh& m, const RepairMemo& memo, std::int64_t factor)
 /// Stage repair on the sanitized map m, or its result at the map's own scale taken from
 /// `scale.memo` (see RepairMemo), which the repair at that scale fills.
 RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
-                              const Scale& scale, Report& report) {
+                              const AtScale& scale, Report& report) {
     RepairMemo* memo = scale.memo;
     if (memo && scale.factor > 1 && memo_applies(m, *memo, scale.factor)) {
         for (std::size_t c = 0; c < m.uv.size(); ++c) m.uv[c] = times(memo->repaired[c], scale.factor);
@@ -265,16 +270,18 @@ RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>&
         m.map.singular = memo->repaired_singular;
         m.map.valence = memo->repaired_valence;
         m.map.winding_valence = memo->repaired_winding_valence;
-        for (int f = 0; f < m.num_faces(); ++f)
-            m.map.face_sign[f] =
-                static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+        m.map.face_sign = triangle_signs(m);
         report.explanations.insert(report.explanations.end(), memo->explanations.begin(), memo->explanations.end());
         return memo->outcome;
     }
-    if (!memo || scale.factor != 1) return repair(m, features, valences_given, report);
+    // No refinement can follow when doubling the map takes it past kMaxRefinedQuads.
+    if (!memo || scale.factor != 1 || std::abs(report.signed_uv_area) * 4 > kMaxRefinedQuads)
+        return repair(m, features, valences_given, report);
     *memo = RepairMemo{};
     memo->tri = m.tri;
     memo->input_triangle = m.input_triangle;
+    memo->input_vertex = m.input_vertex;
+    memo->corner_vertex = m.corner_vertex;
     memo->sanitized = m.uv;
     memo->transitions = all_transitions(m);
     memo->singular = m.map.singular;
@@ -295,9 +302,11 @@ RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>&
 }
 
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
-/// triangles whose UVs the repair changed.
+/// triangles whose UVs the repair changed. `scale`: the attempt's refinement factor (solver
+/// noise is that many times the map's own) and the repair kept for its refinements.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer, std::vector<int>& repaired_faces, const Scale& scale = {}) {
+                  StageTimer& timer, std::vector<int>& repaired_faces, const AtScale& scale = {}) {
+    m.noise_scale = static_cast<double>(scale.factor);
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
         count_valences(m);
@@ -420,7 +429,7 @@ std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
 /// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
 /// input error (in result.error), which no rung can help.
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
-              const Scale& scale) {
+              const AtScale& scale) {
     Report& report = result.report;
     StageTimer timer(report);
     std::vector<int> repaired_faces;
@@ -591,7 +600,7 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
 }
 
 /// The whole ladder on `input` at its own scale (`scale`: which attempt this is).
-Result extract_at_scale(const Input& input, const Options& options, const Scale& scale = {}) {
+Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale = {}) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
@@ -673,6 +682,21 @@ Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std:
         what += "; the first: " + first.message;
     }
     d.message = "the map gives no valid quad mesh at its own scale (" + what + "); " + how;
+    return d;
+}
+
+/// What a refined attempt that gave no valid mesh failed by: the first of its checker
+/// violations as located on the input (else its first defect).
+Defect refinement_failure(const Result& refined, std::int64_t scale) {
+    const std::string k = std::to_string(scale);
+    const std::vector<Defect>& defects = refined.report.defects;
+    const auto located = std::find_if(defects.begin(), defects.end(),
+                                      [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; });
+    const Defect* first = located != defects.end() ? &*located : defects.empty() ? nullptr : &defects.front();
+    Defect d{DefectKind::RefinementFailed, "", first ? first->input_element : -1, -1, {0, 0}, std::nullopt};
+    d.message = "the map with its UVs multiplied by " + k + " gives no valid mesh either (" +
+                std::to_string(refined.check.violations.size()) + " checker violations" +
+                (first ? "; the first: " + first->message : std::string()) + ")";
     return d;
 }
 
@@ -828,8 +852,10 @@ Result extract(const Input& input, const Options& options) {
         }
         ~Hook() { StageTimer::hook = nullptr; }
     } hook(options);
-    RepairMemo memo; // the repair at the map's own scale, for its refinements
-    Result result = extract_at_scale(input, options, Scale{1, false, &memo});
+    // The repair at the map's own scale, kept for its refinements (if any can run).
+    RepairMemo memo;
+    const bool may_refine = options.fallback_ladder && options.max_refinement >= 2;
+    Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr});
     if (!result.ok() || !options.fallback_ladder) return result;
     if (result.check.valid) {
         // More quads than the signed area: faces on two sheets of a fold-over cover some cells
@@ -847,15 +873,14 @@ Result extract(const Input& input, const Options& options) {
     // Refinement: the map at twice, four times, ... its scale. Multiplying by two is exact; a map
     // that would leave the range integer transitions need comes back as an input error, and ends
     // the refinement with the scale-1 result.
-    // A map with many quads is not too coarse: refining it would only multiply the cost.
-    constexpr double kMaxRefinedQuads = 200'000;
     Input scaled = input;
+    std::vector<Defect> failed; // per refinement tried
     for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
         if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
         StageTimer::hook_scale = scale;
         // The map at scale 1 passed the seam check (or this would not run).
-        Result refined = extract_at_scale(scaled, options, Scale{scale, true, &memo});
+        Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo});
         ++result.report.refinements_tried;
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;
@@ -872,7 +897,9 @@ Result extract(const Input& input, const Options& options) {
                 if (d.kind == DefectKind::SeamRounded) refined.report.explanations.push_back(d);
             return refined;
         }
+        failed.push_back(refinement_failure(refined, scale));
     }
+    result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());
     return result;
 }
 

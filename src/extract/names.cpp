@@ -41,6 +41,7 @@ const char* to_string(DefectKind k) {
         case DefectKind::MapCoarsened: return "MapCoarsened";
         case DefectKind::HoleClosed: return "HoleClosed";
         case DefectKind::SheetsSeparated: return "SheetsSeparated";
+        case DefectKind::RefinementFailed: return "RefinementFailed";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";

@@ -100,8 +100,10 @@ void compute_transitions(TriMesh& m);
 /// ulps of coordinates of this magnitude). The worst of the shared MIQ and paper maps is 9.5e-7
 /// cells; an offset beyond this is not noise. It classifies the input (a seam no transition
 /// explains; a vertex that winds twice off every grid point is a fold, not a branch point).
-inline double solver_noise_bound(double magnitude) {
-    return std::max(1.0 / 1024, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
+/// `noise_scale`: the factor a refinement multiplied the map by (TriMesh::noise_scale), and its
+/// noise with it.
+inline double solver_noise_bound(double magnitude, double noise_scale = 1.0) {
+    return std::max(noise_scale / 1024, 8.0 * magnitude * std::numeric_limits<double>::epsilon());
 }
 
 /// How the first sanitize round treats seams whose two UV copies the computed transition maps

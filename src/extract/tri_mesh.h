@@ -86,6 +86,9 @@ struct TriMesh {
     std::vector<int> vertex_order;
     /// Threads for the parallel loops (Options::threads; 1 = serial). Results do not depend on it.
     int threads = 1;
+    /// The factor a refinement multiplied the map by (1: the map as given): its solver noise is
+    /// multiplied with it (solver_noise_bound).
+    double noise_scale = 1.0;
     /// Whether a loop over `n` elements runs in parallel.
     bool parallel(std::int64_t n) const { return run_parallel(threads, n); }
 
