@@ -77,7 +77,8 @@ std::array<int, 2> counted_fan(int n, bool mirrored) {
 /// A disk of n triangles round vertex 0 in one chart: vertex 0 at `centre`, ring vertex i at
 /// angle angles[i] round it (one UV per vertex: every transition is the identity). Vertex 0
 /// after sanitizing: whether it is singular, and how far it moved.
-std::pair<bool, double> sanitized_centre(const std::array<double, 2>& centre, const std::vector<double>& angles) {
+std::pair<bool, double> sanitized_centre(const std::array<double, 2>& centre, const std::vector<double>& angles,
+                                         double noise_scale = 1.0) {
     Input in;
     const std::size_t n = angles.size();
     in.positions.push_back({0, 0, 1});
@@ -95,6 +96,7 @@ std::pair<bool, double> sanitized_centre(const std::array<double, 2>& centre, co
     }
     detail::TriMesh m = detail::make_mesh(in);
     EXPECT_EQ(detail::build_topology(m, "test").code, ErrorCode::None);
+    m.noise_scale = noise_scale;
     Report rep;
     detail::compute_transitions(m);
     detail::count_valences(m);
@@ -125,6 +127,11 @@ TEST(Sanitize, AFoldThatWindsAFanTwiceOffTheGridIsNotABranchPoint) {
         const auto [singular, moved] = sanitized_centre({3.0 + 1e-7, -2.0}, angles);
         EXPECT_TRUE(singular) << angles.size();
         EXPECT_NEAR(moved, 1e-7, 1e-12) << angles.size();
+        // A map refined x4 multiplies its noise by 4: 3/4096 of a cell off at the map's own
+        // scale is 3/1024 at x4, still noise there, and more than noise at the map's own scale.
+        const double off = 3.0 / 1024;
+        EXPECT_TRUE(sanitized_centre({12.0 + off, -8.0}, angles, 4.0).first) << angles.size();
+        EXPECT_FALSE(sanitized_centre({12.0 + off, -8.0}, angles, 1.0).first) << angles.size();
     }
 }
 
