@@ -90,19 +90,19 @@ double seam_offset(const TriMesh& m, int h, int r) {
                     norm_inf({rb[0] + tx - b2[0], rb[1] + ty - b2[1]}));
 }
 
-/// Another rotation fits only by chance unless it misses by more than this many noise bounds:
-/// a unique fit must stand clear of the others.
+/// A rotation is ruled out only where it misses by more than this many noise bounds: noise a
+/// little above the bound must not leave a wrong rotation fitting alone.
 constexpr double kClearOfNoise = 4;
 
 /// What the positions of half-edge h's copies say of its rotation.
 struct ByPosition {
-    /// Bit r: the transition of rotation r relates the copies up to solver noise
-    /// (solver_noise_bound, as the seam check). 0 when none does.
+    /// Bit r: the transition of rotation r relates the copies up to kClearOfNoise times solver
+    /// noise (solver_noise_bound, as the seam check): r is not ruled out. 0 when every one is.
     unsigned fits = 0;
-    /// The one rotation that fits, every other missing by more than kClearOfNoise bounds; -1
-    /// when there is no such rotation.
+    /// The one rotation not ruled out, when it relates the copies up to solver noise itself;
+    /// else -1.
     int unique = -1;
-    /// Whether rotation r is allowed: one that fits, or any when none does.
+    /// Whether rotation r is allowed: one not ruled out, or any when all are.
     bool allows(int r) const { return fits == 0 || ((fits >> r) & 1u) != 0; }
 };
 
@@ -112,15 +112,13 @@ ByPosition by_position(const TriMesh& m, int h) {
         {norm_inf(m.uv[h]), norm_inf(m.uv[TriMesh::next(h)]), norm_inf(m.uv[o]), norm_inf(m.uv[TriMesh::next(o)])});
     const double bound = solver_noise_bound(magnitude, m.noise_scale);
     ByPosition out;
-    int clear = 0;
+    int within_noise = -1;
     for (int r = 0; r < 4; ++r) {
         const double off = seam_offset(m, h, r);
-        if (off <= bound) out.fits |= 1u << r;
-        clear += off > kClearOfNoise * bound;
+        if (off <= kClearOfNoise * bound) out.fits |= 1u << r;
+        if (off <= bound) within_noise = r;
     }
-    if (out.fits != 0 && (out.fits & (out.fits - 1)) == 0 && clear == 3)
-        for (int r = 0; r < 4; ++r)
-            if (out.fits == 1u << r) out.unique = r;
+    if (within_noise >= 0 && out.fits == 1u << within_noise) out.unique = within_noise;
     return out;
 }
 
