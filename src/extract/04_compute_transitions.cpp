@@ -47,9 +47,9 @@ double uv_edge_length(const TriMesh& m, int c) {
     return norm_inf({q[0] - p[0], q[1] - p[1]});
 }
 
-/// Sets the transition of interior half-edge h to rotation r and the rounded translation that
-/// best maps its edge onto the opposite copy; its opposite gets the inverse.
-void set_transition(TriMesh& m, int h, int r) {
+/// The transition of rotation r from face(h)'s chart to face(opp h)'s with the rounded integer
+/// translation that best maps h's copy of the edge onto the opposite copy.
+GridAutomorphism fitted_transition(const TriMesh& m, int h, int r) {
     const int o = m.opp[h];
     // In face(h) the edge runs a -> b; in face(o) it runs b -> a.
     const Point2& a = m.uv[h];
@@ -61,8 +61,33 @@ void set_transition(TriMesh& m, int h, int r) {
     g.r = r;
     g.tx = static_cast<std::int64_t>(std::llround(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0]))));
     g.ty = static_cast<std::int64_t>(std::llround(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1]))));
+    return g;
+}
+
+/// How far transition g leaves half-edge h's copies of the edge from the opposite copies
+/// (inf-norm, the worse end): the seam check's measure.
+double seam_offset(const TriMesh& m, int h, const GridAutomorphism& g) {
+    const int o = m.opp[h];
+    const Point2 ga = g(m.uv[h]), gb = g(m.uv[TriMesh::next(h)]);
+    const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
+    return std::max(norm_inf({ga[0] - a2[0], ga[1] - a2[1]}), norm_inf({gb[0] - b2[0], gb[1] - b2[1]}));
+}
+
+/// solver_noise_bound for the four copies of interior half-edge h's ends (their largest
+/// coordinate), with the mesh's noise_scale.
+double seam_noise_bound(const TriMesh& m, int h) {
+    const int o = m.opp[h];
+    const double magnitude = std::max(
+        {norm_inf(m.uv[h]), norm_inf(m.uv[TriMesh::next(h)]), norm_inf(m.uv[o]), norm_inf(m.uv[TriMesh::next(o)])});
+    return solver_noise_bound(magnitude, m.noise_scale);
+}
+
+/// Sets the transition of interior half-edge h to fitted_transition(m, h, r); its opposite
+/// gets the inverse.
+void set_transition(TriMesh& m, int h, int r) {
+    const GridAutomorphism g = fitted_transition(m, h, r);
     m.map.transition.set(static_cast<std::size_t>(h), g);
-    m.map.transition.set(static_cast<std::size_t>(o), g.inverse());
+    m.map.transition.set(static_cast<std::size_t>(m.opp[h]), g.inverse());
 }
 
 /// Per triangle: its longest UV edge (for the dipole pass).
@@ -75,19 +100,6 @@ std::vector<double> longest_edges(const TriMesh& m) {
         longest[static_cast<std::size_t>(f)] =
             std::max({uv_edge_length(m, 3 * f), uv_edge_length(m, 3 * f + 1), uv_edge_length(m, 3 * f + 2)});
     return longest;
-}
-
-/// How far the transition of rotation r (with its rounded translation) leaves half-edge h's
-/// copies of the edge from the opposite copies: the seam check's measure.
-double seam_offset(const TriMesh& m, int h, int r) {
-    const int o = m.opp[h];
-    const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
-    const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
-    const Point2 ra = GridAutomorphism::rotate(a, r), rb = GridAutomorphism::rotate(b, r);
-    const double tx = std::round(0.5 * ((a2[0] - ra[0]) + (b2[0] - rb[0])));
-    const double ty = std::round(0.5 * ((a2[1] - ra[1]) + (b2[1] - rb[1])));
-    return std::max(norm_inf({ra[0] + tx - a2[0], ra[1] + ty - a2[1]}),
-                    norm_inf({rb[0] + tx - b2[0], rb[1] + ty - b2[1]}));
 }
 
 /// A rotation is ruled out only where it misses by more than this many noise bounds: noise a
@@ -107,14 +119,11 @@ struct ByPosition {
 };
 
 ByPosition by_position(const TriMesh& m, int h) {
-    const int o = m.opp[h];
-    const double magnitude = std::max(
-        {norm_inf(m.uv[h]), norm_inf(m.uv[TriMesh::next(h)]), norm_inf(m.uv[o]), norm_inf(m.uv[TriMesh::next(o)])});
-    const double bound = solver_noise_bound(magnitude, m.noise_scale);
+    const double bound = seam_noise_bound(m, h);
     ByPosition out;
     int within_noise = -1;
     for (int r = 0; r < 4; ++r) {
-        const double off = seam_offset(m, h, r);
+        const double off = seam_offset(m, h, fitted_transition(m, h, r));
         if (off <= kClearOfNoise * bound) out.fits |= 1u << r;
         if (off <= bound) within_noise = r;
     }
@@ -322,12 +331,8 @@ Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report) {
         const int o = m.opp[h];
         if (o < h) continue; // boundary, or checked from the other side
         const GridAutomorphism& g = m.map.transition[static_cast<std::size_t>(h)];
-        const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
-        const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
-        const Point2 ga = g(a), gb = g(b);
-        const double off = std::max(norm_inf({ga[0] - a2[0], ga[1] - a2[1]}), norm_inf({gb[0] - b2[0], gb[1] - b2[1]}));
-        const double magnitude = std::max({norm_inf(a), norm_inf(b), norm_inf(a2), norm_inf(b2)});
-        if (off <= solver_noise_bound(magnitude)) continue;
+        const double off = seam_offset(m, h, g);
+        if (off <= seam_noise_bound(m, h)) continue;
         char what[160];
         std::snprintf(what, sizeof what, "%.3g cells off (rotation %d quarter turns, translation (%lld, %lld))", off,
                       g.r, static_cast<long long>(g.tx), static_cast<long long>(g.ty));
