@@ -330,7 +330,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         RepairOutcome outcome = repair_at_scale(m, features, !input.valences.empty(), scale, report);
         explain_unrepaired(m, outcome, report);
         report.repaired_regions = outcome.regions_repaired;
-        report.unrepaired_regions = outcome.regions_failed;
+        report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
         for (int f = 0; f < m.num_faces(); ++f) report.flipped_after_repair += m.map.face_sign[f] <= 0;
         repaired_faces = std::move(outcome.repaired_faces);

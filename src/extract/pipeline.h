@@ -252,7 +252,7 @@ inline constexpr int kMaxSanitizeRounds = 8;
 /// fold-over regions it could not repair within its budget (explain_unrepaired names them).
 struct RepairOutcome {
     std::vector<int> repaired_faces;
-    std::int64_t regions_repaired = 0, regions_failed = 0;
+    std::int64_t regions_repaired = 0;
     /// A fold-over left as the map gives it: its triangles (working indices), and why.
     struct Unrepaired {
         std::vector<int> triangles;
