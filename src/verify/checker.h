@@ -1,7 +1,8 @@
 // The checker's internal interface between its files. Like every file in src/verify/, it
 // includes only the public headers and the checker's own files: the build fails otherwise
 // (CMakeLists.txt, "the checker's wall"). Nothing here includes CGAL: the files that use it
-// (map_check.cpp, signed_area.cpp, surface.cpp) keep it to themselves.
+// (map_check.cpp, signed_area.cpp, surface.cpp) keep it to themselves. Two checks have rooms of
+// their own behind this interface: coverage.h and face_cells.h.
 #pragma once
 
 #include "grid.h"
@@ -222,6 +223,21 @@ struct LocatedMap {
     /// -1 (fold_regions below).
     std::vector<std::int32_t> region_of;
 };
+
+/// The precision the positions carry (VerifyResult::position_digits, positions_float32)
+/// (locate_vertices.cpp).
+void position_precision(const QuadMesh& mesh, VerifyResult& r);
+
+/// The UV tolerance for noise on a map that is a given map times `noise_scale` (check_located)
+/// (locate_vertices.cpp).
+double grid_tolerance(const VerifyOptions& opt, double noise_scale);
+
+/// Vertices: the closest surface point, its UV in that triangle's chart (on an input vertex:
+/// the vertex's UV there), the nearest grid point. A vertex off the surface or off the grid is
+/// reported (and not `ok`). Each vertex's tolerances grow with what rounding its coordinates to
+/// opt.position_digits may move it (VerifyOptions) (locate_vertices.cpp).
+std::vector<Located> locate_vertices(const LocatedMap& map, const QuadMesh& mesh, const VerifyOptions& opt,
+                                     double noise_scale, VerifyResult& r, std::vector<Violation>& out);
 
 /// Per input triangle: a corner lies within `rings` edges (rings of input vertices, through any
 /// vertex) of a corner of a fold-over (check_located.cpp).

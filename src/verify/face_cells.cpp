@@ -1,8 +1,8 @@
-// The located mode's face check: a face's corners, each located in some input triangle, are
-// carried into the chart of one anchor triangle along the input's transitions (a shortest-path
-// search over the triangles), and there must be the corners of one counter-clockwise unit grid
-// cell. The search's distances choose the paths; the grid points are compared as integers.
-#include "checker.h"
+// The face check (face_cells.h): per face, its corners carried into the chart of each anchor in
+// turn by a shortest-path search; where no anchor shows a unit cell, each edge judged through its
+// corridor, and the failure reported as a violation or, where a path or corner touched a
+// fold-over or a singular fan, as undecided.
+#include "face_cells.h"
 #include "grid.h"
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include <string>
 
 namespace qex::verify_detail {
+namespace face_cells {
 namespace {
 
 /// a and b are neighbouring grid points (and not far).
@@ -20,8 +21,6 @@ bool unit_step(const GridPoint& a, const GridPoint& b) {
         if (a[k] <= -kFar || a[k] >= kFar || b[k] <= -kFar || b[k] >= kFar) return false;
     return std::llabs(a[0] - b[0]) + std::llabs(a[1] - b[1]) == 1;
 }
-
-using Quad = std::array<GridPoint, 4>;
 
 /// The four grid points are a counter-clockwise unit cell: unit steps and area 1.
 bool is_cell(const Quad& q) {
@@ -37,159 +36,27 @@ bool is_cell(const Quad& q) {
     return twice_area == 2;
 }
 
+/// The grid point as "(u, v)".
 std::string point(const GridPoint& g) { return "(" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ")"; }
 
-/// What the anchors of one face showed: whether one showed a unit cell; the first anchor that
-/// reached all four corners and the grid points there; per edge (i, i+1), whether an anchor at
-/// one of its ends judged it, and whether one saw a unit step.
-struct Anchors {
-    bool cell = false, reached_all = false;
-    Quad first{};
-    std::uint32_t first_anchor = 0;
-    std::array<bool, 4> edge_ok{false, false, false, false}, edge_seen{false, false, false, false};
-};
-
-/// The corridor of a face's edge (a, b): the triangles within kCorridor |ab| of the segment ab,
-/// reached from a's triangle. Where the transitions compose to the same map along every path
-/// inside it (checked edge by edge), no fold-over lies in it and no cone but at a or b (whose
-/// fans are cut: turning about an end keeps the distance to it), carrying b's grid point
-/// through it gives one answer, the one along any iso-line from a to b inside it: a path
-/// homotopic to the edge. A correct mesh's edge is a unit iso-line whose arc stays within
-/// kCorridor of its chord (an arc up to twice as long as its chord does).
-constexpr double kCorridor = 0.5;
-/// Triangles a corridor holds at most (beyond: not certified).
-constexpr std::size_t kCorridorBudget = 1u << 14;
-
-/// An edge carried through its corridor: b's grid point in the chart of a's triangle, and the
-/// map from the chart b was read in to that chart.
-struct Edge {
-    GridPoint b{0, 0};
-    Transition m;
-    bool b_on_cone = false;
-};
-
-using Vec = std::array<double, 3>;
-Vec sub(const Vec& x, const Vec& y) { return {x[0] - y[0], x[1] - y[1], x[2] - y[2]}; }
-double dot(const Vec& x, const Vec& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
-Vec cross(const Vec& x, const Vec& y) {
-    return {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-}
-double norm(const Vec& x) { return std::sqrt(dot(x, x)); }
-
-/// The distance from x to the segment ab.
-double segment_distance(const Vec& x, const Vec& a, const Vec& b) {
-    const Vec ab = sub(b, a), ax = sub(x, a);
-    const double len2 = dot(ab, ab);
-    const double s = len2 > 0 ? std::clamp(dot(ab, ax) / len2, 0.0, 1.0) : 0.0;
-    return norm({ax[0] - s * ab[0], ax[1] - s * ab[1], ax[2] - s * ab[2]});
-}
-
-/// The distance between the segments pq and rs (the closest points by clamped parameters).
-double segments_distance(const Vec& p, const Vec& q, const Vec& r, const Vec& s) {
-    const Vec d1 = sub(q, p), d2 = sub(s, r), w = sub(p, r);
-    const double a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, w);
-    if (a <= 0 || e <= 0) return std::min(segment_distance(p, r, s), segment_distance(r, p, q));
-    const double b = dot(d1, d2), c = dot(d1, w), den = a * e - b * b;
-    double sc = den > 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
-    double tc = (b * sc + f) / e;
-    if (tc < 0)
-        tc = 0, sc = std::clamp(-c / a, 0.0, 1.0);
-    else if (tc > 1)
-        tc = 1, sc = std::clamp((b - c) / a, 0.0, 1.0);
-    return norm(sub({p[0] + sc * d1[0], p[1] + sc * d1[1], p[2] + sc * d1[2]},
-                    {r[0] + tc * d2[0], r[1] + tc * d2[1], r[2] + tc * d2[2]}));
-}
-
-/// The distance from x to the triangle p (its plane where x projects inside, else its edges).
-double point_triangle_distance(const Vec& x, const std::array<Vec, 3>& p) {
-    const Vec n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-    const double nn = dot(n, n);
-    if (nn > 0) {
-        bool inside = true;
-        for (int k = 0; k < 3; ++k) inside = inside && dot(cross(sub(p[(k + 1) % 3], p[k]), sub(x, p[k])), n) >= 0;
-        if (inside) return std::abs(dot(sub(x, p[0]), n)) / std::sqrt(nn);
+/// Whether the corridors of a face's four edges (`along`, `certified`) certify its cell: all four
+/// do, no corner is a cone, and the transitions around the face compose to the identity; then
+/// its corners in the chart of corner 0's triangle (whose grid point is g0), into q, are the
+/// answer.
+bool corridor_cell(const GridPoint& g0, const std::array<Edge, 4>& along, const std::array<bool, 4>& certified,
+                   Quad& q) {
+    bool cell_certified = true;
+    Transition around{};
+    q[0] = g0;
+    for (std::size_t e = 0; e < 4 && cell_certified; ++e) {
+        cell_certified = certified[e] && !along[e].b_on_cone;
+        if (e < 3 && cell_certified) q[e + 1] = map_point(around, along[e].b);
+        cell_certified = cell_certified && compose(around, along[e].m, around);
     }
-    double d = HUGE_VAL;
-    for (int k = 0; k < 3; ++k) d = std::min(d, segment_distance(x, p[k], p[(k + 1) % 3]));
-    return d;
+    return cell_certified && same(around, Transition{});
 }
 
-/// The distance from the segment ab to the triangle p: 0 where the segment crosses it, else the
-/// least of its ends' distances and its distances to the triangle's edges.
-double segment_triangle_distance(const Vec& a, const Vec& b, const std::array<Vec, 3>& p) {
-    const Vec n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-    const double da = dot(sub(a, p[0]), n), db = dot(sub(b, p[0]), n);
-    if ((da <= 0 && db >= 0) || (da >= 0 && db <= 0)) {
-        if (da != db) {
-            const double s = da / (da - db);
-            const Vec x{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])};
-            bool inside = true;
-            for (int k = 0; k < 3; ++k) inside = inside && dot(cross(sub(p[(k + 1) % 3], p[k]), sub(x, p[k])), n) >= 0;
-            if (inside) return 0.0;
-        }
-    }
-    double d = std::min(point_triangle_distance(a, p), point_triangle_distance(b, p));
-    for (int k = 0; k < 3; ++k) d = std::min(d, segments_distance(a, b, p[k], p[(k + 1) % 3]));
-    return d;
-}
-
-/// Judges the faces one by one; keeps the search's scratch between them.
-class FaceJudge {
-public:
-    FaceJudge(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc);
-    /// Face f: passes, or appends its violation (or undecided check).
-    void judge(std::size_t f, VerifyResult& r, std::vector<Violation>& out);
-
-private:
-    /// Each corner's triangle in turn, then the triangle under the face's centre.
-    Anchors try_anchors(const std::vector<int>& face, const std::array<double, 3>& centre);
-    /// All four corners carried into the chart of anchor tc (into g_); false when the search
-    /// does not reach them all.
-    bool transport(const std::vector<int>& face, std::uint32_t tc);
-    /// The triangle where the search from tc reached each corner, or -1.
-    std::array<std::int64_t, 4> search(const std::vector<int>& face, std::uint32_t tc);
-    /// The grid point of the located vertex L, read in triangle t0, carried back to tc along the search's path.
-    GridPoint carry(const Located& L, std::uint32_t t0, std::uint32_t tc);
-    /// Reports the failure of face f: a violation when `certified` and no path or corner
-    /// touched a fold-over or a singular fan, else undecided.
-    void report(std::size_t f, const std::string& msg, bool certified, VerifyResult& r,
-                std::vector<Violation>& out) const;
-    /// Carries vertex b's grid point into the chart of vertex a's triangle through the corridor
-    /// of the edge (a, b) (see below): false when the corridor does not certify one answer.
-    bool along_edge(int a, int b, Edge& e);
-    /// The corridor's triangles: within kCorridor |ab| of the segment ab (a superset: by centroid
-    /// distance less the triangle's radius).
-    bool in_corridor(std::uint32_t t, const std::array<double, 3>& a, const std::array<double, 3>& b, double rho) const;
-    /// A fold-over shares a vertex with triangle t.
-    bool near_fold(std::uint32_t t) const;
-
-    const LocatedMap& map_;
-    const Input& in_;
-    const QuadMesh& mesh_;
-    const std::vector<Located>& loc_;
-    std::vector<double> step_;      ///< per half-edge: the distance between the centroids across it
-    std::vector<char> fold_vertex_; ///< per input vertex: a corner of a fold-over
-    std::size_t budget_;            ///< triangles a search settles at most
-    // The search's scratch: triangles stamped with the current generation were reached.
-    std::vector<std::uint32_t> stamp_;
-    std::vector<double> best_;
-    std::vector<std::int64_t> via_; ///< the half-edge through which a triangle was reached
-    std::vector<std::pair<double, std::uint32_t>> heap_;
-    std::uint32_t generation_ = 0;
-    // The corridors' scratch: per triangle its generation, and the map from its chart to the
-    // chart of the corridor's start.
-    std::vector<std::array<double, 3>> centre_;
-    std::vector<double> radius_; ///< per triangle: the largest distance from its centroid to a corner
-    std::vector<std::uint32_t> cstamp_;
-    std::vector<Transition> to_start_;
-    std::vector<std::uint32_t> queue_;
-    std::uint32_t cgeneration_ = 0;
-    // The face being judged: its corners in the last anchor's chart, and whether any anchor's
-    // paths (or a corner) touched a fold-over or a singular fan.
-    Quad g_{};
-    bool corner_near_fold_ = false, through_fold_ = false, through_singular_ = false;
-    bool corner_in_region_ = false; ///< a corner lies in a fold-over region (judged on the surface only)
-};
+} // namespace
 
 FaceJudge::FaceJudge(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc)
     : map_(map),
@@ -316,80 +183,6 @@ bool FaceJudge::transport(const std::vector<int>& face, std::uint32_t tc) {
     return true;
 }
 
-bool FaceJudge::in_corridor(std::uint32_t t, const std::array<double, 3>& a, const std::array<double, 3>& b,
-                            double rho) const {
-    // Cheap rejection by the centroid, then the distance from the segment to the triangle.
-    if (segment_distance(centre_[t], a, b) > rho + radius_[t]) return false;
-    std::array<std::array<double, 3>, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = in_.positions[static_cast<std::size_t>(in_.triangles[t][k])];
-    return segment_triangle_distance(a, b, p) <= rho;
-}
-
-bool FaceJudge::along_edge(int a, int b, Edge& e) {
-    const Located &A = loc_[static_cast<std::size_t>(a)], &B = loc_[static_cast<std::size_t>(b)];
-    const auto &pa = mesh_.positions[static_cast<std::size_t>(a)], &pb = mesh_.positions[static_cast<std::size_t>(b)];
-    const double rho = kCorridor * std::sqrt((pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]) +
-                                             (pb[2] - pa[2]) * (pb[2] - pa[2]));
-    // Cones at the ends: their fans are cut (no path crosses an edge at them).
-    const std::int64_t cone_a =
-        A.on_vertex >= 0 && map_.singular[static_cast<std::size_t>(A.on_vertex)] ? A.on_vertex : -1;
-    const std::int64_t cone_b =
-        B.on_vertex >= 0 && map_.singular[static_cast<std::size_t>(B.on_vertex)] ? B.on_vertex : -1;
-    if (++cgeneration_ == 0) {
-        std::fill(cstamp_.begin(), cstamp_.end(), 0);
-        cgeneration_ = 1;
-    }
-    const std::uint32_t t0 = A.triangle;
-    if (map_.fold_over[t0]) return false;
-    cstamp_[t0] = cgeneration_;
-    to_start_[t0] = Transition{};
-    queue_.assign(1, t0);
-    for (std::size_t head = 0; head < queue_.size(); ++head) {
-        if (queue_.size() > kCorridorBudget) return false;
-        const std::uint32_t t = queue_[head];
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::size_t c = 3 * t + k;
-            const int u = in_.triangles[t][k], w = in_.triangles[t][(k + 1) % 3];
-            if (u == cone_a || w == cone_a || u == cone_b || w == cone_b) continue; // a cut fan
-            const std::int64_t o = map_.edges.opposite[c];
-            if (o < 0) {
-                if (map_.edges.partner[c] >= 0) return false; // a crossing without a known transition
-                continue;                                     // the boundary
-            }
-            const auto n = static_cast<std::uint32_t>(o / 3);
-            if (!in_corridor(n, pa, pb, rho)) continue;
-            if (map_.fold_over[n]) return false;
-            Transition m;
-            if (!compose(to_start_[t], map_.edges.across[static_cast<std::size_t>(o)], m)) return false;
-            if (cstamp_[n] == cgeneration_) {
-                if (!same(m, to_start_[n])) return false; // a cone (or an inconsistent loop) inside
-                continue;
-            }
-            cstamp_[n] = cgeneration_;
-            to_start_[n] = m;
-            queue_.push_back(n);
-        }
-    }
-    // b read in its own triangle, or at a cone, in any triangle of its fan the corridor reached.
-    e.b_on_cone = cone_b >= 0;
-    if (cone_b < 0) {
-        if (cstamp_[B.triangle] != cgeneration_) return false;
-        e.m = to_start_[B.triangle];
-        e.b = map_point(e.m, B.grid);
-        return true;
-    }
-    for (const std::uint32_t t : queue_)
-        for (std::size_t k = 0; k < 3; ++k)
-            if (in_.triangles[t][k] == cone_b) {
-                const auto& uv = in_.uvs[3 * t + k];
-                e.m = to_start_[t];
-                e.b = map_point(e.m, {static_cast<std::int64_t>(std::nearbyint(uv[0])),
-                                      static_cast<std::int64_t>(std::nearbyint(uv[1]))});
-                return true;
-            }
-    return false;
-}
-
 Anchors FaceJudge::try_anchors(const std::vector<int>& face, const std::array<double, 3>& centre) {
     // A path from an anchor that sits on a singularity, or inside a fold-over next to one, may
     // pass either way round it and turn the other corners about it. The face passes when one
@@ -462,6 +255,23 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
     std::array<Edge, 4> along{};
     std::array<bool, 4> certified{};
     for (std::size_t e = 0; e < 4; ++e) certified[e] = along_edge(face[e], face[(e + 1) % 4], along[e]);
+    if (!report_edges(f, a, along, certified, r, out)) return;
+    // Every edge judged is a unit step (none is judged when only the centre's anchor reached all
+    // four corners), but no anchor shows one cell.
+    Quad q{};
+    const bool cell_certified = corridor_cell(loc_[static_cast<std::size_t>(face[0])].grid, along, certified, q);
+    if (cell_certified && is_cell(q)) return; // the corridors show one unit cell
+    report(f,
+           "face " + std::to_string(f) + ": its corners are the grid points " + point(a.first[0]) + " " +
+               point(a.first[1]) + " " + point(a.first[2]) + " " + point(a.first[3]) +
+               " in the chart of input triangle " + std::to_string(a.first_anchor) +
+               ", not a counter-clockwise unit cell",
+           cell_certified, r, out);
+}
+
+bool FaceJudge::report_edges(std::size_t f, const Anchors& a, const std::array<Edge, 4>& along,
+                             const std::array<bool, 4>& certified, VerifyResult& r, std::vector<Violation>& out) const {
+    const auto& face = mesh_.faces[f];
     auto grid_of = [&](std::size_t i) { return loc_[static_cast<std::size_t>(face[i])].grid; };
     bool edges_ok = true;
     for (std::size_t e = 0; e < 4; ++e) {
@@ -474,35 +284,14 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
                    certified[e], r, out);
         }
     }
-    if (!edges_ok) return;
-    // Every edge judged is a unit step (none is judged when only the centre's anchor reached all
-    // four corners), but no anchor shows one cell. The corridors certify the cell when all four
-    // do, no corner is a cone, and the transitions around the face compose to the identity:
-    // then its corners in the chart of corner 0's triangle are the answer.
-    bool cell_certified = true;
-    Transition around{};
-    Quad q{};
-    q[0] = grid_of(0);
-    for (std::size_t e = 0; e < 4 && cell_certified; ++e) {
-        cell_certified = certified[e] && !along[e].b_on_cone;
-        if (e < 3 && cell_certified) q[e + 1] = map_point(around, along[e].b);
-        cell_certified = cell_certified && compose(around, along[e].m, around);
-    }
-    cell_certified = cell_certified && same(around, Transition{});
-    if (cell_certified && is_cell(q)) return; // the corridors show one unit cell
-    report(f,
-           "face " + std::to_string(f) + ": its corners are the grid points " + point(a.first[0]) + " " +
-               point(a.first[1]) + " " + point(a.first[2]) + " " + point(a.first[3]) +
-               " in the chart of input triangle " + std::to_string(a.first_anchor) +
-               ", not a counter-clockwise unit cell",
-           cell_certified, r, out);
+    return edges_ok;
 }
 
-} // namespace
+} // namespace face_cells
 
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
                       std::vector<Violation>& out) {
-    FaceJudge judge(map, mesh, loc);
+    face_cells::FaceJudge judge(map, mesh, loc);
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) judge.judge(f, r, out);
 }
 

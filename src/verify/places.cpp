@@ -203,10 +203,21 @@ std::string list(const std::vector<Index>& xs, std::size_t most = 12) {
     return s;
 }
 
-} // namespace
+/// The candidates of the whole mesh's violations: the holes (the mesh's boundary loops that
+/// leave the input's boundary), the components beyond the input's count, the input components no
+/// vertex lies on, and the places of the local violations that change the Euler characteristic
+/// or the coverage.
+struct Candidates {
+    Boundary b;
+    std::vector<std::size_t> holes; ///< indices into b's loops
+    std::vector<std::vector<Index>> extra;
+    std::vector<Index> missing;
+    std::vector<Place> local;
+};
 
-void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r) {
-    auto& out = r.violations;
+/// Gives every violation (and undecided check) the place its element names, and in located
+/// mode, for an output vertex or face, the input triangle where it lies.
+void place_elements(const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r) {
     for (auto* list_of : {&r.violations, &r.undecided})
         for (Violation& v : *list_of) {
             Place p;
@@ -215,6 +226,96 @@ void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext&
             const std::int64_t t = closest_triangle(mesh, ctx, v);
             if (t >= 0) v.places.push_back({PlaceKind::InputTriangle, {t}});
         }
+}
+
+/// Holes: the mesh's boundary loops that leave the input's boundary (all of them when the
+/// input has none).
+std::vector<std::size_t> hole_loops(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, const Boundary& b) {
+    std::vector<std::size_t> holes;
+    const auto input_boundary = input_boundary_edges(in);
+    for (std::size_t l = 0; l < b.loops.size(); ++l)
+        if (input_boundary.empty() || !on_input_boundary(in, input_boundary, mesh, b.loops[l], ctx.boundary_tolerance))
+            holes.push_back(l);
+    // Every loop lies on the input's boundary, yet they are too many (or too few): name them all.
+    if (holes.empty())
+        for (std::size_t l = 0; l < b.loops.size(); ++l) holes.push_back(l);
+    return holes;
+}
+
+/// The places of the local violations that change the Euler characteristic or the coverage.
+std::vector<Place> local_places(const std::vector<Violation>& out) {
+    std::vector<Place> local;
+    for (const Violation& v : out)
+        if (v.kind == ViolationKind::NonManifoldEdge || v.kind == ViolationKind::NonManifoldVertex ||
+            v.kind == ViolationKind::InconsistentOrientation || v.kind == ViolationKind::NotQuad ||
+            v.kind == ViolationKind::FaceNotGridCell || v.kind == ViolationKind::RepeatedVertex)
+            for (const Place& p : v.places)
+                if (local.size() < kMaxPlaces) local.push_back(p);
+    return local;
+}
+
+/// Located mode: where on the input a hole lies (its loop's vertices' closest triangles).
+std::vector<Index> hole_triangles(const PlaceContext& ctx, const std::vector<Index>& loop) {
+    std::vector<Index> t;
+    for (const Index x : loop)
+        if (x < static_cast<Index>(ctx.closest_triangle.size()) &&
+            ctx.closest_triangle[static_cast<std::size_t>(x)] >= 0 &&
+            std::find(t.begin(), t.end(), ctx.closest_triangle[static_cast<std::size_t>(x)]) == t.end())
+            t.push_back(ctx.closest_triangle[static_cast<std::size_t>(x)]);
+    return t;
+}
+
+/// Adds the holes to v: each one's loop, its faces and where it lies on the input.
+void add_holes(Violation& v, const Candidates& c, const PlaceContext& ctx) {
+    for (const std::size_t l : c.holes) {
+        add_place(v, PlaceKind::Loop, c.b.loops[l]);
+        add_place(v, PlaceKind::Face, c.b.faces[l]);
+        add_place(v, PlaceKind::InputTriangle, hole_triangles(ctx, c.b.loops[l]));
+    }
+}
+
+/// Adds the extra components' faces to v, and the input components no vertex lies on.
+void add_components(Violation& v, const Candidates& c) {
+    for (const auto& faces : c.extra) add_place(v, PlaceKind::Face, faces);
+    if (!c.missing.empty()) add_place(v, PlaceKind::InputTriangle, c.missing);
+}
+
+/// Gives a violation of the whole mesh its candidates, and says in its message what they are.
+void place_global(Violation& v, const Candidates& c, const PlaceContext& ctx) {
+    std::string found;
+    switch (v.kind) {
+        case ViolationKind::BoundaryMismatch:
+            add_holes(v, c, ctx);
+            if (!c.holes.empty()) found = std::to_string(c.holes.size()) + " off the input's boundary";
+            break;
+        case ViolationKind::ComponentMismatch:
+            add_components(v, c);
+            if (!c.extra.empty())
+                found = "extra: " + std::to_string(c.extra.size()) + " of " + std::to_string(c.extra.front().size()) +
+                        " faces or more";
+            if (!c.missing.empty())
+                found += (found.empty() ? "" : "; ") + std::string("input components with no vertex at triangles ") +
+                         list(c.missing);
+            break;
+        case ViolationKind::EulerMismatch:
+        case ViolationKind::CoverageMismatch:
+            add_holes(v, c, ctx);
+            add_components(v, c);
+            for (const Place& p : c.local) add_place(v, p.kind, p.indices);
+            if (!v.places.empty()) found = std::to_string(v.places.size()) + " candidate places";
+            break;
+        default: break;
+    }
+    if (v.kind == ViolationKind::BoundaryMismatch && !c.holes.empty())
+        found += ": the first through vertices " + list(c.b.loops[c.holes.front()]);
+    if (!found.empty()) v.message += " (" + found + ")";
+}
+
+} // namespace
+
+void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult& r) {
+    auto& out = r.violations;
+    place_elements(mesh, ctx, r);
     bool boundary = false, components = false, global = false;
     for (const Violation& v : out) {
         boundary = boundary || v.kind == ViolationKind::BoundaryMismatch || v.kind == ViolationKind::EulerMismatch ||
@@ -223,88 +324,20 @@ void place_violations(const Input& in, const QuadMesh& mesh, const PlaceContext&
         global = global || element_kind(v.kind) == ViolationElement::None;
     }
     if (!global || !ctx.indices_ok) return;
-    // Holes: the mesh's boundary loops that leave the input's boundary (all of them when the
-    // input has none).
-    std::vector<std::size_t> holes;
-    Boundary b;
+    Candidates c;
     if (boundary) {
-        b = boundary_loops(mesh);
-        const auto input_boundary = input_boundary_edges(in);
-        for (std::size_t l = 0; l < b.loops.size(); ++l)
-            if (input_boundary.empty() ||
-                !on_input_boundary(in, input_boundary, mesh, b.loops[l], ctx.boundary_tolerance))
-                holes.push_back(l);
-        // Every loop lies on the input's boundary, yet they are too many (or too few): name them all.
-        if (holes.empty())
-            for (std::size_t l = 0; l < b.loops.size(); ++l) holes.push_back(l);
+        c.b = boundary_loops(mesh);
+        c.holes = hole_loops(in, mesh, ctx, c.b);
     }
     // Components beyond the input's count, smallest first; input components no vertex lies on.
-    std::vector<std::vector<Index>> extra;
-    std::vector<Index> missing;
     if (components) {
         auto comps = components_by_size(mesh);
         const auto surplus = static_cast<Index>(comps.size()) - r.input_components;
-        for (Index c = 0; c < surplus; ++c) extra.push_back(std::move(comps[static_cast<std::size_t>(c)]));
-        if (!ctx.located_triangle.empty()) missing = empty_input_components(in, ctx.located_triangle);
+        for (Index k = 0; k < surplus; ++k) c.extra.push_back(std::move(comps[static_cast<std::size_t>(k)]));
+        if (!ctx.located_triangle.empty()) c.missing = empty_input_components(in, ctx.located_triangle);
     }
-    // Located mode: where on the input each hole lies (its loop's vertices' closest triangles).
-    auto hole_triangles = [&](const std::vector<Index>& loop) {
-        std::vector<Index> t;
-        for (const Index x : loop)
-            if (x < static_cast<Index>(ctx.closest_triangle.size()) &&
-                ctx.closest_triangle[static_cast<std::size_t>(x)] >= 0 &&
-                std::find(t.begin(), t.end(), ctx.closest_triangle[static_cast<std::size_t>(x)]) == t.end())
-                t.push_back(ctx.closest_triangle[static_cast<std::size_t>(x)]);
-        return t;
-    };
-    auto add_holes = [&](Violation& v) {
-        for (const std::size_t l : holes) {
-            add_place(v, PlaceKind::Loop, b.loops[l]);
-            add_place(v, PlaceKind::Face, b.faces[l]);
-            add_place(v, PlaceKind::InputTriangle, hole_triangles(b.loops[l]));
-        }
-    };
-    auto add_components = [&](Violation& v) {
-        for (const auto& faces : extra) add_place(v, PlaceKind::Face, faces);
-        if (!missing.empty()) add_place(v, PlaceKind::InputTriangle, missing);
-    };
-    // The local violations that change the Euler characteristic or the coverage.
-    std::vector<Place> local;
-    for (const Violation& v : out)
-        if (v.kind == ViolationKind::NonManifoldEdge || v.kind == ViolationKind::NonManifoldVertex ||
-            v.kind == ViolationKind::InconsistentOrientation || v.kind == ViolationKind::NotQuad ||
-            v.kind == ViolationKind::FaceNotGridCell || v.kind == ViolationKind::RepeatedVertex)
-            for (const Place& p : v.places)
-                if (local.size() < kMaxPlaces) local.push_back(p);
-    for (Violation& v : out) {
-        std::string found;
-        switch (v.kind) {
-            case ViolationKind::BoundaryMismatch:
-                add_holes(v);
-                if (!holes.empty()) found = std::to_string(holes.size()) + " off the input's boundary";
-                break;
-            case ViolationKind::ComponentMismatch:
-                add_components(v);
-                if (!extra.empty())
-                    found = "extra: " + std::to_string(extra.size()) + " of " + std::to_string(extra.front().size()) +
-                            " faces or more";
-                if (!missing.empty())
-                    found += (found.empty() ? "" : "; ") +
-                             std::string("input components with no vertex at triangles ") + list(missing);
-                break;
-            case ViolationKind::EulerMismatch:
-            case ViolationKind::CoverageMismatch:
-                add_holes(v);
-                add_components(v);
-                for (const Place& p : local) add_place(v, p.kind, p.indices);
-                if (!v.places.empty()) found = std::to_string(v.places.size()) + " candidate places";
-                break;
-            default: break;
-        }
-        if (v.kind == ViolationKind::BoundaryMismatch && !holes.empty())
-            found += ": the first through vertices " + list(b.loops[holes.front()]);
-        if (!found.empty()) v.message += " (" + found + ")";
-    }
+    c.local = local_places(out);
+    for (Violation& v : out) place_global(v, c, ctx);
 }
 
 } // namespace qex::verify_detail
