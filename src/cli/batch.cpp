@@ -124,6 +124,109 @@ void show_progress(std::size_t done, std::size_t total, std::size_t failed, cons
     std::fflush(stderr);
 }
 
+/// The jobs of `maps`: each one's output, report and log in the output folder, named by its stem.
+std::vector<Job> plan_jobs(const std::vector<std::string>& maps, const BatchArgs& a) {
+    std::vector<Job> jobs(maps.size());
+    std::map<std::string, int> seen_stems; // two maps with one stem (a.obj, a.ply) get distinct outputs
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+        std::string stem = fs::path(maps[i]).stem().string();
+        if (const int n = seen_stems[stem]++; n > 0) stem += "_" + std::to_string(n + 1);
+        const std::string base = (fs::path(a.out_dir) / stem).string();
+        jobs[i] = {maps[i], base + "." + a.format, base + ".report.json", base + ".log", "", 0, 0.0, -1, {}};
+    }
+    return jobs;
+}
+
+/// How far the batch is: the next job to start, the jobs done and those failed.
+struct Tally {
+    std::size_t next = 0, done = 0, failed = 0;
+};
+
+/// Starts jobs until `parallel` run or none is left; a job whose output exists with a valid
+/// report is skipped (unless --force), one that cannot be started has failed.
+void start_jobs(std::vector<Job>& jobs, const BatchArgs& a, std::size_t parallel, int threads, Tally& n,
+                std::vector<Job*>& running) {
+    std::error_code ec;
+    while (running.size() < parallel && n.next < jobs.size()) {
+        Job& job = jobs[n.next++];
+        if (!a.force && fs::exists(job.output) && report_says_valid(read_report(job.report))) {
+            job.status = "skipped";
+            ++n.done;
+            continue;
+        }
+        fs::remove(job.output, ec);
+        fs::remove(job.report, ec); // a report left by an earlier run must not describe this one
+        if (!start(job, a, threads)) {
+            job.status = "failed";
+            job.exit_code = kIo;
+            ++n.done, ++n.failed;
+            continue;
+        }
+        running.push_back(&job);
+    }
+}
+
+/// Records how the job's process ended (its wait status `status`), and says so if it failed.
+void finish_job(Job& job, int status, const BatchArgs& a, bool progress, Tally& n) {
+    job.seconds = std::chrono::duration<double>(Clock::now() - job.start).count();
+    job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    job.status = job.exit_code == 0 ? "ok" : "failed";
+    ++n.done;
+    if (job.exit_code != 0) {
+        ++n.failed;
+        if (progress) std::fprintf(stderr, "\r\033[K");
+        if (!a.quiet)
+            std::fprintf(stderr, "qex: %s failed (exit code %d, see %s)\n", job.map.c_str(), job.exit_code,
+                         job.log.c_str());
+    }
+}
+
+/// Runs the jobs, `parallel` processes at a time, until all are done; returns how many failed.
+std::size_t run_jobs(std::vector<Job>& jobs, const BatchArgs& a, std::size_t parallel, int threads, bool progress) {
+    Tally n;
+    std::vector<Job*> running;
+    while (n.done < jobs.size()) {
+        start_jobs(jobs, a, parallel, threads, n, running);
+        if (progress) show_progress(n.done, jobs.size(), n.failed, running);
+        if (running.empty()) continue;
+        int status = 0;
+        const pid_t pid = waitpid(-1, &status, 0);
+        if (pid < 0) break;
+        const auto it = std::find_if(running.begin(), running.end(), [&](const Job* j) { return j->pid == pid; });
+        if (it == running.end()) continue;
+        Job& job = **it;
+        running.erase(it);
+        finish_job(job, status, a, progress, n);
+    }
+    if (progress) std::fprintf(stderr, "\r\033[K");
+    return n.failed;
+}
+
+/// Writes the summary (one JSON line per map) and prints the tally; the batch's exit code.
+int write_summary(const std::vector<Job>& jobs, const BatchArgs& a, std::size_t failed) {
+    std::string summary;
+    std::size_t ok = 0, skipped = 0;
+    for (const Job& job : jobs) {
+        summary += summary_line(job).dump() + "\n";
+        ok += job.status == "ok";
+        skipped += job.status == "skipped";
+    }
+    const std::string summary_path =
+        a.summary_path.empty() ? (fs::path(a.out_dir) / "summary.jsonl").string() : a.summary_path;
+    if (!write_text(summary_path, summary)) {
+        std::cerr << "qex: cannot write the summary '" << summary_path << "'\n";
+        return kIo;
+    }
+    if (!a.quiet)
+        std::printf("qex batch: %zu maps: %zu extracted, %zu skipped (valid output already), %zu failed -> %s\n",
+                    jobs.size(), ok, skipped, failed, summary_path.c_str());
+    if (failed > 0) {
+        std::fprintf(stderr, "qex batch: %zu of %zu maps failed\n", failed, jobs.size());
+        return kBatchFailed;
+    }
+    return kOk;
+}
+
 } // namespace
 
 CLI::App* add_batch(CLI::App& app, BatchArgs& a) {
@@ -153,83 +256,13 @@ int run_batch(const BatchArgs& a) {
         std::cerr << "qex: cannot create the folder '" << a.out_dir << "'\n";
         return kIo;
     }
-    std::vector<Job> jobs(maps.size());
-    std::map<std::string, int> seen_stems; // two maps with one stem (a.obj, a.ply) get distinct outputs
-    for (std::size_t i = 0; i < maps.size(); ++i) {
-        std::string stem = fs::path(maps[i]).stem().string();
-        if (const int n = seen_stems[stem]++; n > 0) stem += "_" + std::to_string(n + 1);
-        const std::string base = (fs::path(a.out_dir) / stem).string();
-        jobs[i] = {maps[i], base + "." + a.format, base + ".report.json", base + ".log", "", 0, 0.0, -1, {}};
-    }
+    std::vector<Job> jobs = plan_jobs(maps, a);
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const std::size_t parallel = static_cast<std::size_t>(a.jobs > 0 ? a.jobs : cores);
     const int threads = parallel > 1 ? 1 : 0; // parallel maps, serial loops (same meshes either way)
     const bool progress = !a.quiet && isatty(2);
-
-    std::size_t next = 0, done = 0, failed = 0;
-    std::vector<Job*> running;
-    while (done < jobs.size()) {
-        while (running.size() < parallel && next < jobs.size()) {
-            Job& job = jobs[next++];
-            if (!a.force && fs::exists(job.output) && report_says_valid(read_report(job.report))) {
-                job.status = "skipped";
-                ++done;
-                continue;
-            }
-            fs::remove(job.output, ec);
-            fs::remove(job.report, ec); // a report left by an earlier run must not describe this one
-            if (!start(job, a, threads)) {
-                job.status = "failed";
-                job.exit_code = kIo;
-                ++done, ++failed;
-                continue;
-            }
-            running.push_back(&job);
-        }
-        if (progress) show_progress(done, jobs.size(), failed, running);
-        if (running.empty()) continue;
-        int status = 0;
-        const pid_t pid = waitpid(-1, &status, 0);
-        if (pid < 0) break;
-        const auto it = std::find_if(running.begin(), running.end(), [&](const Job* j) { return j->pid == pid; });
-        if (it == running.end()) continue;
-        Job& job = **it;
-        running.erase(it);
-        job.seconds = std::chrono::duration<double>(Clock::now() - job.start).count();
-        job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-        job.status = job.exit_code == 0 ? "ok" : "failed";
-        ++done;
-        if (job.exit_code != 0) {
-            ++failed;
-            if (progress) std::fprintf(stderr, "\r\033[K");
-            if (!a.quiet)
-                std::fprintf(stderr, "qex: %s failed (exit code %d, see %s)\n", job.map.c_str(), job.exit_code,
-                             job.log.c_str());
-        }
-    }
-    if (progress) std::fprintf(stderr, "\r\033[K");
-
-    std::string summary;
-    std::size_t ok = 0, skipped = 0;
-    for (const Job& job : jobs) {
-        summary += summary_line(job).dump() + "\n";
-        ok += job.status == "ok";
-        skipped += job.status == "skipped";
-    }
-    const std::string summary_path =
-        a.summary_path.empty() ? (fs::path(a.out_dir) / "summary.jsonl").string() : a.summary_path;
-    if (!write_text(summary_path, summary)) {
-        std::cerr << "qex: cannot write the summary '" << summary_path << "'\n";
-        return kIo;
-    }
-    if (!a.quiet)
-        std::printf("qex batch: %zu maps: %zu extracted, %zu skipped (valid output already), %zu failed -> %s\n",
-                    jobs.size(), ok, skipped, failed, summary_path.c_str());
-    if (failed > 0) {
-        std::fprintf(stderr, "qex batch: %zu of %zu maps failed\n", failed, jobs.size());
-        return kBatchFailed;
-    }
-    return kOk;
+    const std::size_t failed = run_jobs(jobs, a, parallel, threads, progress);
+    return write_summary(jobs, a, failed);
 }
 
 } // namespace qex::cli

@@ -1,6 +1,7 @@
 // qex: the command-line front end. One file per subcommand (extract.cpp, check.cpp, info.cpp,
 // draw.cpp, batch.cpp), each with its options (add_*) and its run (run_*); cli.h lists what
-// they share. Here: the program's help, version and dispatch.
+// they share. draw.cpp's pictures are drawn by draw_map.cpp and draw_mesh.cpp (draw_parts.h)
+// in the SVG of svg.cpp. Here: the program's help, version and dispatch.
 #include "cli.h"
 #include "heap_policy.h"
 

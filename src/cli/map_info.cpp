@@ -36,15 +36,10 @@ double uv_area(const std::array<double, 2>& a, const std::array<double, 2>& b, c
     return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
 }
 
-} // namespace
-
-MapInfo analyse_map(const Input& in) {
-    MapInfo info;
-    const std::size_t nt = in.triangles.size(), nv = in.positions.size();
-    info.vertices = static_cast<std::int64_t>(nv);
-    info.triangles = static_cast<std::int64_t>(nt);
-    const auto he = half_edges(in);
-    // Topology: edges, boundary half-edges (no twin), components, boundary loops.
+/// The topology: edges, boundary half-edges (no twin), components, boundary loops, Euler
+/// characteristic and genus. Returns which vertices are on the boundary.
+std::vector<bool> add_topology(const Input& in, const std::unordered_map<std::int64_t, int>& he, MapInfo& info) {
+    const std::size_t nv = in.positions.size();
     std::vector<int> boundary_next(nv, -1); // boundary half-edge from a vertex: its target
     std::vector<bool> on_boundary(nv, false);
     Components vertex_sets(nv);
@@ -82,8 +77,12 @@ MapInfo analyse_map(const Input& in) {
     for (std::size_t v = 0; v < nv; ++v)
         if (vertex_sets.find(static_cast<int>(v)) == static_cast<int>(v))
             info.genus += (2 - euler_of[v] - loops_of[v]) / 2;
+    return on_boundary;
+}
 
-    // Orientation and area of every triangle; fold-over regions across shared edges.
+/// Orientation and area of every triangle; fold-over regions across shared edges.
+void add_fold_regions(const Input& in, const std::unordered_map<std::int64_t, int>& he, MapInfo& info) {
+    const std::size_t nt = in.triangles.size();
     info.orientation = uv_orientations(in);
     std::vector<double> area(nt);
     for (std::size_t t = 0; t < nt; ++t) {
@@ -122,8 +121,12 @@ MapInfo analyse_map(const Input& in) {
                 region.grid_hi[c] = std::max(region.grid_hi[c], static_cast<std::int64_t>(std::ceil(x)));
             }
     }
+}
 
-    // Singularities: interior vertices whose fan's signed UV angles sum to other than a full turn.
+/// Singularities: interior vertices whose fan's signed UV angles sum to other than a full turn
+/// (needs the orientations of add_fold_regions).
+void add_singularities(const Input& in, const std::vector<bool>& on_boundary, MapInfo& info) {
+    const std::size_t nt = in.triangles.size(), nv = in.positions.size();
     std::vector<double> angle(nv, 0.0);
     std::vector<int> first_corner(nv, -1);
     std::vector<bool> in_fold(nv, false);
@@ -155,6 +158,18 @@ MapInfo analyse_map(const Input& in) {
         s.in_fold = in_fold[v];
         info.singularities.push_back(s);
     }
+}
+
+} // namespace
+
+MapInfo analyse_map(const Input& in) {
+    MapInfo info;
+    info.vertices = static_cast<std::int64_t>(in.positions.size());
+    info.triangles = static_cast<std::int64_t>(in.triangles.size());
+    const auto he = half_edges(in);
+    const std::vector<bool> on_boundary = add_topology(in, he, info);
+    add_fold_regions(in, he, info);
+    add_singularities(in, on_boundary, info);
     return info;
 }
 

@@ -224,95 +224,112 @@ int find_property(const Element& e, std::initializer_list<const char*> names, bo
     return -1;
 }
 
-IoError parse_data(const char* data, std::size_t size, PlyData& out) {
-    Format format = Format::Ascii;
-    std::vector<Element> elements;
-    std::size_t body = 0;
-    if (IoError e = parse_header(data, size, format, elements, body); !e.ok()) return e;
-    ValueReader r(data, data + body, data + size, format);
-    bool seen_vertex = false, seen_face = false;
-    for (const Element& el : elements) {
-        const bool is_vertex = el.name == "vertex" && !seen_vertex;
-        const bool is_face = el.name == "face" && !seen_face;
-        int px = -1, py = -1, pz = -1, pu = -1, pv = -1, pidx = -1, ptex = -1;
-        if (is_vertex) {
-            seen_vertex = true;
-            px = find_property(el, {"x"}, false), py = find_property(el, {"y"}, false);
-            pz = find_property(el, {"z"}, false);
-            if (px < 0 || py < 0 || pz < 0) return header_error(0, "element vertex has no x, y and z properties");
-            pu = find_property(el, {"s", "u", "texture_u", "texture_s"}, false);
-            pv = find_property(el, {"t", "v", "texture_v", "texture_t"}, false);
-            out.has_vertex_uvs = pu >= 0 && pv >= 0;
+/// Which properties of an element the readers take: the indices of x, y, z, the vertex UVs, the
+/// face's index list and its texcoord list (-1: none), for the first vertex and face elements.
+struct Roles {
+    bool is_vertex = false, is_face = false;
+    int px = -1, py = -1, pz = -1, pu = -1, pv = -1, pidx = -1, ptex = -1;
+};
+
+/// The roles of `el`'s properties; the first element named vertex must have x, y and z, the
+/// first named face a vertex index list.
+IoError find_roles(const Element& el, bool& seen_vertex, bool& seen_face, PlyData& out, Roles& roles) {
+    roles.is_vertex = el.name == "vertex" && !seen_vertex;
+    roles.is_face = el.name == "face" && !seen_face;
+    if (roles.is_vertex) {
+        seen_vertex = true;
+        roles.px = find_property(el, {"x"}, false), roles.py = find_property(el, {"y"}, false);
+        roles.pz = find_property(el, {"z"}, false);
+        if (roles.px < 0 || roles.py < 0 || roles.pz < 0)
+            return header_error(0, "element vertex has no x, y and z properties");
+        roles.pu = find_property(el, {"s", "u", "texture_u", "texture_s"}, false);
+        roles.pv = find_property(el, {"t", "v", "texture_v", "texture_t"}, false);
+        out.has_vertex_uvs = roles.pu >= 0 && roles.pv >= 0;
+    }
+    if (roles.is_face) {
+        seen_face = true;
+        roles.pidx = find_property(el, {"vertex_indices", "vertex_index"}, true);
+        if (roles.pidx < 0) return header_error(0, "element face has no vertex_indices list");
+        roles.ptex = find_property(el, {"texcoord"}, true);
+        out.has_texcoords = roles.ptex >= 0;
+    }
+    return {};
+}
+
+/// One instance of a vertex or face element.
+struct Instance {
+    std::array<double, 3> pos{};
+    std::array<double, 2> uv{};
+    std::vector<int> face;
+    std::vector<double> tex;
+};
+
+/// Reads instance `i` of `el`, keeping the values of the properties with a role.
+IoError read_instance(ValueReader& r, const Element& el, std::int64_t i, const Roles& roles, Instance& in) {
+    for (std::size_t k = 0; k < el.properties.size(); ++k) {
+        const Property& p = el.properties[k];
+        const auto fail = [&](const std::string& what) {
+            return IoError{IoError::Code::PlySyntax,
+                           "byte " + std::to_string(r.offset()) + ": element " + el.name + " " + std::to_string(i) +
+                               ", property " + p.name + ": " + what,
+                           0, r.offset()};
+        };
+        double x = 0;
+        if (!p.list) {
+            if (!r.read(p.type, x)) return fail("missing or malformed value");
+            const int ki = static_cast<int>(k);
+            if (ki == roles.px || ki == roles.py || ki == roles.pz)
+                in.pos[ki == roles.px ? 0 : ki == roles.py ? 1 : 2] = x;
+            if (ki == roles.pu) in.uv[0] = x;
+            if (ki == roles.pv) in.uv[1] = x;
+            continue;
         }
-        if (is_face) {
-            seen_face = true;
-            pidx = find_property(el, {"vertex_indices", "vertex_index"}, true);
-            if (pidx < 0) return header_error(0, "element face has no vertex_indices list");
-            ptex = find_property(el, {"texcoord"}, true);
-            out.has_texcoords = ptex >= 0;
-        }
-        if (el.properties.empty()) continue; // instances without properties take no bytes
-        // Each instance takes at least a byte per property: a count the file cannot hold is an error now.
-        std::size_t least = 0;
-        for (const Property& p : el.properties) least += r.min_size(p.list ? p.count_type : p.type);
-        if (least > 0 && static_cast<std::size_t>(el.count) > r.left() / least + 1)
-            return {IoError::Code::PlySyntax,
-                    "byte " + std::to_string(r.offset()) + ": element " + el.name + ": " + std::to_string(el.count) +
-                        " instances cannot fit in the " + std::to_string(r.left()) + " bytes left",
-                    0, r.offset()};
-        for (std::int64_t i = 0; i < el.count; ++i) {
-            std::array<double, 3> pos{};
-            std::array<double, 2> uv{};
-            std::vector<int> face;
-            std::vector<double> tex;
-            for (std::size_t k = 0; k < el.properties.size(); ++k) {
-                const Property& p = el.properties[k];
-                const auto fail = [&](const std::string& what) {
-                    return IoError{IoError::Code::PlySyntax,
-                                   "byte " + std::to_string(r.offset()) + ": element " + el.name + " " +
-                                       std::to_string(i) + ", property " + p.name + ": " + what,
-                                   0, r.offset()};
-                };
-                double x = 0;
-                if (!p.list) {
-                    if (!r.read(p.type, x)) return fail("missing or malformed value");
-                    const int ki = static_cast<int>(k);
-                    if (ki == px || ki == py || ki == pz) pos[ki == px ? 0 : ki == py ? 1 : 2] = x;
-                    if (ki == pu) uv[0] = x;
-                    if (ki == pv) uv[1] = x;
-                    continue;
-                }
-                double n = 0;
-                if (!r.read(p.count_type, n) || n < 0) return fail("missing or malformed list count");
-                if (n * static_cast<double>(r.min_size(p.type)) > static_cast<double>(r.left()))
-                    return fail("a list of " + std::to_string(static_cast<long long>(n)) + " values runs past the end");
-                const bool indices = static_cast<int>(k) == pidx, texcoords = static_cast<int>(k) == ptex;
-                for (std::int64_t j = 0; j < static_cast<std::int64_t>(n); ++j) {
-                    if (!r.read(p.type, x)) return fail("missing or malformed list value");
-                    if (indices) {
-                        if (!(x >= 0 && x <= INT32_MAX))
-                            return fail("vertex index " + std::to_string(static_cast<long long>(x)) + " out of range");
-                        face.push_back(static_cast<int>(x));
-                    }
-                    if (texcoords) tex.push_back(x);
-                }
+        double n = 0;
+        if (!r.read(p.count_type, n) || n < 0) return fail("missing or malformed list count");
+        if (n * static_cast<double>(r.min_size(p.type)) > static_cast<double>(r.left()))
+            return fail("a list of " + std::to_string(static_cast<long long>(n)) + " values runs past the end");
+        const bool indices = static_cast<int>(k) == roles.pidx, texcoords = static_cast<int>(k) == roles.ptex;
+        for (std::int64_t j = 0; j < static_cast<std::int64_t>(n); ++j) {
+            if (!r.read(p.type, x)) return fail("missing or malformed list value");
+            if (indices) {
+                if (!(x >= 0 && x <= INT32_MAX))
+                    return fail("vertex index " + std::to_string(static_cast<long long>(x)) + " out of range");
+                in.face.push_back(static_cast<int>(x));
             }
-            if (is_vertex) {
-                out.positions.push_back(pos);
-                if (out.has_vertex_uvs) out.vertex_uvs.push_back(uv);
-            }
-            if (is_face) {
-                out.faces.push_back(std::move(face));
-                if (out.has_texcoords) out.texcoords.push_back(std::move(tex));
-            }
+            if (texcoords) in.tex.push_back(x);
         }
     }
-    if (format == Format::Ascii ? !r.only_blanks_left() : r.left() != 0)
-        return {IoError::Code::PlySyntax, "byte " + std::to_string(r.offset()) + ": data after the last element", 0,
-                r.offset()};
-    if (!seen_vertex) return header_error(0, "no vertex element");
-    if (!seen_face) return header_error(0, "no face element");
-    // Indices refer to the vertices (which may come after the faces in the file).
+    return {};
+}
+
+/// Reads every instance of `el`, keeping the vertices and faces.
+IoError read_element(ValueReader& r, const Element& el, const Roles& roles, PlyData& out) {
+    if (el.properties.empty()) return {}; // instances without properties take no bytes
+    // Each instance takes at least a byte per property: a count the file cannot hold is an error now.
+    std::size_t least = 0;
+    for (const Property& p : el.properties) least += r.min_size(p.list ? p.count_type : p.type);
+    if (least > 0 && static_cast<std::size_t>(el.count) > r.left() / least + 1)
+        return {IoError::Code::PlySyntax,
+                "byte " + std::to_string(r.offset()) + ": element " + el.name + ": " + std::to_string(el.count) +
+                    " instances cannot fit in the " + std::to_string(r.left()) + " bytes left",
+                0, r.offset()};
+    for (std::int64_t i = 0; i < el.count; ++i) {
+        Instance in;
+        if (IoError e = read_instance(r, el, i, roles, in); !e.ok()) return e;
+        if (roles.is_vertex) {
+            out.positions.push_back(in.pos);
+            if (out.has_vertex_uvs) out.vertex_uvs.push_back(in.uv);
+        }
+        if (roles.is_face) {
+            out.faces.push_back(std::move(in.face));
+            if (out.has_texcoords) out.texcoords.push_back(std::move(in.tex));
+        }
+    }
+    return {};
+}
+
+/// Indices refer to the vertices (which may come after the faces in the file): each must name one.
+IoError check_indices(const PlyData& out) {
     for (std::size_t f = 0; f < out.faces.size(); ++f)
         for (int v : out.faces[f])
             if (static_cast<std::size_t>(v) >= out.positions.size())
@@ -321,6 +338,27 @@ IoError parse_data(const char* data, std::size_t size, PlyData& out) {
                             std::to_string(out.positions.size()) + " vertices)",
                         0};
     return {};
+}
+
+/// The header, then the data: the vertices and faces of the file, checked.
+IoError parse_data(const char* data, std::size_t size, PlyData& out) {
+    Format format = Format::Ascii;
+    std::vector<Element> elements;
+    std::size_t body = 0;
+    if (IoError e = parse_header(data, size, format, elements, body); !e.ok()) return e;
+    ValueReader r(data, data + body, data + size, format);
+    bool seen_vertex = false, seen_face = false;
+    for (const Element& el : elements) {
+        Roles roles;
+        if (IoError e = find_roles(el, seen_vertex, seen_face, out, roles); !e.ok()) return e;
+        if (IoError e = read_element(r, el, roles, out); !e.ok()) return e;
+    }
+    if (format == Format::Ascii ? !r.only_blanks_left() : r.left() != 0)
+        return {IoError::Code::PlySyntax, "byte " + std::to_string(r.offset()) + ": data after the last element", 0,
+                r.offset()};
+    if (!seen_vertex) return header_error(0, "no vertex element");
+    if (!seen_face) return header_error(0, "no face element");
+    return check_indices(out);
 }
 
 /// The PLY's triangles and per-corner UVs as a map.

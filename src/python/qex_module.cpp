@@ -121,25 +121,9 @@ void set_options(qex::Options& o, const py::dict& options) {
     }
 }
 
-/// What extract() returns to the Python side: the mesh (kept for verify and write_obj) and the
-/// arrays and report made of it.
-py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
-                 const py::object& feature_edges, int threads, const py::dict& options) {
-    qex::Input in = to_input(V, F, UV, valences, feature_edges);
-    qex::Options o;
-    o.threads = threads;
-    set_options(o, options);
-    qex::Result r;
-    std::string report;
-    {
-        py::gil_scoped_release unlocked;
-        const auto t0 = std::chrono::steady_clock::now();
-        r = qex::extract(in, o);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (r.ok()) report = qex::report_json(r, 0.0, seconds);
-    }
-    if (!r.ok()) reject(r.error);
-    const qex::QuadMesh& m = r.mesh;
+/// The mesh's arrays: its quads (k,4), positions (p,3) and face UVs (k,4,2); faces other than
+/// quads are left out.
+py::dict mesh_arrays(const qex::QuadMesh& m) {
     py::ssize_t quads = 0;
     for (const auto& face : m.faces) quads += face.size() == 4 ? 1 : 0;
     py::array_t<std::int32_t> Q({quads, py::ssize_t{4}});
@@ -163,6 +147,15 @@ py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py:
         for (std::size_t i = 0; i < m.positions.size(); ++i)
             for (py::ssize_t c = 0; c < 3; ++c) p(i, c) = m.positions[i][c];
     }
+    py::dict out;
+    out["quads"] = Q;
+    out["positions"] = P;
+    out["face_uvs"] = FUV;
+    return out;
+}
+
+/// The provenance of every output vertex, one array per field.
+py::dict provenance_arrays(const qex::QuadMesh& m) {
     const auto n = static_cast<py::ssize_t>(m.provenance.size());
     py::array_t<std::int8_t> kind(n);
     py::array_t<std::int32_t> element(n), local_edge(n), chart(n), merged(n);
@@ -195,11 +188,29 @@ py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py:
     provenance["grid"] = grid;
     provenance["chart_triangle"] = chart;
     provenance["merged"] = merged;
-    py::dict out;
-    out["quads"] = Q;
-    out["positions"] = P;
-    out["face_uvs"] = FUV;
-    out["provenance"] = provenance;
+    return provenance;
+}
+
+/// What extract() returns to the Python side: the mesh (kept for verify and write_obj) and the
+/// arrays and report made of it.
+py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
+                 const py::object& feature_edges, int threads, const py::dict& options) {
+    qex::Input in = to_input(V, F, UV, valences, feature_edges);
+    qex::Options o;
+    o.threads = threads;
+    set_options(o, options);
+    qex::Result r;
+    std::string report;
+    {
+        py::gil_scoped_release unlocked;
+        const auto t0 = std::chrono::steady_clock::now();
+        r = qex::extract(in, o);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (r.ok()) report = qex::report_json(r, 0.0, seconds);
+    }
+    if (!r.ok()) reject(r.error);
+    py::dict out = mesh_arrays(r.mesh);
+    out["provenance"] = provenance_arrays(r.mesh);
     out["valid"] = r.check.valid;
     out["report_json"] = report;
     out["mesh"] = py::cast(std::move(r.mesh));
