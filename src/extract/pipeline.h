@@ -1,11 +1,12 @@
 // The extraction pipeline: its stage table, the data the stages hand on, and the stages in the
 // order they run. A stage has one name, used by its file (src/extract/NN_<name>.cpp, NN its
-// place in the pipeline; validate's topology half is build_topology.cpp, and check is the
-// checker, src/verify/), its function, its timer label in Report::stage_seconds and its
-// benchmark (BM_<name>/<input>).
+// place in the pipeline; validate's topology half is build_topology.cpp, repair is the folder
+// src/extract/repair/, and check is the checker, src/verify/), its function, its timer label in
+// Report::stage_seconds and its benchmark (BM_<name>/<input>).
 #pragma once
 
 #include "predicates.h"
+#include "repair/repair.h"
 #include "tri_mesh.h"
 #include "qex/extract.h"
 
@@ -95,6 +96,10 @@ Error collapse(TriMesh& m, std::int64_t& collapsed);
 
 /// Extracts and rounds a transition function per interior half-edge (Section 3.1).
 void compute_transitions(TriMesh& m);
+
+/// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
+/// an open fan.
+int fan_turn(const TriMesh& m, int v);
 
 /// How far solver noise and float storage leave a real map from exact (1/1024 of a cell, or a few
 /// ulps of coordinates of this magnitude). The worst of the shared MIQ and paper maps is 9.5e-7
@@ -248,38 +253,8 @@ Point2 truncated_for_fan(const TriMesh& m, const std::vector<int>& corners, cons
 /// The most sanitize rounds after the first; the last round is not followed by a collapse.
 inline constexpr int kMaxSanitizeRounds = 8;
 
-/// What stage repair did: the triangles whose UVs it changed (working indices, sorted), and the
-/// fold-over regions it could not repair within its budget (explain_unrepaired names them).
-struct RepairOutcome {
-    std::vector<int> repaired_faces;
-    std::int64_t regions_repaired = 0;
-    /// A fold-over left as the map gives it: its triangles (working indices), and why.
-    struct Unrepaired {
-        std::vector<int> triangles;
-        std::string why;
-    };
-    std::vector<Unrepaired> unrepaired;
-};
-
-/// One explanation (FoldOverNotRepaired) per fold-over the repair left, with its UV area in m.
-void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
-
-/// The turn (sum of rotations, mod 4) of interior vertex v's fan; -1 for a boundary vertex or
-/// an open fan.
-int fan_turn(const TriMesh& m, int v);
-
-/// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
-/// sanitized map. Each region's free vertices (interior, regular, not on a feature) move so
-/// that every triangle around them is positively oriented, decided exactly; singular,
-/// boundary and feature vertices and everything outside the regions keep their sanitized UVs
-/// bit for bit, and the transitions stay as they are, but for co-located dipoles next to a fold,
-/// which are merged first (the transitions of a path between them change; named in
-/// report.explanations, and undone unless their region is re-embedded). A region that does not
-/// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
-/// paper's local handling takes over there (named in report.explanations). Updates
-/// MapState::face_sign, and the valences of singularities it corrects or merges.
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     Report& report);
+// Stage repair is a subsystem of its own: src/extract/repair/, its one door repair/repair.h
+// (RepairOutcome, repair, explain_unrepaired), included above.
 
 /// Stages compute_transitions, count_valences, sanitize and collapse, repeated until a round
 /// collapses nothing (and deferred branch points are decided), at most `max_rounds` + 1 times.

@@ -1,0 +1,145 @@
+// The repair's failure reports: a failed attempt at a region described and put in words, the
+// failures kept per vertex, and the explanations of the fold-overs left (failure.h).
+#include "extract/repair/failure.h"
+#include "extract/repair/repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace qex::detail {
+namespace repair_impl {
+
+std::string RegionFailure::text() const {
+    const std::string where = "within " + std::to_string(radius) + " rings (a region of " +
+                              std::to_string(free_vertices) + " free vertices, " + std::to_string(triangles) +
+                              " triangles, " + std::to_string(singularities) + " singularities inside):";
+    switch (why) {
+        case Why::TooLarge: return where + " the region is larger than the repair attempts";
+        case Why::AreaNotPositive:
+            return where +
+                   " the region's signed UV area is not positive: no orientation-preserving map of it "
+                   "exists";
+        case Why::NoRoom:
+            return where +
+                   " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
+                   "whole turns missing among several singularities)";
+        case Why::RimShort:
+            return where + " its rim turns " + std::to_string(winds) +
+                   " quarter turns about the grid point of input vertex " + std::to_string(vertex) +
+                   " (a singularity of valence " + std::to_string(target) +
+                   ", which needs as many): with the singularity at its grid point, no fold-free map of "
+                   "the region exists";
+        case Why::Inverted:
+            return where + " the untangler left " + std::to_string(inverted) +
+                   " of its triangles inverted (the first: input triangle " + std::to_string(triangle) + ")";
+        case Why::Winding:
+            if (vertex < 0)
+                return where + " every triangle was made positive, but a vertex winds otherwise than it must";
+            return where + " every triangle was made positive, but input vertex " + std::to_string(vertex) +
+                   (singular ? " (a singularity of valence " + std::to_string(target) + ")"
+                             : " (a regular vertex, 4 quarter turns)") +
+                   " winds " + std::to_string(winds) + " quarter turns";
+    }
+    return where;
+}
+
+RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMarks& marks, bool admitted, int radius) {
+    RegionFailure f;
+    f.radius = radius;
+    f.free_vertices = r.fans.size();
+    f.triangles = r.faces.size();
+    for (const int v : marks.fixed) {
+        double inside = 0.0, outside = 0.0;
+        int corners = 0;
+        fan_angles(m, v, marks, inside, outside, corners);
+        f.singularities += m.map.singular[v] && !m.on_boundary[v] && corners == m.fan_size[v];
+    }
+    double area2 = 0.0;
+    for (const int t : r.faces) {
+        const Vec2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
+        area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        if (!positive(m, t)) {
+            ++f.inverted;
+            if (f.triangle < 0 || m.input_triangle[t] < f.triangle) f.triangle = m.input_triangle[t];
+        }
+    }
+    if (!(area2 > 0.0)) {
+        f.why = RegionFailure::Why::AreaNotPositive;
+    } else if (!admitted && marks.rim_cone >= 0) {
+        f.why = RegionFailure::Why::RimShort;
+        f.vertex = m.input_vertex[marks.rim_cone];
+        f.singular = true;
+        f.winds = static_cast<int>(std::lround(marks.rim_angle / (0.5 * M_PI)));
+        f.target = static_cast<int>(std::lround(marks.target(m, marks.rim_cone) / (0.5 * M_PI)));
+    } else if (!admitted) {
+        f.why = RegionFailure::Why::NoRoom;
+    } else if (f.inverted > 0) {
+        f.why = RegionFailure::Why::Inverted;
+    } else {
+        f.why = RegionFailure::Why::Winding;
+        // The first vertex (free ones in the region's canonical order, then fixed ones) that
+        // winds otherwise than it must.
+        std::vector<int> order;
+        for (const FreeFan& fan : r.fans) order.push_back(fan.vertex);
+        order.insert(order.end(), marks.fixed.begin(), marks.fixed.end());
+        for (const int v : order) {
+            if (m.on_boundary[v] || winding_excess(m, v, marks) == 0) continue;
+            double inside = 0.0, outside = 0.0;
+            int corners = 0;
+            fan_angles(m, v, marks, inside, outside, corners);
+            f.vertex = m.input_vertex[v];
+            f.singular = m.map.singular[v] != 0;
+            f.winds = static_cast<int>(std::lround((inside + outside) / (0.5 * M_PI)));
+            f.target = static_cast<int>(std::lround(marks.target(m, v) / (0.5 * M_PI)));
+            break;
+        }
+    }
+    return f;
+}
+
+void FailureLog::record(const Region& r, const RegionFailure& f) {
+    for (const FreeFan& fan : r.fans) {
+        failure_of[fan.vertex] = static_cast<int>(failures.size());
+        if (f.why == RegionFailure::Why::RimShort) proof_of[fan.vertex] = static_cast<int>(failures.size());
+    }
+    failures.push_back(f);
+}
+
+std::string FailureLog::reason(const TriMesh& m, const std::vector<int>& group) const {
+    // The latest attempt at a region that held one of its vertices (the largest radius).
+    int last = -1, proof = -1;
+    for (const int f : group)
+        for (const int v : m.tri[f]) last = std::max(last, failure_of[v]), proof = std::max(proof, proof_of[v]);
+    std::string why =
+        "no orientation-preserving re-embedding that keeps every vertex's winding (once round a regular "
+        "vertex, a singularity's valence round it) was found: " +
+        (last >= 0 ? failures[static_cast<std::size_t>(last)].text() : std::string("no region held it"));
+    if (proof >= 0 && proof != last) why += "; and before, " + failures[static_cast<std::size_t>(proof)].text();
+    return why;
+}
+
+} // namespace repair_impl
+
+void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
+    for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
+        int first = m.input_triangle[u.triangles[0]];
+        double area = 0.0;
+        for (const int f : u.triangles) {
+            first = std::min(first, m.input_triangle[f]);
+            const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+            area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        }
+        report.explanations.push_back({DefectKind::FoldOverNotRepaired,
+                                       "a fold-over of " + std::to_string(u.triangles.size()) +
+                                           " flipped or degenerate triangles (UV area " + std::to_string(area) +
+                                           ", from input triangle " + std::to_string(first) +
+                                           ") stays as the map gives it: " + u.why,
+                                       first,
+                                       -1,
+                                       {0, 0},
+                                       std::nullopt});
+    }
+}
+
+} // namespace qex::detail

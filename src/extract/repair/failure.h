@@ -1,0 +1,53 @@
+// The repair's failure reports (inside the subsystem only; its door is repair.h): what the last
+// attempt at a region found, and per vertex the attempts that failed, for the report of the
+// fold-overs the repair leaves (failure.cpp).
+#pragma once
+
+#include "extract/repair/certificates.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace qex::detail::repair_impl {
+
+/// What the last attempt at a region found, for the report of the fold-overs it leaves.
+struct RegionFailure {
+    enum class Why : std::uint8_t { TooLarge, AreaNotPositive, NoRoom, RimShort, Inverted, Winding };
+    Why why = Why::NoRoom;
+    int radius = 0;
+    std::size_t free_vertices = 0, triangles = 0;
+    int singularities = 0; ///< fixed singular vertices whose whole fan is in the region
+    int inverted = 0;      ///< Inverted: triangles left inverted, the first (by input index) of them
+    int triangle = -1;
+    int vertex = -1; ///< Winding: the input vertex that winds wrongly, its winding and target
+    int winds = 0, target = 0;
+    bool singular = false;
+
+    /// The failure in words, for the report.
+    std::string text() const;
+};
+
+/// Why an attempt at region r failed (`admitted`: it passed admits_embedding), from its UVs as
+/// the attempt left them (the first one: the open-cone retry starts again from the given UVs).
+RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMarks& marks, bool admitted, int radius);
+
+/// The failed attempts, and per free vertex the last of them at a region that held it.
+struct FailureLog {
+    explicit FailureLog(std::size_t vertices) : failure_of(vertices, -1), proof_of(vertices, -1) {}
+
+    std::vector<RegionFailure> failures;
+    /// Per free vertex, the last failed attempt at a region that held it (an index into failures).
+    std::vector<int> failure_of;
+    /// Per free vertex, the last region that held it and was proved to have no re-embedding (a
+    /// rim short of its singularity's angle): a larger region's failure does not undo the proof.
+    std::vector<int> proof_of;
+
+    /// Records f as the latest failed attempt at r's free vertices.
+    void record(const Region& r, const RegionFailure& f);
+    /// Why the fold-over of the triangles in `group` was not repaired: the latest attempt at a
+    /// region that held one of its vertices, and an earlier proof that none exists.
+    std::string reason(const TriMesh& m, const std::vector<int>& group) const;
+};
+
+} // namespace qex::detail::repair_impl

@@ -1,0 +1,187 @@
+// The repair's regions: the fans of free vertices, regions and their canonical orders, and the
+// regions found round the fold-overs (regions.h).
+#include "extract/repair/regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace qex::detail::repair_impl {
+namespace {
+
+/// Triangles in an order that does not depend on the input's: by their corners' 3D positions
+/// from the canonical base on.
+void sort_canonically(const TriMesh& m, std::vector<int>& faces) {
+    std::vector<std::pair<TriangleKey, int>> keyed;
+    keyed.reserve(faces.size());
+    for (const int f : faces) keyed.push_back({triangle_key(m, f), f});
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = keyed[i].second;
+}
+
+} // namespace
+
+// ============================================================================ a free vertex
+
+FreeFan free_fan(const TriMesh& m, int v) {
+    FreeFan fan;
+    fan.vertex = v;
+    // Started at the canonical corner sanitize starts the fan at too (the vertex is interior).
+    walk_fan_corners(m, v, true, fan.corners, fan.to_c);
+    const std::vector<int>& walk = fan.corners;
+    const std::size_t n = walk.size();
+    double sum = 0.0;
+    for (const int c : walk) {
+        const Vec2 &p = m.uv[c], &q = m.uv[TriMesh::next(c)];
+        sum += std::hypot(q[0] - p[0], q[1] - p[1]);
+    }
+    fan.length = sum / static_cast<double>(n);
+    return fan;
+}
+
+std::vector<int> fan_in_3d_order(const TriMesh& m, int v) {
+    std::vector<int> fan;
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fan.push_back(h);
+    const auto first = std::min_element(fan.begin(), fan.end(), [&](int a, int b) {
+        if (m.pos(TriMesh::next(a)) != m.pos(TriMesh::next(b)))
+            return m.pos(TriMesh::next(a)) < m.pos(TriMesh::next(b));
+        return m.pos(TriMesh::prev(a)) < m.pos(TriMesh::prev(b));
+    });
+    std::rotate(fan.begin(), first, fan.end());
+    return fan;
+}
+
+void place(TriMesh& m, const FreeFan& fan, const Vec2& x) {
+    const Vec2 t = truncated_for_fan(m, fan.corners, fan.to_c, x, 1.0);
+    for (std::size_t i = 0; i < fan.corners.size(); ++i) m.uv[fan.corners[i]] = fan.to_c[i](t);
+}
+
+// ============================================================================ a region
+
+std::vector<Point2> region_uvs(const TriMesh& m, const Region& r) {
+    std::vector<Point2> uvs;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) uvs.push_back(m.uv[c]);
+    return uvs;
+}
+
+void restore_region_uvs(TriMesh& m, const Region& r, const std::vector<Point2>& uvs) {
+    std::size_t i = 0;
+    for (const FreeFan& fan : r.fans)
+        for (const int c : fan.corners) m.uv[c] = uvs[i++];
+}
+
+VertexKey vertex_key(const TriMesh& m, int v) {
+    VertexKey k{m.pos(m.fan_start[v]), m.input_vertex[v]};
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+        if (m.pos(h) < k.pos) k.pos = m.pos(h);
+    return k;
+}
+
+// ============================================================================ finding the regions
+
+std::vector<char> pinned_vertices(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges) {
+    std::vector<char> pinned(static_cast<std::size_t>(m.num_vertices), 0);
+    for (int v = 0; v < m.num_vertices; ++v) pinned[v] = m.fan_start[v] < 0 || m.on_boundary[v] || m.map.singular[v];
+    if (!feature_edges.empty()) {
+        std::vector<char> on_feature;
+        for (const auto& fe : feature_edges)
+            for (const int x : fe)
+                if (x >= 0) {
+                    if (static_cast<std::size_t>(x) >= on_feature.size()) on_feature.resize(x + 1, 0);
+                    on_feature[static_cast<std::size_t>(x)] = 1;
+                }
+        for (int v = 0; v < m.num_vertices; ++v) {
+            const auto iv = static_cast<std::size_t>(m.input_vertex[v]);
+            if (iv < on_feature.size() && on_feature[iv]) pinned[v] = 1;
+        }
+    }
+    return pinned;
+}
+
+std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& seeds, int radius,
+                                    std::vector<int>& distance) {
+    std::vector<int> reached;
+    for (const int v : seeds)
+        if (distance[v] < 0) distance[v] = 0, reached.push_back(v);
+    for (std::size_t i = 0; i < reached.size(); ++i) {
+        const int v = reached[i];
+        if (distance[v] >= radius) continue;
+        for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; ++n) {
+            for (const int w : {m.target(h), m.origin(TriMesh::prev(h))})
+                if (distance[w] < 0) distance[w] = distance[v] + 1, reached.push_back(w);
+            h = m.cw(h);
+        }
+    }
+    for (const int v : reached) distance[v] = -1;
+    return reached;
+}
+
+std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
+    std::vector<Region> regions;
+    for (const int v : free) label[v] = -2; // free, unassigned
+    for (const int start : free) {
+        if (label[start] != -2) continue;
+        const int id = static_cast<int>(regions.size());
+        regions.emplace_back();
+        std::vector<int> stack{start}, members;
+        label[start] = id;
+        while (!stack.empty()) {
+            const int v = stack.back();
+            stack.pop_back();
+            members.push_back(v);
+            for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+                for (const int w : {m.target(h), m.origin(TriMesh::prev(h))})
+                    if (label[w] == -2) label[w] = id, stack.push_back(w);
+        }
+        std::vector<std::pair<VertexKey, int>> keyed;
+        for (const int v : members) keyed.push_back({vertex_key(m, v), v});
+        std::sort(keyed.begin(), keyed.end());
+        Region& r = regions.back();
+        for (const auto& kv : keyed) {
+            r.fans.push_back(free_fan(m, kv.second));
+            for (const int c : r.fans.back().corners) r.faces.push_back(TriMesh::face(c));
+        }
+        std::sort(r.faces.begin(), r.faces.end());
+        r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+        sort_canonically(m, r.faces);
+    }
+    for (const int v : free) label[v] = -1;
+    return regions;
+}
+
+void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
+                   std::vector<int>& stuck) {
+    repairable.clear();
+    stuck.clear();
+    for (int f = 0; f < m.num_faces(); ++f)
+        if (!positive(m, f)) {
+            const auto& t = m.tri[f];
+            (pinned[t[0]] && pinned[t[1]] && pinned[t[2]] ? stuck : repairable).push_back(f);
+        }
+}
+
+std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vector<int>& faces) {
+    std::vector<int> parent(faces.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::vector<int> owner(static_cast<std::size_t>(m.num_vertices), -1);
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        for (const int v : m.tri[faces[i]]) {
+            if (owner[v] >= 0) parent[find(static_cast<int>(i))] = find(owner[v]);
+            owner[v] = static_cast<int>(i);
+        }
+    std::vector<std::vector<int>> groups;
+    std::vector<int> group_of(faces.size(), -1);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+        const int root = find(static_cast<int>(i));
+        if (group_of[root] < 0) group_of[root] = static_cast<int>(groups.size()), groups.emplace_back();
+        groups[group_of[root]].push_back(faces[i]);
+    }
+    return groups;
+}
+
+} // namespace qex::detail::repair_impl

@@ -1,0 +1,205 @@
+// Stage repair: certified re-embedding of fold-over regions (not in the paper, whose handling of
+// fold-overs is local and assumes a fold covers a small part of a cell).
+//
+// A region is a connected set of free vertices (interior, regular, off the features) near
+// flipped or degenerate triangles; its triangles are those around its free vertices, and its
+// other vertices (singular, boundary, feature, or outside) stay fixed. The free vertices move to
+// minimise an energy that penalises inverted triangles through a regularised determinant, the
+// regularisation shrinking as the triangles untangle (the foldover-free energy of Garanzha et
+// al. 2021, minimised here with L-BFGS over the region's free vertices). Each vertex lives in the
+// chart of one of its corners and is written to the others through the exact transitions after
+// truncation (as sanitize does), so transitions and singularities are untouched. A region is
+// attempted only when its fixed vertices leave room for an embedding (their angles,
+// Gauss-Bonnet), and counts as repaired only when every one of its triangles is positively
+// oriented by the exact predicate and every vertex winds as it must (positive triangles can
+// still wind twice round a vertex while a singularity beside it is a turn short); otherwise its
+// UVs are restored bit for bit, it grows, and it is tried again, up to a budget. What the
+// untangler leaves inverted is moved vertex by vertex into the kernel of its link where it has
+// one. Where the untangler wound a region wrongly round its singularities, the region is tried
+// once more from its given UVs, with the fans of the singularities that wind short there opened
+// (laid out over their angles) and kept open by a barrier.
+//
+// The one change to transitions and singularities: before the regions are grown, co-located
+// dipoles (two singularities of opposite index on one grid point, which no fold-free map allows)
+// are merged into regular vertices, each merge named in the report and undone unless the repair
+// re-embeds it.
+//
+// This file is the stage's driver; the subsystem's files are listed in README.md beside it.
+#include "extract/repair/repair.h"
+
+#include "extract/repair/dipoles.h"
+#include "extract/repair/failure.h"
+#include "extract/repair/open_cones.h"
+#include "extract/repair/regions.h"
+#include "extract/repair/solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace qex::detail {
+namespace repair_impl {
+namespace {
+
+// ============================================================================ budget
+
+/// Ring radii around the fold-overs, one attempt each.
+constexpr int kRingRadii[] = {1, 2, 4, 8};
+/// Larger regions are not attempted (their repair would cost more than the extraction).
+constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
+
+// ============================================================================ the attempts
+
+/// What the attempts at regions share, across regions and rings: the untangler's scratch, the
+/// marks the certificates read, the breadth-first scratch, and per vertex what happened so far.
+struct Attempts {
+    explicit Attempts(const TriMesh& m)
+        : work(m),
+          distance(static_cast<std::size_t>(m.num_vertices), -1),
+          label(distance.size(), -1),
+          reembedded(static_cast<std::size_t>(m.num_vertices), 0),
+          log(static_cast<std::size_t>(m.num_vertices)) {
+        marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
+        marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
+    }
+
+    Workspace work;
+    std::vector<int> distance, label;
+    RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
+    /// Per vertex: re-embedded by a certified region (a dipole merge stands only if its path was).
+    std::vector<char> reembedded;
+    FailureLog log;
+};
+
+/// The regions of the free vertices within `radius` rings of the seed triangles, in an order
+/// that does not depend on the input's; `distance` and `label` are per-vertex scratch.
+std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& seeds_faces, int radius,
+                                   const std::vector<char>& pinned, std::vector<int>& distance,
+                                   std::vector<int>& label) {
+    std::vector<int> seeds;
+    for (const int f : seeds_faces)
+        for (const int v : m.tri[f]) seeds.push_back(v);
+    std::vector<int> free;
+    for (const int v : ring_neighbourhood(m, seeds, radius, distance))
+        if (!pinned[v]) free.push_back(v);
+    std::sort(free.begin(), free.end());
+    // Regions share fixed vertices, whose windings the certificate reads: they are taken in
+    // an order that does not depend on the input's (their smallest vertex key first).
+    std::vector<Region> regions = split_regions(m, free, label);
+    std::sort(regions.begin(), regions.end(), [&](const Region& a, const Region& b) {
+        return vertex_key(m, a.fans[0].vertex) < vertex_key(m, b.fans[0].vertex);
+    });
+    return regions;
+}
+
+/// One attempt at region r: admitted by the room certificate, untangled, and certified by the
+/// winding certificate (once more with cone fans opened where that is what failed); then
+/// relaxed. True when repaired; otherwise its UVs are restored and its failure recorded.
+bool attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given, Attempts& a) {
+    if (r.fans.size() > kMaxRegionVertices) {
+        RegionFailure f;
+        f.why = RegionFailure::Why::TooLarge;
+        f.radius = radius;
+        f.free_vertices = r.fans.size();
+        f.triangles = r.faces.size();
+        a.log.record(r, f);
+        return false;
+    }
+    RegionMarks& marks = a.marks;
+    const std::vector<Point2> before = region_uvs(m, r);
+    marks.mark(m, r);
+    bool repaired = false;
+    const bool admitted = admits_embedding(m, r, valences_given, marks);
+    RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
+    if (admitted) {
+        const bool untangled = untangle_region(m, r, a.work);
+        repaired = untangled && windings_kept(m, r, marks);
+        if (!repaired) failure = describe_failure(m, r, marks, true, radius);
+        // Once more with cone fans opened, where that is what failed: the untangler wound
+        // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
+        if (!repaired && (untangled || marks.cone >= 0))
+            repaired = untangle_with_open_cones(m, r, marks, before, a.work);
+    } else {
+        failure = describe_failure(m, r, marks, false, radius);
+    }
+    if (repaired) {
+        polish_region(m, r, a.work, marks);
+        for (const FreeFan& fan : r.fans) a.reembedded[fan.vertex] = 1;
+    }
+    // A corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
+    if (repaired && marks.cone >= 0)
+        m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] =
+            static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
+    if (!repaired) a.log.record(r, failure);
+    marks.clear(r);
+    if (!repaired) restore_region_uvs(m, r, before);
+    return repaired;
+}
+
+/// Attempts the regions round the fold-overs (`seeds_faces`) and the paths of the dipole merges
+/// that do not stand yet, ring radius by ring radius; leaves in `seeds_faces` and `stuck` the
+/// flipped or degenerate triangles that remain.
+void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_given,
+                  const std::vector<DipoleMerge>& merges, std::vector<int>& seeds_faces, std::vector<int>& stuck,
+                  Attempts& a) {
+    for (const int radius : kRingRadii) {
+        if (seeds_faces.empty()) break;
+        for (const DipoleMerge& d : merges)
+            if (!merge_reembedded(m, d, a.reembedded))
+                for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
+        if (seeds_faces.empty()) break;
+        for (const Region& r : regions_within(m, seeds_faces, radius, pinned, a.distance, a.label))
+            attempt_region(m, r, radius, valences_given, a);
+        bad_triangles(m, pinned, seeds_faces, stuck);
+    }
+}
+
+/// The stage's outcome: the certificate's region (every triangle whose UVs differ from the
+/// sanitized map) and how many groups it forms, and the fold-overs left, each with why; updates
+/// MapState::face_sign.
+RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const std::vector<int>& stuck,
+                         const std::vector<int>& seeds_faces, const FailureLog& log) {
+    RepairOutcome out;
+    // The certificate's region: every triangle whose UVs differ from the sanitized map.
+    for (int f = 0; f < m.num_faces(); ++f) {
+        bool changed = false;
+        for (int k = 0; k < 3; ++k) changed = changed || m.uv[3 * f + k] != sanitized[3 * f + k];
+        if (changed) out.repaired_faces.push_back(f);
+        m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
+    }
+    out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, out.repaired_faces).size());
+    for (auto& group : triangle_groups(m, stuck))
+        out.unrepaired.push_back(
+            {std::move(group), "all its corners are singular, boundary or feature vertices, which stay fixed"});
+    for (const auto& group : triangle_groups(m, seeds_faces)) out.unrepaired.push_back({group, log.reason(m, group)});
+    return out;
+}
+
+} // namespace
+} // namespace repair_impl
+
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
+                     Report& report) {
+    using namespace repair_impl;
+    std::vector<int> seeds_faces, stuck;
+    std::vector<char> pinned = pinned_vertices(m, feature_edges);
+    bad_triangles(m, pinned, seeds_faces, stuck);
+    if (seeds_faces.empty() && stuck.empty()) return RepairOutcome{};
+    // Co-located dipoles next to the fold-overs are merged first (their vertices become free),
+    // in an order that does not depend on the input's; not against the user's valences.
+    std::vector<DipoleMerge> merges;
+    if (!valences_given) merges = merge_colocated_dipoles(m, pinned);
+    if (!merges.empty()) { // merged vertices are free now
+        pinned = pinned_vertices(m, feature_edges);
+        bad_triangles(m, pinned, seeds_faces, stuck);
+    }
+    const std::vector<Point2> sanitized = m.uv;
+    Attempts attempts(m);
+    grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts);
+    settle_merges(m, merges, attempts.reembedded, report);
+    return outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
+}
+
+} // namespace qex::detail

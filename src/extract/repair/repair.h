@@ -1,0 +1,45 @@
+// Stage repair, the subsystem's only door: certified re-embedding of fold-over regions (not in
+// the paper). What goes in, what comes out and what is certified: README.md beside this header.
+#pragma once
+
+#include "qex/extract.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace qex::detail {
+
+struct TriMesh;
+
+/// What stage repair did: the triangles whose UVs it changed (working indices, sorted), and the
+/// fold-over regions it could not repair within its budget (explain_unrepaired names them).
+struct RepairOutcome {
+    std::vector<int> repaired_faces;
+    std::int64_t regions_repaired = 0;
+    /// A fold-over left as the map gives it: its triangles (working indices), and why.
+    struct Unrepaired {
+        std::vector<int> triangles;
+        std::string why;
+    };
+    std::vector<Unrepaired> unrepaired;
+};
+
+/// One explanation (FoldOverNotRepaired) per fold-over the repair left, with its UV area in m.
+void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
+
+/// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
+/// sanitized map. Each region's free vertices (interior, regular, not on a feature) move so
+/// that every triangle around them is positively oriented, decided exactly; singular,
+/// boundary and feature vertices and everything outside the regions keep their sanitized UVs
+/// bit for bit, and the transitions stay as they are, but for co-located dipoles next to a fold,
+/// which are merged first (the transitions of a path between them change; named in
+/// report.explanations, and undone unless their region is re-embedded). A region that does not
+/// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
+/// paper's local handling takes over there (named in report.explanations). Updates
+/// MapState::face_sign, and the valences of singularities it corrects or merges.
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
+                     Report& report);
+
+} // namespace qex::detail

@@ -1,0 +1,222 @@
+// The repair's solver: L-BFGS over a region's free vertices, regularisation steps judged by the
+// exact predicate, kernel sweeps, and the final relaxation (solver.h).
+#include "extract/repair/solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace qex::detail::repair_impl {
+namespace {
+
+// ============================================================================ budget
+
+/// Regularisation steps per attempt, and L-BFGS iterations per step.
+constexpr int kOuterIterations = 60;
+constexpr int kInnerIterations = 80;
+/// The first regularisation, relative to the most negative Jacobian determinant.
+constexpr double kInitialRegularisation = 0.1;
+/// An attempt stops once this many regularisation steps in a row leave more triangles inverted
+/// than its best step did.
+constexpr int kStagnation = 8;
+/// Iterations of the final minimisation of a repaired region.
+constexpr int kPolishIterations = 2000;
+/// It stops when an iteration lowers the energy by less than this fraction of it.
+constexpr double kPolishStall = 1e-15;
+
+/// The dot product of a and b.
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+}
+
+/// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
+void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x, double eps,
+              double length, int iterations, double stall = 1e-12) {
+    constexpr std::size_t kHistory = 8;
+    std::vector<std::vector<double>> ss, ys;
+    std::vector<double> rho;
+    std::vector<double> g, g_new, d(x.size()), x_new(x.size());
+    double f = region_energy(p, r, rest, x, eps, &g);
+    for (int it = 0; it < iterations && std::isfinite(f); ++it) {
+        // Two-loop recursion: d = -H g.
+        for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
+        std::vector<double> alpha(ss.size());
+        for (std::size_t j = ss.size(); j-- > 0;) {
+            alpha[j] = rho[j] * dot(ss[j], d);
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] -= alpha[j] * ys[j][i];
+        }
+        if (!ss.empty()) {
+            const double gamma = dot(ss.back(), ys.back()) / dot(ys.back(), ys.back());
+            for (double& v : d) v *= gamma;
+        } else {
+            const double norm = std::sqrt(dot(d, d));
+            if (!(norm > 0)) return;
+            for (double& v : d) v *= 0.1 * length / norm;
+        }
+        for (std::size_t j = 0; j < ss.size(); ++j) {
+            const double beta = rho[j] * dot(ys[j], d);
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] += (alpha[j] - beta) * ss[j][i];
+        }
+        double slope = dot(g, d);
+        if (!(slope < 0)) { // not a descent direction: restart from the gradient
+            ss.clear(), ys.clear(), rho.clear();
+            const double norm = std::sqrt(dot(g, g));
+            if (!(norm > 0)) return;
+            for (std::size_t i = 0; i < d.size(); ++i) d[i] = -g[i] * 0.1 * length / norm;
+            slope = dot(g, d);
+        }
+        double step = 1.0, f_new = f;
+        bool accepted = false;
+        for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+            for (std::size_t i = 0; i < x.size(); ++i) x_new[i] = x[i] + step * d[i];
+            f_new = region_energy(p, r, rest, x_new, eps, &g_new);
+            if (std::isfinite(f_new) && f_new <= f + 1e-4 * step * slope) {
+                accepted = true;
+                break;
+            }
+        }
+        if (!accepted) return;
+        std::vector<double> s_k(x.size()), y_k(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) s_k[i] = x_new[i] - x[i], y_k[i] = g_new[i] - g[i];
+        const double sy = dot(s_k, y_k);
+        if (sy > 1e-300) {
+            if (ss.size() == kHistory) ss.erase(ss.begin()), ys.erase(ys.begin()), rho.erase(rho.begin());
+            ss.push_back(std::move(s_k)), ys.push_back(std::move(y_k)), rho.push_back(1.0 / sy);
+        }
+        const bool stalled = f - f_new <= stall * std::abs(f);
+        x.swap(x_new), g.swap(g_new), f = f_new;
+        if (stalled) return;
+    }
+}
+
+/// Moves a free vertex into the kernel of its link (where every triangle round it is positive),
+/// at the kernel's centroid, in its first chart: the half-planes left of each opposite edge,
+/// clipped from a box round the link. True when it moved and the exact predicate finds its fan
+/// positive; otherwise its UVs are as before.
+bool place_in_kernel(TriMesh& m, const FreeFan& fan) {
+    std::vector<std::array<Vec2, 2>> edges;
+    double lo0 = std::numeric_limits<double>::infinity(), lo1 = lo0, hi0 = -lo0, hi1 = -lo0;
+    for (std::size_t k = 0; k < fan.corners.size(); ++k) {
+        const GridAutomorphism back = fan.to_c[k].inverse();
+        const int c = fan.corners[k];
+        const Vec2 a = back(m.uv[TriMesh::next(c)]), b = back(m.uv[TriMesh::prev(c)]);
+        edges.push_back({a, b});
+        for (const Vec2& q : {a, b})
+            lo0 = std::min(lo0, q[0]), hi0 = std::max(hi0, q[0]), lo1 = std::min(lo1, q[1]), hi1 = std::max(hi1, q[1]);
+    }
+    if (!(hi0 >= lo0 && hi1 >= lo1)) return false;
+    std::vector<Vec2> poly{{lo0, lo1}, {hi0, lo1}, {hi0, hi1}, {lo0, hi1}}, next;
+    for (const auto& edge : edges) {
+        const Vec2 &a = edge[0], &b = edge[1]; // named, not bound: clang 14 cannot capture bindings
+        const auto side = [&](const Vec2& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
+        next.clear();
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const Vec2 &u = poly[i], &w = poly[(i + 1) % poly.size()];
+            const double su = side(u), sw = side(w);
+            if (su >= 0) next.push_back(u);
+            if ((su >= 0) != (sw >= 0)) {
+                const double t = su / (su - sw);
+                next.push_back({u[0] + t * (w[0] - u[0]), u[1] + t * (w[1] - u[1])});
+            }
+        }
+        poly.swap(next);
+        if (poly.size() < 3) return false;
+    }
+    double area = 0.0, cx = 0.0, cy = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Vec2 &u = poly[i], &w = poly[(i + 1) % poly.size()];
+        const double cross = u[0] * w[1] - w[0] * u[1];
+        area += cross, cx += (u[0] + w[0]) * cross, cy += (u[1] + w[1]) * cross;
+    }
+    if (!(area > 0.0)) return false;
+    std::vector<Point2> before;
+    for (const int c : fan.corners) before.push_back(m.uv[c]);
+    place(m, fan, {cx / (3.0 * area), cy / (3.0 * area)});
+    bool all = true;
+    for (const int c : fan.corners) all = all && positive(m, TriMesh::face(c));
+    if (all) return true;
+    for (std::size_t k = 0; k < fan.corners.size(); ++k) m.uv[fan.corners[k]] = before[k];
+    return false;
+}
+
+/// What the untangler left inverted, vertex by vertex: each free vertex of an inverted triangle
+/// is moved into the kernel of its link where it has one, for a few sweeps (in the region's
+/// canonical order). True when the region is then positive.
+bool kernel_sweeps(TriMesh& m, const Region& r) {
+    for (int sweep = 0; sweep < 4; ++sweep) {
+        bool any = false, moved = false;
+        for (const FreeFan& fan : r.fans) {
+            bool bad = false;
+            for (const int c : fan.corners) bad = bad || !positive(m, TriMesh::face(c));
+            if (!bad) continue;
+            any = true;
+            moved = place_in_kernel(m, fan) || moved;
+        }
+        if (!any) return true;
+        if (!moved) return false;
+    }
+    for (const int f : r.faces)
+        if (!positive(m, f)) return false;
+    return true;
+}
+
+} // namespace
+
+Workspace::Workspace(const TriMesh& m)
+    : rest(static_cast<std::size_t>(m.num_faces())),
+      corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1),
+      corner_to(corner_slot.size()) {}
+
+bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier) {
+    if (!rest_shapes(m, r, work.rest)) return false;
+    const std::vector<RestShape>& rest = work.rest;
+    const Problem p = make_problem(m, r, rest, work.corner_slot, work.corner_to, barrier);
+    double length = 0.0;
+    std::vector<double> x = region_point(m, r, length);
+    double lowest = 0.0;
+    region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
+    double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
+    std::size_t best = SIZE_MAX;
+    for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
+        const double before = region_energy(p, r, rest, x, eps, nullptr);
+        minimise(p, r, rest, x, eps, length, kInnerIterations);
+        // Place (truncated, propagated exactly) and judge exactly.
+        for (std::size_t i = 0; i < r.fans.size(); ++i) {
+            place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
+            x[2 * i] = m.uv[r.fans[i].corners[0]][0];
+            x[2 * i + 1] = m.uv[r.fans[i].corners[0]][1];
+        }
+        std::size_t inverted = 0;
+        for (const int f : r.faces) inverted += !positive(m, f);
+        if (inverted == 0) return true;
+        if (inverted < best)
+            best = inverted, since_best = 0;
+        else
+            ++since_best;
+        const double after = region_energy(p, r, rest, x, eps, nullptr, &lowest);
+        const double sigma = std::max(1.0 - after / before, 0.1);
+        const double mu = (1.0 - sigma) * chi(lowest, eps);
+        eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
+    }
+    return kernel_sweeps(m, r);
+}
+
+void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMarks& marks) {
+    if (!rest_shapes(m, r, work.rest)) return;
+    const std::vector<RestShape>& rest = work.rest;
+    const Problem p = make_problem(m, r, rest, work.corner_slot, work.corner_to, {});
+    const std::vector<Point2> before = region_uvs(m, r);
+    double length = 0.0;
+    std::vector<double> x = region_point(m, r, length);
+    minimise(p, r, rest, x, 0.0, length, kPolishIterations, kPolishStall);
+    for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
+    bool all = true;
+    for (const int f : r.faces) all = all && positive(m, f);
+    // A line-search step is discrete: a triangle could pass through zero and back within one.
+    if (!(all && windings_kept(m, r, marks))) restore_region_uvs(m, r, before);
+}
+
+} // namespace qex::detail::repair_impl

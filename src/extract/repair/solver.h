@@ -1,0 +1,35 @@
+// The repair's solver (inside the subsystem only; its door is repair.h): a region untangled by
+// minimising its energy with L-BFGS while the regularisation shrinks, what is left inverted
+// moved into the kernels of its links, and a repaired region relaxed (solver.cpp).
+#pragma once
+
+#include "extract/repair/certificates.h"
+#include "extract/repair/energy.h"
+
+#include <vector>
+
+namespace qex::detail::repair_impl {
+
+/// The untangler's scratch, sized to the mesh once per repair: per triangle its rest shape, and
+/// per corner the free vertex whose fan it is in (-1 between uses) and the transition into its
+/// chart.
+struct Workspace {
+    explicit Workspace(const TriMesh& m);
+    std::vector<RestShape> rest;
+    std::vector<int> corner_slot;
+    std::vector<GridAutomorphism> corner_to;
+};
+
+/// Untangles the region in place; true when every triangle of it is positively oriented.
+/// `barrier` (sorted): triangles (positive at the start) kept positive by a pure barrier.
+bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier = {});
+
+/// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
+/// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
+/// Where the untangler stops (the first iterate with nothing inverted) depends on rounding, so
+/// an integer translation or a re-charting of the map would move the result; the minimum does
+/// not. Kept only if the exact predicate still finds every triangle positive after placement,
+/// and every vertex still winds as it must.
+void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMarks& marks);
+
+} // namespace qex::detail::repair_impl
