@@ -1,5 +1,6 @@
 // Properties over generated integer-grid maps (RapidCheck; seeds print on failure and replay
 // with RC_PARAMS="reproduce=..."; the case count comes from RC_PARAMS=max_success=N).
+#include "ladder/ladder.h"
 #include "map_transforms.h"
 #include "pipeline.h"
 #include "result_checks.h"

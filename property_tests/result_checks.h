@@ -33,7 +33,7 @@ inline bool is_explanation_kind(DefectKind k) {
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
 /// mesh, and for a relaxed (last-resort) rung's valid mesh also the checker on the mesh without its provenance,
-/// against the given map (src/extract/extract.cpp, judge()).
+/// against the given map (src/extract/ladder/ladder.cpp, judge()).
 inline std::vector<Violation> expected_violations(const Input& in, const Result& r, const VerifyResult& rerun) {
     std::vector<Violation> out = rerun.violations;
     if (rerun.valid && r.report.rung.rfind("untangled", 0) == 0) {

@@ -1,4 +1,5 @@
 // Stage-level unit tests: sanitization (Section 3) and the transition table on the working mesh.
+#include "ladder/ladder.h"
 #include "pipeline.h"
 #include "test_support.h"
 #include "transform_checks.h"

@@ -1,6 +1,6 @@
 // The face walks of merge_vertices (stage 12) as loops of corners, shared by the stage's two
-// files: 12_merge_vertices.cpp (lost-edge recovery, clone merging, simplification, output) and
-// 12_cancel_ghosts.cpp (ghost and near-ghost faces cancelled).
+// files: 11_merge_vertices.cpp (lost-edge recovery, clone merging, simplification, output) and
+// 11_cancel_ghosts.cpp (ghost and near-ghost faces cancelled).
 #pragma once
 
 #include "pipeline.h"
@@ -30,10 +30,10 @@ inline __int128 twice_area(const Loop& l) {
     return a;
 }
 
-/// 4. Removes the pairs of a face and its reverse from `simple` (12_cancel_ghosts.cpp).
+/// 4. Removes the pairs of a face and its reverse from `simple` (11_cancel_ghosts.cpp).
 void cancel_ghost_faces(const TriMesh& m, const QState& q, std::vector<Loop>& simple, Report& report);
 /// 5. Removes the pairs of a clockwise quad and a quad with three of its corners in reverse
-///    order, merging their odd corners in `sets` (12_cancel_ghosts.cpp).
+///    order, merging their odd corners in `sets` (11_cancel_ghosts.cpp).
 void cancel_near_ghosts(const TriMesh& m, const QState& q, std::vector<Loop>& simple, UnionFind& sets, Report& report);
 
 } // namespace qex::detail::merging

@@ -1,7 +1,9 @@
 // The extraction pipeline: its stage table, the data the stages hand on, and the stages in the
 // order they run. A stage has one name, used by its file (src/extract/NN_<name>.cpp, NN its
 // place in the pipeline; validate's topology half is build_topology.cpp, repair is the folder
-// src/extract/repair/, and check is the checker, src/verify/), its function, its timer label in
+// src/extract/repair/, the steps only some rungs of the fallback ladder take are
+// src/extract/ladder/<name>.cpp, declared in ladder/ladder.h, and check is the checker,
+// src/verify/), its function, its timer label in
 // Report::stage_seconds and its benchmark (BM_<name>/<input>).
 #pragma once
 
@@ -24,33 +26,48 @@ namespace qex::detail {
 
 // ============================================================================ stage table
 
-/// The pipeline's stages, in the order extract() runs them (README: the pipeline table).
+/// The pipeline's stages in the order extract() runs them (src/README.md: the stage table), then
+/// the steps only some rungs of the fallback ladder take (src/extract/ladder/, where ladder.cpp's
+/// table gives their order), then the checker every rung ends with.
 enum class Stage : int {
     validate,            ///< 01: values, indices and topology of the input; the working mesh
     collapse,            ///< 02: collapse of UV-degenerate edges (again after each sanitize round but a capped last)
-    untangle,            ///< 03: last-resort rungs of the fallback ladder only
-    compute_transitions, ///< 04: Section 3.1
-    count_valences,      ///< 05: Algorithm 8
-    sanitize,            ///< 06: Algorithms 1 and 2, Section 3.2
-    repair,              ///< 07: certified re-embedding of fold-over regions (not in the paper)
-    generate_qvertices,  ///< 08: Algorithm 3
-    enumerate_ports,     ///< 09: Algorithm 4
-    trace_ports,         ///< 10: Algorithm 5
-    extract_faces,       ///< 11: Algorithm 6
-    merge_vertices,      ///< 12: Section 5.5, Algorithm 7
-    canonicalize,        ///< 13: order-independent output
-    place_on_given_map,  ///< 14: last-resort rungs of the fallback ladder only
-    separate_sheets,     ///< 15: a rejected mesh's edges that join two sheets of a fold-over, cut
-    close_holes,         ///< 16: a rejected mesh's holes closed by the grid cells their rims enclose
-    check,               ///< 17: the independent checker (qex::verify) judges the rung's mesh
+    compute_transitions, ///< 03: Section 3.1
+    count_valences,      ///< 04: Algorithm 8
+    sanitize,            ///< 05: Algorithms 1 and 2, Section 3.2
+    repair,              ///< 06 (repair/): certified re-embedding of fold-over regions (not in the paper)
+    generate_qvertices,  ///< 07: Algorithm 3
+    enumerate_ports,     ///< 08: Algorithm 4
+    trace_ports,         ///< 09: Algorithm 5
+    extract_faces,       ///< 10: Algorithm 6
+    merge_vertices,      ///< 11: Section 5.5, Algorithm 7 (and 11_cancel_ghosts.cpp)
+    canonicalize,        ///< 12: order-independent output
+    untangle,            ///< ladder/untangle.cpp: last-resort rungs relax the folded regions first
+    place_on_given_map,  ///< ladder/place_on_given_map.cpp: last-resort rungs move the mesh back
+    separate_sheets,     ///< ladder/separate_sheets.cpp: a rejected mesh's edges joining two sheets, cut
+    close_holes,         ///< ladder/close_holes.cpp: a rejected mesh's holes closed by the cells their rims enclose
+    check,               ///< src/verify/: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
 
 /// The stages' names, indexed by Stage.
-inline constexpr const char* kStageNames[] = {
-    "validate",     "collapse",           "untangle",        "compute_transitions", "count_valences", "sanitize",
-    "repair",       "generate_qvertices", "enumerate_ports", "trace_ports",         "extract_faces",  "merge_vertices",
-    "canonicalize", "place_on_given_map", "separate_sheets", "close_holes",         "check"};
+inline constexpr const char* kStageNames[] = {"validate",
+                                              "collapse",
+                                              "compute_transitions",
+                                              "count_valences",
+                                              "sanitize",
+                                              "repair",
+                                              "generate_qvertices",
+                                              "enumerate_ports",
+                                              "trace_ports",
+                                              "extract_faces",
+                                              "merge_vertices",
+                                              "canonicalize",
+                                              "untangle",
+                                              "place_on_given_map",
+                                              "separate_sheets",
+                                              "close_holes",
+                                              "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");
 
@@ -137,91 +154,6 @@ void count_valences(TriMesh& m, bool singular_only = false);
 
 /// The orientation of every triangle's UVs (exact predicate), in parallel.
 std::vector<signed char> triangle_signs(const TriMesh& m);
-
-/// Last resort: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV
-/// area <= 0) towards the average of their neighbours, through exact transitions. Returns the
-/// number of triangles still flipped or degenerate. Uncertified: its mesh is moved back onto the
-/// given map (place_on_given_map) and must pass the checker there.
-std::int64_t untangle(TriMesh& m, int rings, int iterations);
-
-/// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
-/// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
-/// by a breadth-first search from its provenance triangle, and sets its provenance and the
-/// mesh's map to that map. Returns the number of vertices it could not place.
-std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
-
-/// Where some vertices lie in space: the mean of their positions and the largest squared distance
-/// of one from it. A point within twice that distance of the mean is near them (the split and
-/// separate_sheets take a free preimage only there).
-struct Neighbourhood {
-    std::array<double, 3> mean{0, 0, 0};
-    double reach2 = 0.0;
-    template <class Indices>
-    Neighbourhood(const std::vector<std::array<double, 3>>& positions, const Indices& vertices) {
-        const auto n = static_cast<double>(std::size(vertices));
-        for (const int v : vertices)
-            for (std::size_t d = 0; d < 3; ++d) mean[d] += positions[static_cast<std::size_t>(v)][d] / n;
-        for (const int v : vertices) reach2 = std::max(reach2, distance2(positions[static_cast<std::size_t>(v)]));
-    }
-    double distance2(const std::array<double, 3>& x) const {
-        double d = 0.0;
-        for (std::size_t k = 0; k < 3; ++k) d += (x[k] - mean[k]) * (x[k] - mean[k]);
-        return d;
-    }
-    bool near(const std::array<double, 3>& x) const { return distance2(x) <= 4 * reach2; }
-};
-
-/// Per point (a provenance: a grid point in the chart of its triangle), the preimages of its grid
-/// point in `map` (per input corner) that a breadth-first search from its triangle finds, as
-/// place_on_given_map searches (crossing edges with their transitions, up to its budget):
-/// positive triangles' first, then flipped ones'; one per place on the surface, with its
-/// position, in the order found.
-std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
-    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
-
-/// For a mesh the checker rejected: each edge with more than two face sides (sheets of a
-/// fold-over joined there by merged clones) is cut by splitting an end into one vertex per fan
-/// round it (faces joined across edges of two face sides): an end that ends no other such edge
-/// first, and of an edge's ends the one of smaller index first, or of larger with
-/// `larger_end_first`; then every end still the corner of several fans. The copies are appended.
-/// Each vertex split then takes the preimage of its grid point in the mesh's map (preimages)
-/// nearest the vertices round its fan. Returns one explanation (SheetsSeparated) per edge cut;
-/// none, and no candidate, if the mesh has no such edge, lacks provenance, or the vertices of one
-/// split would coincide (a grid point with one preimage there: the sheets stay joined in space).
-/// A candidate only: the caller keeps it if the checker accepts the result.
-std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first);
-
-/// The cuts of separate_sheets alone, without moving a vertex: returns the explanations, and per
-/// vertex split, it then its copies (`groups`).
-std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups);
-
-/// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
-/// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
-/// faces leave each rim vertex (four each, or as many as the fan of the input vertex it lies on
-/// winds; `wound_first` picks which reading is tried first, the other where a rim does not close),
-/// unit cells whose corners are all rim vertices: those cells are added as faces. Returns one
-/// explanation (HoleClosed) per hole closed. A candidate only: the caller keeps it if the checker
-/// accepts the result.
-std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
-
-/// Whether the sanitized map `m` (transitions and singularities computed) is k times an
-/// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
-/// every singularity's grid point, and every boundary or feature edge (input vertex pairs) on an
-/// iso-line, on a line of that coarse grid, and every transition one of its automorphisms. The
-/// origin is fixed by the singularities and iso-lines, else it is the first (in (u, v) order)
-/// that the turning transitions allow (for k up to 64; above, a free coordinate is 0).
-bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, std::int64_t k,
-                      IPoint& origin);
-
-/// For a mesh extracted from the map laid from `origin` with its UVs divided by k (a power of
-/// two; map_divisible_by): the mesh with every quad split into k x k, on `map` (the coarse
-/// mesh's map times k, plus origin). Each coarse vertex keeps its element, its grid point g
-/// becoming k g + origin;
-/// each new one is placed on a preimage of its grid point found from its face's first corner,
-/// in the chart in which the face's other corners are found where the coarse mesh has them.
-/// False, with `out` unusable, when a face has no such chart or a grid point no preimage.
-bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>& map, const QuadMesh& coarse, int k,
-                    const IPoint& origin, QuadMesh& out);
 
 /// Precision truncation, singularity snapping and propagation (Algorithms 1 and 2); feature
 /// snapping (Section 3.2). `given_valences` may be empty.

@@ -12,7 +12,7 @@
 // joined in space: no candidate is made. Of an edge's two ends, which is tried first (when both
 // or neither end another such edge) is the caller's choice; the result is a candidate only, kept
 // if the checker accepts it.
-#include "pipeline.h"
+#include "ladder.h"
 
 #include <algorithm>
 #include <array>
@@ -49,6 +49,81 @@ std::vector<std::pair<EdgeKey, int>> non_manifold_edges(const QuadMesh& mesh) {
     return out;
 }
 
+/// How the corners round an end join into fans (Sides::split): across edges of two face sides,
+/// and across each edge of three or four, by one of two pairings of its faces.
+struct Joins {
+    std::vector<std::pair<std::size_t, std::size_t>> across;
+    std::vector<std::array<std::pair<std::size_t, std::size_t>, 2>> first, second;
+};
+
+/// Per edge of three or four face sides round an end: the corners whose faces leave the end by
+/// it, and those whose faces enter by it.
+using Crowded = std::map<int, std::pair<std::vector<std::size_t>, std::vector<std::size_t>>>;
+
+/// The pairings to choose from: two per edge whose leaving and entering faces number two
+/// and two, two and one, or one and two.
+void add_pairings(const Crowded& crowded, Joins& joins) {
+    for (const auto& [w, sides] : crowded) {
+        const auto& [out, in] = sides;
+        if (joins.first.size() == 4 || out.empty() || in.empty() || out.size() > 2 || in.size() > 2 ||
+            out.size() + in.size() < 3)
+            continue;
+        if (out.size() == 2 && in.size() == 2) {
+            joins.first.push_back({{{out[0], in[0]}, {out[1], in[1]}}});
+            joins.second.push_back({{{out[0], in[1]}, {out[1], in[0]}}});
+        } else { // one face on one side: it joins one of the two on the other (listed twice)
+            const std::size_t o1 = out.size() > 1 ? out[1] : out[0], i1 = in.size() > 1 ? in[1] : in[0];
+            joins.first.push_back({{{out[0], in[0]}, {out[0], in[0]}}});
+            joins.second.push_back({{{o1, i1}, {o1, i1}}});
+        }
+    }
+}
+
+/// The fans of the n corners round an end: the corners joined by `joins`, with one of the two
+/// pairings per edge of three or four face sides (a union-find).
+class Fans {
+public:
+    Fans(const Joins& joins, std::size_t n) : joins_(joins), parent_(n), number_(n) {}
+
+    /// The most fans a choice of pairings gives (the first such choice in order), numbered.
+    int most() {
+        unsigned best = 0;
+        for (unsigned choice = 1, most_fans = static_cast<unsigned>(with(0)); choice < (1u << joins_.first.size());
+             ++choice)
+            if (const auto f = static_cast<unsigned>(with(choice)); f > most_fans) best = choice, most_fans = f;
+        return with(best);
+    }
+    /// The fan of corner i (numbered in the order of the fans' first corners).
+    int of(std::size_t i) const { return number_[find(i)]; }
+
+private:
+    std::size_t find(std::size_t x) const {
+        while (parent_[x] != x) x = parent_[x];
+        return x;
+    }
+    void join(std::size_t a, std::size_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+    /// The number of fans with pairing `choice` (bit e: the second pairing of edge e), numbered.
+    int with(unsigned choice) {
+        std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+        for (const auto& [a, b] : joins_.across) join(a, b);
+        for (std::size_t e = 0; e < joins_.first.size(); ++e)
+            for (const auto& [a, b] : (choice >> e & 1u) ? joins_.second[e] : joins_.first[e])
+                if (a != b) join(a, b);
+        std::fill(number_.begin(), number_.end(), -1);
+        int fans = 0;
+        for (std::size_t i = 0; i < number_.size(); ++i)
+            if (number_[find(i)] < 0) number_[find(i)] = fans++;
+        return fans;
+    }
+
+    const Joins& joins_;
+    std::vector<std::size_t> parent_;
+    std::vector<int> number_;
+};
+
 /// The face sides of the edges at the ends of the non-manifold edges, and those ends' face
 /// corners, kept up to date as the ends are split (the copies become ends too).
 class Sides {
@@ -78,94 +153,67 @@ public:
     /// corners. Returns the number of fans.
     int split(int v) {
         const Corners around = corners_.at(v);
-        const std::size_t n = around.size();
-        const auto next = [&](std::size_t i) { return at(around[i].first, around[i].second + 1); };
-        const auto prev = [&](std::size_t i) {
-            return at(around[i].first, around[i].second + mesh_.faces[around[i].first].size() - 1);
-        };
-        // Joins across edges of two sides; per edge of three or four, the faces leaving and entering.
-        std::vector<std::pair<std::size_t, std::size_t>> joins;
-        std::map<int, std::pair<std::vector<std::size_t>, std::vector<std::size_t>>> crowded;
-        for (std::size_t i = 0; i < n; ++i) {
-            const int w = next(i), sides = count(undirected_key(v, w));
-            if (sides == 2) {
-                for (std::size_t j = 0; j < n; ++j)
-                    if (j != i && prev(j) == w) joins.push_back({i, j});
-            } else if (sides == 3 || sides == 4) {
-                crowded[w].first.push_back(i);
-            }
-            if (const int u = prev(i), su = count(undirected_key(v, u)); su == 3 || su == 4)
-                crowded[u].second.push_back(i);
-        }
-        // The pairings to choose from: two per edge whose leaving and entering faces number two
-        // and two, two and one, or one and two.
-        std::vector<std::array<std::pair<std::size_t, std::size_t>, 2>> first, second;
-        for (const auto& [w, sides] : crowded) {
-            const auto& [out, in] = sides;
-            if (first.size() == 4 || out.empty() || in.empty() || out.size() > 2 || in.size() > 2 ||
-                out.size() + in.size() < 3)
-                continue;
-            if (out.size() == 2 && in.size() == 2) {
-                first.push_back({{{out[0], in[0]}, {out[1], in[1]}}});
-                second.push_back({{{out[0], in[1]}, {out[1], in[0]}}});
-            } else { // one face on one side: it joins one of the two on the other (listed twice)
-                const std::size_t o1 = out.size() > 1 ? out[1] : out[0], i1 = in.size() > 1 ? in[1] : in[0];
-                first.push_back({{{out[0], in[0]}, {out[0], in[0]}}});
-                second.push_back({{{o1, i1}, {o1, i1}}});
-            }
-        }
-        std::vector<std::size_t> parent(n);
-        std::vector<int> number(n);
-        const auto find = [&](std::size_t x) {
-            while (parent[x] != x) x = parent[x];
-            return x;
-        };
-        const auto join = [&](std::size_t a, std::size_t b) {
-            a = find(a), b = find(b);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        };
-        const auto fans_with = [&](unsigned choice) {
-            std::iota(parent.begin(), parent.end(), std::size_t{0});
-            for (const auto& [a, b] : joins) join(a, b);
-            for (std::size_t e = 0; e < first.size(); ++e)
-                for (const auto& [a, b] : (choice >> e & 1u) ? second[e] : first[e])
-                    if (a != b) join(a, b);
-            std::fill(number.begin(), number.end(), -1);
-            int fans = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                if (number[find(i)] < 0) number[find(i)] = fans++;
-            return fans;
-        };
-        unsigned best = 0;
-        for (unsigned choice = 1, most = static_cast<unsigned>(fans_with(0)); choice < (1u << first.size()); ++choice)
-            if (const auto f = static_cast<unsigned>(fans_with(choice)); f > most) best = choice, most = f;
-        const int fans = fans_with(best);
-        if (fans < 2) return fans;
-        const int first_copy = static_cast<int>(mesh_.positions.size());
-        for (int c = 1; c < fans; ++c) {
-            mesh_.positions.push_back(mesh_.positions[static_cast<std::size_t>(v)]);
-            mesh_.provenance.push_back(mesh_.provenance[static_cast<std::size_t>(v)]);
-            corners_.emplace(first_copy + c - 1, Corners{});
-        }
-        corners_.at(v).clear();
-        for (std::size_t i = 0; i < n; ++i) {
-            const int fan = number[find(i)];
-            const auto [f, k] = around[i];
-            const int to = fan == 0 ? v : first_copy + fan - 1;
-            corners_.at(to).push_back({f, k});
-            if (to == v) continue;
-            const int before = prev(i), after = next(i);
-            --count_[undirected_key(v, before)], --count_[undirected_key(v, after)];
-            mesh_.faces[f][k] = to;
-            ++count_[undirected_key(to, before)], ++count_[undirected_key(to, after)];
-        }
-        return fans;
+        const Joins joins = joins_round(v, around);
+        Fans fans(joins, around.size());
+        const int count = fans.most();
+        if (count < 2) return count;
+        hand_out(v, around, fans, count);
+        return count;
     }
 
 private:
     using Corners = std::vector<std::pair<std::size_t, std::size_t>>; ///< (face, corner)
     /// Vertex of face f at corner k (mod its size).
     int at(std::size_t f, std::size_t k) const { return mesh_.faces[f][k % mesh_.faces[f].size()]; }
+    /// The vertex after corner i of `around` in its face, and the one before it.
+    int next(const Corners& around, std::size_t i) const { return at(around[i].first, around[i].second + 1); }
+    int prev(const Corners& around, std::size_t i) const {
+        return at(around[i].first, around[i].second + mesh_.faces[around[i].first].size() - 1);
+    }
+
+    /// How the corners round end v join: across edges of two sides; per edge of three or four,
+    /// the faces leaving and entering, paired (add_pairings).
+    Joins joins_round(int v, const Corners& around) const {
+        const std::size_t n = around.size();
+        Joins joins;
+        Crowded crowded;
+        for (std::size_t i = 0; i < n; ++i) {
+            const int w = next(around, i), sides = count(undirected_key(v, w));
+            if (sides == 2) {
+                for (std::size_t j = 0; j < n; ++j)
+                    if (j != i && prev(around, j) == w) joins.across.push_back({i, j});
+            } else if (sides == 3 || sides == 4) {
+                crowded[w].first.push_back(i);
+            }
+            if (const int u = prev(around, i), su = count(undirected_key(v, u)); su == 3 || su == 4)
+                crowded[u].second.push_back(i);
+        }
+        add_pairings(crowded, joins);
+        return joins;
+    }
+
+    /// Gives every fan of v's but the first a copy of v (appended in fan order) and moves the
+    /// fan's corners, and the side counts of their edges, to it.
+    void hand_out(int v, const Corners& around, const Fans& fans, int count) {
+        const int first_copy = static_cast<int>(mesh_.positions.size());
+        for (int c = 1; c < count; ++c) {
+            mesh_.positions.push_back(mesh_.positions[static_cast<std::size_t>(v)]);
+            mesh_.provenance.push_back(mesh_.provenance[static_cast<std::size_t>(v)]);
+            corners_.emplace(first_copy + c - 1, Corners{});
+        }
+        corners_.at(v).clear();
+        for (std::size_t i = 0; i < around.size(); ++i) {
+            const int fan = fans.of(i);
+            const auto [f, k] = around[i];
+            const int to = fan == 0 ? v : first_copy + fan - 1;
+            corners_.at(to).push_back({f, k});
+            if (to == v) continue;
+            const int before = prev(around, i), after = next(around, i);
+            --count_[undirected_key(v, before)], --count_[undirected_key(v, after)];
+            mesh_.faces[f][k] = to;
+            ++count_[undirected_key(to, before)], ++count_[undirected_key(to, after)];
+        }
+    }
 
     QuadMesh& mesh_;
     std::unordered_map<EdgeKey, int> count_;

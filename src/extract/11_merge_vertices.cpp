@@ -2,7 +2,7 @@
 // Fold-overs make the face walks visit clones of one q-vertex; within a face the clones share
 // local UVs. Merging them leaves quads plus 2-gons and 1-gons (collapsed), and, where a singularity
 // lost ports, faces that pass a vertex twice: those are split at it. Ghost and near-ghost faces
-// are cancelled in between (12_cancel_ghosts.cpp).
+// are cancelled in between (11_cancel_ghosts.cpp).
 #include "merge_loops.h"
 
 #include <algorithm>

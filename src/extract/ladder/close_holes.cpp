@@ -7,7 +7,7 @@
 // the faces the walks lost, and they are added. The result is only a candidate: the caller keeps
 // it only if the checker then accepts the mesh, against the map it carries and against the given
 // map alone.
-#include "pipeline.h"
+#include "ladder.h"
 
 #include <algorithm>
 #include <cmath>

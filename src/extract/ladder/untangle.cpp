@@ -3,7 +3,7 @@
 // moved to the average of their neighbours (uniform Laplacian, Gauss-Seidel), expressed through
 // the exact transitions, so the map keeps its transitions and singularities; only the folded
 // region moves. Run before sanitization, which re-truncates the moved coordinates.
-#include "pipeline.h"
+#include "ladder.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,219 @@
+// The fallback ladder: what extract() tries, in this order, until the checker accepts a mesh.
+//
+//   the map at its own scale:  rung repaired -> as-given -> untangled-1 -> untangled-3   kLadder, ladder.cpp
+//   no rung's mesh is valid:   the ladder on the map / 2, / 4, ... (while it is an       coarsen.cpp
+//                              integer-grid map), the first valid mesh split back onto it
+//   still none:                the ladder on the map x 2, x 4, ... x 16                   refine.cpp
+//   valid, but more quads than the signed UV area: the coarsened mesh, if closer to it   (extract.cpp)
+//
+// Every rung runs the pipeline's stages (pipeline.h) on the validated, collapsed mesh, in the
+// order of the stage table. The steps only some rungs take are here: untangle and
+// place_on_given_map (the relaxed rungs), separate_sheets and close_holes (a mesh the checker
+// rejected), map_divisible_by and split_onto_map (coarsening).
+#pragma once
+
+#include "../pipeline.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace qex::detail {
+
+// ============================================================================ the rungs' steps
+
+/// Last resort: relaxes regular vertices within `rings` of a flipped or degenerate triangle (UV
+/// area <= 0) towards the average of their neighbours, through exact transitions. Returns the
+/// number of triangles still flipped or degenerate. Uncertified: its mesh is moved back onto the
+/// given map (place_on_given_map) and must pass the checker there.
+std::int64_t untangle(TriMesh& m, int rings, int iterations);
+
+/// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
+/// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
+/// by a breadth-first search from its provenance triangle, and sets its provenance and the
+/// mesh's map to that map. Returns the number of vertices it could not place.
+std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+
+/// Where some vertices lie in space: the mean of their positions and the largest squared distance
+/// of one from it. A point within twice that distance of the mean is near them (the split and
+/// separate_sheets take a free preimage only there).
+struct Neighbourhood {
+    std::array<double, 3> mean{0, 0, 0};
+    double reach2 = 0.0;
+    template <class Indices>
+    Neighbourhood(const std::vector<std::array<double, 3>>& positions, const Indices& vertices) {
+        const auto n = static_cast<double>(std::size(vertices));
+        for (const int v : vertices)
+            for (std::size_t d = 0; d < 3; ++d) mean[d] += positions[static_cast<std::size_t>(v)][d] / n;
+        for (const int v : vertices) reach2 = std::max(reach2, distance2(positions[static_cast<std::size_t>(v)]));
+    }
+    double distance2(const std::array<double, 3>& x) const {
+        double d = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) d += (x[k] - mean[k]) * (x[k] - mean[k]);
+        return d;
+    }
+    bool near(const std::array<double, 3>& x) const { return distance2(x) <= 4 * reach2; }
+};
+
+/// Per point (a provenance: a grid point in the chart of its triangle), the preimages of its grid
+/// point in `map` (per input corner) that a breadth-first search from its triangle finds, as
+/// place_on_given_map searches (crossing edges with their transitions, up to its budget):
+/// positive triangles' first, then flipped ones'; one per place on the surface, with its
+/// position, in the order found.
+std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
+    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
+
+/// For a mesh the checker rejected: each edge with more than two face sides (sheets of a
+/// fold-over joined there by merged clones) is cut by splitting an end into one vertex per fan
+/// round it (faces joined across edges of two face sides): an end that ends no other such edge
+/// first, and of an edge's ends the one of smaller index first, or of larger with
+/// `larger_end_first`; then every end still the corner of several fans. The copies are appended.
+/// Each vertex split then takes the preimage of its grid point in the mesh's map (preimages)
+/// nearest the vertices round its fan. Returns one explanation (SheetsSeparated) per edge cut;
+/// none, and no candidate, if the mesh has no such edge, lacks provenance, or the vertices of one
+/// split would coincide (a grid point with one preimage there: the sheets stay joined in space).
+/// A candidate only: the caller keeps it if the checker accepts the result.
+std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first);
+
+/// The cuts of separate_sheets alone, without moving a vertex: returns the explanations, and per
+/// vertex split, it then its copies (`groups`).
+std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups);
+
+/// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
+/// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
+/// faces leave each rim vertex (four each, or as many as the fan of the input vertex it lies on
+/// winds; `wound_first` picks which reading is tried first, the other where a rim does not close),
+/// unit cells whose corners are all rim vertices: those cells are added as faces. Returns one
+/// explanation (HoleClosed) per hole closed. A candidate only: the caller keeps it if the checker
+/// accepts the result.
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
+
+// ============================================================================ scales
+
+/// The sanitized map before stage repair and after it, with what the repair reported: kept from
+/// the map at its own scale for its refinements. Refining multiplies the UVs by a power of two,
+/// exactly, and leaves the repair's problem as it was (the same triangles, rims and
+/// singularities), so the repair is not run again where the refined map's sanitized state is
+/// exactly the kept one times the factor.
+struct RepairMemo {
+    bool filled = false;
+    // Before the repair: connectivity, UVs and map state.
+    std::vector<std::array<int, 3>> tri;
+    std::vector<int> input_triangle, input_vertex, corner_vertex;
+    std::vector<Point2> sanitized;
+    std::vector<GridAutomorphism> transitions;
+    std::vector<char> singular;
+    std::vector<int> valence, winding_valence;
+    // After it.
+    std::vector<Point2> repaired;
+    std::vector<GridAutomorphism> repaired_transitions;
+    std::vector<char> repaired_singular;
+    std::vector<int> repaired_valence, repaired_winding_valence;
+    RepairOutcome outcome;
+    std::vector<Defect> explanations; ///< the ones the repair added (merged singularities)
+};
+
+/// One attempt at the ladder: the map's own scale, or a refinement of it.
+struct AtScale {
+    /// The UVs times this power of two (1: the map as given).
+    std::int64_t factor = 1;
+    /// The map at its own scale passed check_seams: its solver noise, multiplied with it, can
+    /// exceed the check's bound and is noise still, so a refinement's seams are trusted.
+    bool seams_checked = false;
+    /// Factor 1: filled by the repair, if one runs. Larger: the repair it holds is taken, times
+    /// the factor, where it applies (RepairMemo).
+    RepairMemo* memo = nullptr;
+};
+
+// ============================================================================ the ladder (ladder.cpp)
+
+/// The whole ladder on `input` at its own scale (`scale`: which attempt this is): the first
+/// rung whose mesh the checker accepts, else the one with the fewest violations, located.
+Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale = {});
+
+/// Whether the rung named `name` (Report::rung) relaxed the map: a last resort.
+bool relaxed_rung(const std::string& name);
+
+/// The feature edges to snap: the input's, and every boundary edge with Options::snap_boundary.
+std::vector<std::array<int, 2>> feature_edges(const TriMesh& m, const Input& input, const Options& options);
+
+/// The sanitized map, per input corner, for the checker (NaN for triangles collapsed away).
+/// Only the map and the triangle numbering of the working mesh are still needed: the rest is
+/// released first, and when no triangle was collapsed away the map is handed over uncopied.
+std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input);
+
+/// The map as given, sanitized (stages validate and collapse, then sanitize's rounds), in `m`.
+bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, Report& report);
+
+/// Adds `from`'s stage times to `to`'s, stage by stage.
+void add_stage_seconds(const Report& from, Report& to);
+
+// ============================================================================ a rejected mesh mended (mend.cpp)
+
+/// The violations of `mesh` judged without its provenance against the given map, as
+/// `qex check --param` judges any extractor's mesh (fold-over regions on the surface only, or not).
+std::vector<Violation> located_violations(const Input& input, const QuadMesh& mesh, VerifyOptions options,
+                                          bool fold_regions);
+
+/// Stages separate_sheets and close_holes, on a mesh the checker rejected. Where the checker
+/// found an edge of more than two face sides, the edges that join sheets of a fold-over are cut
+/// (of an edge's ends, the smaller first where the order is free, then the larger); each such
+/// mesh is kept if it is accepted (the checker passes it, and the oracle without provenance
+/// against the given map: fold-over regions judged on the surface, or everywhere after a
+/// relaxed rung), or once its holes are closed too. Else the holes of the mesh as it is are
+/// closed, and the result kept if it is accepted.
+void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
+                      Result& attempt);
+
+// ============================================================================ refinement (refine.cpp)
+
+/// Stage repair on the sanitized map m, or its result at the map's own scale taken from
+/// `scale.memo` (see RepairMemo), which the repair at that scale fills.
+RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
+                              const AtScale& scale, Report& report);
+
+/// Refinement, after the map at its own scale (and coarsened) gave `result`, invalid: the ladder
+/// on the map times 2, 4, ... up to Options::max_refinement. Replaces `result` with the first
+/// valid mesh, or adds to it one explanation per factor tried.
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, Result& result);
+
+/// The explanation of a mesh extracted at another scale: what failed at the map's own scale,
+/// and where, then `how`.
+Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how);
+
+// ============================================================================ coarsening (coarsen.cpp, split_onto_map.cpp)
+
+/// Whether the sanitized map `m` (transitions and singularities computed) is k times an
+/// integer-grid map laid from some grid point `origin` (u = k u' + origin, origin in [0, k)^2):
+/// every singularity's grid point, and every boundary or feature edge (input vertex pairs) on an
+/// iso-line, on a line of that coarse grid, and every transition one of its automorphisms. The
+/// origin is fixed by the singularities and iso-lines, else it is the first (in (u, v) order)
+/// that the turning transitions allow (for k up to 64; above, a free coordinate is 0).
+bool map_divisible_by(const TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, std::int64_t k,
+                      IPoint& origin);
+
+/// For a mesh extracted from the map laid from `origin` with its UVs divided by k (a power of
+/// two; map_divisible_by): the mesh with every quad split into k x k, on `map` (the coarse
+/// mesh's map times k, plus origin). Each coarse vertex keeps its element, its grid point g
+/// becoming k g + origin;
+/// each new one is placed on a preimage of its grid point found from its face's first corner,
+/// in the chart in which the face's other corners are found where the coarse mesh has them.
+/// False, with `out` unusable, when a face has no such chart or a grid point no preimage.
+bool split_onto_map(const Input& input, const std::vector<std::array<double, 2>>& map, const QuadMesh& coarse, int k,
+                    const IPoint& origin, QuadMesh& out);
+
+/// Whether a valid mesh at the map's own scale has more quads than the map's signed UV area.
+bool over_covered(const Result& r);
+
+/// Coarsening (Options::max_coarsening), after the map at its own scale gave `result`, invalid
+/// (or valid but over_covered):
+/// the ladder on the map with its UVs divided by 2, 4, ... while that is an integer-grid map, and
+/// the first valid mesh there split back onto the given map. Replaces `result` and returns true
+/// when that mesh passes the checker against the given map.
+bool extract_coarsened(const Input& input, const Options& options, Result& result);
+
+} // namespace qex::detail

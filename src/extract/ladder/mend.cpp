@@ -1,0 +1,87 @@
+// A rung's mesh the checker rejected, mended: the edges that join sheets of a fold-over cut
+// (stage separate_sheets), the holes its face walks left closed (stage close_holes). Each mended
+// mesh is a candidate only, kept if the checker accepts it, against the map it carries and
+// against the given map alone, as `qex check --param` judges any extractor's mesh.
+#include "ladder.h"
+
+#include <algorithm>
+
+namespace qex::detail {
+
+std::vector<Violation> located_violations(const Input& input, const QuadMesh& mesh, VerifyOptions options,
+                                          bool fold_regions) {
+    QuadMesh bare;
+    bare.positions = mesh.positions;
+    bare.faces = mesh.faces;
+    options.fold_regions = fold_regions;
+    return verify(input, bare, options).violations;
+}
+
+namespace {
+
+/// Whether the checker accepts `mesh` against the map it carries, and the oracle without
+/// provenance against the given map too (fold-over regions judged on the surface, or everywhere
+/// after a relaxed rung), as `qex check --param` would; its verdict in `check`.
+bool accepted(const Input& input, const QuadMesh& mesh, bool relaxed, const VerifyOptions& verify_options,
+              VerifyResult& check) {
+    check = verify(input, mesh, verify_options);
+    return check.valid && located_violations(input, mesh, verify_options, !relaxed).empty();
+}
+
+/// Keeps `mended` (with `explanations` for what was done to it) as the attempt's mesh.
+void keep(QuadMesh&& mended, VerifyResult&& check, std::vector<Defect>&& explanations, Result& attempt) {
+    attempt.mesh = std::move(mended);
+    attempt.check = std::move(check);
+    for (Defect& d : explanations) attempt.report.explanations.push_back(std::move(d));
+}
+
+/// Stage close_holes, on a mesh the checker rejected: the holes its face walks left, closed by the
+/// grid cells their rims enclose. Kept (with `done`, what was done to `mesh` before) only if it
+/// is then accepted(). `mesh` is read only before the result is kept, so it may be attempt.mesh.
+bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool relaxed,
+                             const VerifyOptions& verify_options, const std::vector<Defect>& done, Result& attempt) {
+    // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
+    // valence-3 and a valence-5 vertex on one rim cancel in the first reading).
+    std::vector<std::vector<int>> first_faces; // the first reading's result, not judged twice
+    for (const bool wound_first : {false, true}) {
+        QuadMesh closed = mesh;
+        std::vector<Defect> explanations = close_holes(input, closed, wound_first);
+        if (explanations.empty() || (wound_first && closed.faces == first_faces)) continue;
+        if (!wound_first) first_faces = closed.faces;
+        VerifyResult check;
+        if (!accepted(input, closed, relaxed, verify_options, check)) continue;
+        explanations.insert(explanations.begin(), done.begin(), done.end());
+        keep(std::move(closed), std::move(check), std::move(explanations), attempt);
+        return true;
+    }
+    return false;
+}
+
+} // namespace
+
+void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
+                      Result& attempt) {
+    const bool joined = std::any_of(attempt.check.violations.begin(), attempt.check.violations.end(),
+                                    [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
+    for (const bool larger_end_first : {false, true}) {
+        if (!joined) break;
+        QuadMesh separated = attempt.mesh;
+        std::vector<Defect> explanations = separate_sheets(input, separated, larger_end_first);
+        timer.done(Stage::separate_sheets);
+        if (explanations.empty()) continue;
+        VerifyResult check;
+        const bool ok = accepted(input, separated, relaxed, verify_options, check);
+        timer.done(Stage::separate_sheets);
+        if (ok) {
+            keep(std::move(separated), std::move(check), std::move(explanations), attempt);
+            return;
+        }
+        const bool closed = close_holes_if_accepted(input, separated, relaxed, verify_options, explanations, attempt);
+        timer.done(Stage::close_holes);
+        if (closed) return;
+    }
+    (void)close_holes_if_accepted(input, attempt.mesh, relaxed, verify_options, {}, attempt);
+    timer.done(Stage::close_holes);
+}
+
+} // namespace qex::detail

@@ -1,0 +1,57 @@
+// Placement on the given map, for meshes from a relaxed rung of the fallback ladder: every output
+// vertex moves onto a preimage of its grid point in the sanitized map as given, so the mesh is
+// judged against that map and not against the relaxed one it was extracted from. Also every
+// preimage of a grid point such a search finds, for separate_sheets.
+#include "chart_search.h"
+#include "ladder.h"
+
+#include <algorithm>
+
+namespace qex::detail {
+
+std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh) {
+    TriMesh g = make_mesh(input);
+    if (build_topology(g, "input").code != ErrorCode::None) return static_cast<std::int64_t>(mesh.positions.size());
+    g.uv = given;
+    // Transitions of the given (sanitized) map, exact there: rotation from the edge, then the
+    // translation.
+    compute_transitions(g);
+    ChartSearch search(g);
+    std::int64_t unplaced = 0;
+    for (std::size_t i = 0; i < mesh.positions.size() && i < mesh.provenance.size(); ++i) {
+        Provenance& p = mesh.provenance[i];
+        const IPoint grid{p.grid[0], p.grid[1]};
+        const int found = search.find(p.chart_triangle, grid);
+        if (found < 0) {
+            ++unplaced;
+            continue;
+        }
+        p = located(input, g, found, search.to(found)(grid), p.merged);
+        mesh.positions[i] = position_of(input, p);
+    }
+    mesh.map_uvs = given;
+    return unplaced;
+}
+
+std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
+    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points) {
+    std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> out(points.size());
+    TriMesh g = make_mesh(input);
+    if (map.size() != input.uvs.size() || build_topology(g, "input").code != ErrorCode::None) return out;
+    g.uv = map;
+    compute_transitions(g);
+    ChartSearch search(g);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Provenance& p = points[i];
+        for (const auto& [t, q] : search.find_all(p.chart_triangle, {p.grid[0], p.grid[1]})) {
+            Provenance at = located(input, g, t, q, p.merged);
+            // One preimage per place: a vertex or an edge is held by every triangle round it.
+            const std::array<double, 3> x = position_of(input, at);
+            if (std::none_of(out[i].begin(), out[i].end(), [&](const auto& seen) { return seen.second == x; }))
+                out[i].push_back({std::move(at), x});
+        }
+    }
+    return out;
+}
+
+} // namespace qex::detail

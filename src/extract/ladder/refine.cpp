@@ -1,0 +1,197 @@
+// Refinement: when no rung gives a valid mesh at the map's own scale (nor coarsened), the ladder
+// runs again on the map with its UVs multiplied by 2, 4, 8 and 16 (exact: powers of two), each
+// quad of the map's own size becoming K x K. The repair runs once, at the map's own scale: a
+// refined attempt whose sanitized map is exactly the own-scale one times the factor takes its
+// result (RepairMemo). And the explanations of a mesh found at another scale, or of none.
+#include "ladder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace qex::detail {
+namespace {
+
+/// Refinement stops short of this many quads: a map with many quads is not too coarse, and
+/// refining it would only multiply the cost.
+constexpr double kMaxRefinedQuads = 200'000;
+
+// ============================================================================ the repair, kept
+
+/// The transitions of every half-edge of m.
+std::vector<GridAutomorphism> all_transitions(const TriMesh& m) {
+    std::vector<GridAutomorphism> out(m.map.transition.size());
+    for (std::size_t h = 0; h < out.size(); ++h) out[h] = m.map.transition[h];
+    return out;
+}
+
+/// A UV of the map at its own scale, `factor` times (exact for a power of two; NaN stays NaN).
+Point2 times(const Point2& u, std::int64_t factor) {
+    const auto k = static_cast<double>(factor);
+    return {k * u[0], k * u[1]};
+}
+
+/// A transition of the map at its own scale, in the map `factor` times it.
+GridAutomorphism times(const GridAutomorphism& g, std::int64_t factor) { return {g.r, factor * g.tx, factor * g.ty}; }
+
+/// Whether m's sanitized state is exactly the memo's times `factor`.
+bool memo_applies(const TriMesh& m, const RepairMemo& memo, std::int64_t factor) {
+    if (!memo.filled || m.tri != memo.tri || m.input_triangle != memo.input_triangle ||
+        m.input_vertex != memo.input_vertex || m.corner_vertex != memo.corner_vertex ||
+        m.uv.size() != memo.sanitized.size() || m.map.singular != memo.singular || m.map.valence != memo.valence ||
+        m.map.winding_valence != memo.winding_valence || m.map.transition.size() != memo.transitions.size())
+        return false;
+    for (std::size_t c = 0; c < m.uv.size(); ++c) {
+        const Point2 u = times(memo.sanitized[c], factor);
+        for (int d = 0; d < 2; ++d)
+            if (m.uv[c][d] != u[d] && !(std::isnan(m.uv[c][d]) && std::isnan(u[d]))) return false;
+    }
+    for (std::size_t h = 0; h < memo.transitions.size(); ++h)
+        if (!(m.map.transition[h] == times(memo.transitions[h], factor))) return false;
+    return true;
+}
+
+/// The repair at the map's own scale, times `factor` (memo_applies), put into m: UVs,
+/// transitions, singularities and valences, and its explanations into the report.
+RepairOutcome repair_from_memo(TriMesh& m, const RepairMemo& memo, std::int64_t factor, Report& report) {
+    for (std::size_t c = 0; c < m.uv.size(); ++c) m.uv[c] = times(memo.repaired[c], factor);
+    for (std::size_t h = 0; h < memo.repaired_transitions.size(); ++h)
+        m.map.transition.set(h, times(memo.repaired_transitions[h], factor));
+    m.map.singular = memo.repaired_singular;
+    m.map.valence = memo.repaired_valence;
+    m.map.winding_valence = memo.repaired_winding_valence;
+    m.map.face_sign = triangle_signs(m);
+    report.explanations.insert(report.explanations.end(), memo.explanations.begin(), memo.explanations.end());
+    return memo.outcome;
+}
+
+/// Stage repair on m at the map's own scale, with the map before it and after it, and what it
+/// reported, kept in `memo` for the refinements.
+RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
+                               RepairMemo& memo, Report& report) {
+    memo = RepairMemo{};
+    memo.tri = m.tri;
+    memo.input_triangle = m.input_triangle;
+    memo.input_vertex = m.input_vertex;
+    memo.corner_vertex = m.corner_vertex;
+    memo.sanitized = m.uv;
+    memo.transitions = all_transitions(m);
+    memo.singular = m.map.singular;
+    memo.valence = m.map.valence;
+    memo.winding_valence = m.map.winding_valence;
+    const std::size_t explained = report.explanations.size();
+    RepairOutcome outcome = repair(m, features, valences_given, report);
+    memo.repaired = m.uv;
+    memo.repaired_transitions = all_transitions(m);
+    memo.repaired_singular = m.map.singular;
+    memo.repaired_valence = m.map.valence;
+    memo.repaired_winding_valence = m.map.winding_valence;
+    memo.outcome = outcome;
+    memo.explanations.assign(report.explanations.begin() + static_cast<std::ptrdiff_t>(explained),
+                             report.explanations.end());
+    memo.filled = true;
+    return outcome;
+}
+
+} // namespace
+
+RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
+                              const AtScale& scale, Report& report) {
+    RepairMemo* memo = scale.memo;
+    if (memo && scale.factor > 1 && memo_applies(m, *memo, scale.factor))
+        return repair_from_memo(m, *memo, scale.factor, report);
+    // No refinement can follow when doubling the map takes it past kMaxRefinedQuads.
+    if (!memo || scale.factor != 1 || std::abs(report.signed_uv_area) * 4 > kMaxRefinedQuads)
+        return repair(m, features, valences_given, report);
+    return repair_into_memo(m, features, valences_given, *memo, report);
+}
+
+// ============================================================================ explanations
+
+Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how) {
+    Defect d{kind, "", -1, -1, {0, 0}, std::nullopt};
+    if (at_scale_one.check.valid) { // over_covered
+        d.message = "the mesh at the map's own scale is valid but has " +
+                    std::to_string(at_scale_one.mesh.faces.size()) + " quads for a signed UV area of " +
+                    std::to_string(std::llround(at_scale_one.report.signed_uv_area)) +
+                    " (faces on two sheets of a fold-over cover some cells twice); this mesh is closer to the "
+                    "area: " +
+                    how;
+        return d;
+    }
+    std::string what = std::to_string(at_scale_one.check.violations.size()) + " checker violations";
+    if (!at_scale_one.report.defects.empty()) {
+        const Defect& first = at_scale_one.report.defects.front();
+        d.input_element = first.input_element;
+        d.grid = first.grid;
+        what += "; the first: " + first.message;
+    }
+    d.message = "the map gives no valid quad mesh at its own scale (" + what + "); " + how;
+    return d;
+}
+
+namespace {
+
+/// What a refined attempt that gave no valid mesh failed by: the first of its checker
+/// violations as located on the input (else its first defect).
+Defect refinement_failure(const Result& refined, std::int64_t scale) {
+    const std::string k = std::to_string(scale);
+    const std::vector<Defect>& defects = refined.report.defects;
+    const auto located = std::find_if(defects.begin(), defects.end(),
+                                      [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; });
+    const Defect* first = located != defects.end() ? &*located : defects.empty() ? nullptr : &defects.front();
+    Defect d{DefectKind::RefinementFailed, "", first ? first->input_element : -1, -1, {0, 0}, std::nullopt};
+    d.message = "the map with its UVs multiplied by " + k + " gives no valid mesh either (" +
+                std::to_string(refined.check.violations.size()) + " checker violations" +
+                (first ? "; the first: " + first->message : std::string()) + ")";
+    return d;
+}
+
+/// The explanation of a refined mesh.
+Defect refinement_explanation(const Result& at_scale_one, int scale) {
+    const std::string k = std::to_string(scale);
+    return scale_explanation(DefectKind::MapRefined, at_scale_one,
+                             "the mesh is extracted on the map with its UVs multiplied by " + k +
+                                 ", so each quad of the map's own size is " + k + " x " + k + " quads");
+}
+
+} // namespace
+
+// ============================================================================ the map refined
+
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, Result& result) {
+    // The map at twice, four times, ... its scale. Multiplying by two is exact; a map that would
+    // leave the range integer transitions need comes back as an input error, and ends the
+    // refinement with the scale-1 result.
+    Input scaled = input;
+    std::vector<Defect> failed; // per refinement tried
+    for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
+        if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
+        for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
+        StageTimer::hook_scale = scale;
+        // The map at scale 1 passed the seam check (or this would not run).
+        Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo});
+        ++result.report.refinements_tried;
+        add_stage_seconds(refined.report, result.report);
+        if (!refined.ok()) break;
+        if (refined.check.valid) {
+            refined.mesh.grid_scale = scale;
+            refined.report.grid_scale = scale;
+            refined.report.refinements_tried = result.report.refinements_tried;
+            refined.report.stage_seconds = std::move(result.report.stage_seconds);
+            refined.report.explanations.insert(refined.report.explanations.begin(),
+                                               refinement_explanation(result, scale));
+            // Seams rounded at scale 1 (Options::round_inconsistent_seams) are the refined map's
+            // too, rounded there without a check: their explanations carry over.
+            for (const Defect& d : result.report.explanations)
+                if (d.kind == DefectKind::SeamRounded) refined.report.explanations.push_back(d);
+            result = std::move(refined);
+            return;
+        }
+        failed.push_back(refinement_failure(refined, scale));
+    }
+    result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());
+}
+
+} // namespace qex::detail
