@@ -122,6 +122,11 @@ int main(int argc, char** argv) {
     expect_refused("NULL arrays", qex_extract(NULL, 4, NULL, 2, NULL, NULL), "InvalidArgument");
     expect_refused("negative count", qex_extract(square, -1, two, 2, square_uv, NULL), "InvalidArgument");
     expect_refused("huge count", qex_extract(square, (int64_t)1 << 40, two, 2, square_uv, NULL), "InvalidArgument");
+    /* Counts at the edges of 32 and 64 bits: refused before any array is read. */
+    expect_refused("2^31 vertices", qex_extract(square, (int64_t)1 << 31, two, 2, square_uv, NULL), "InvalidArgument");
+    expect_refused("2^31 - 1 triangles", qex_extract(square, 4, two, INT32_MAX, square_uv, NULL), "InvalidArgument");
+    expect_refused("2^63 - 1 vertices", qex_extract(square, INT64_MAX, two, 2, square_uv, NULL), "InvalidArgument");
+    expect_refused("-2^63 triangles", qex_extract(square, 4, two, INT64_MIN, square_uv, NULL), "InvalidArgument");
     expect_refused("no triangles", qex_extract(square, 4, two, 0, square_uv, NULL), "EmptyMesh");
     expect_refused("index out of range", qex_extract(square, 4, out_of_range, 2, square_uv, NULL), "IndexOutOfRange");
     memcpy(nan_uv, square_uv, sizeof nan_uv);

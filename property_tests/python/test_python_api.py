@@ -190,6 +190,52 @@ def test_bad_options_and_extras():
     assert qex.extract(V, F, UV, feature_edges=[[0, 1]], valences=[4, 4, 4, 4]).valid
 
 
+def test_hostile_numbers_are_refused_cleanly():
+    """Indices, sizes and options at the edges: ValueError (or TypeError for a wrong type), never a
+    silent truncation, wrap or crash, from the package and from its compiled half called directly."""
+    V, F, UV = square()
+    for bad_F in (F.astype(float), np.full((2, 3), np.nan), np.full((2, 3), np.inf), F + 0.5, F * 1e96):
+        with pytest.raises(ValueError, match="integers"):
+            qex.extract(V, bad_F, UV)
+        with pytest.raises(ValueError, match="integers"):
+            qex._qex.extract(V, bad_F, UV.reshape(-1, 2), None, None, 0, {})
+        with pytest.raises(ValueError, match="integers"):
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, bad_F, 1e-3, 1e-6, True, 0)
+    with pytest.raises(ValueError, match="integers"):
+        qex._qex.extract(V, F, UV.reshape(-1, 2), np.full(4, 4.0), None, 0, {})
+    with pytest.raises(ValueError, match="integers"):
+        qex._qex.extract(V, F, UV.reshape(-1, 2), None, np.array([[0.0, 1.0]]), 0, {})
+    with pytest.raises(ValueError, match="out of range"):
+        qex._qex.extract(V, np.full((2, 3), 2**63, np.uint64), UV.reshape(-1, 2), None, None, 0, {})
+    for index, message in ((2**31, "32 bits"), (-(2**31) - 1, "32 bits"), (2**63 - 1, "32 bits"),
+                           (2**31 - 1, "IndexOutOfRange"), (-(2**31), "IndexOutOfRange")):
+        big = F.copy()
+        big[1, 2] = index
+        with pytest.raises(ValueError, match=message):
+            qex.extract(V, big, UV)
+    with pytest.raises(ValueError, match="32 bits"):
+        qex.extract(V, F, UV, valences=[4, 4, 4, 2**31])
+    with pytest.raises(ValueError, match="32 bits"):
+        qex.extract(V, F, UV, feature_edges=[[0, 2**32 + 1]])
+    for size in (2**63, -(2**63) - 1, 2**64):
+        with pytest.raises(ValueError, match="64 bits"):
+            qex.extract(V, F, UV, max_qvertices=size)
+    for size in (1.0, np.float64(1e96), float("nan")):
+        with pytest.raises(TypeError, match="max_qvertices"):
+            qex.extract(V, F, UV, max_qvertices=size)
+    assert qex.extract(V, F, UV, max_qvertices=2**63 - 1, max_trace_steps=np.int64(2**62)).valid
+    for tolerance in (float("inf"), 1.5, 1e308):
+        with pytest.raises(ValueError, match="uv_tolerance"):
+            qex.check(V, F, UV, V, [[0, 1, 2, 3]], uv_tolerance=tolerance)
+        with pytest.raises(ValueError, match="uv_tolerance"):
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), tolerance, 1e-6, True, 0)
+    for tolerance in (float("inf"), float("nan"), -1.0):
+        with pytest.raises(ValueError, match="distance_tolerance"):
+            qex.check(V, F, UV, V, [[0, 1, 2, 3]], distance_tolerance=tolerance)
+        with pytest.raises(ValueError, match="distance_tolerance"):
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), 1e-3, tolerance, True, 0)
+
+
 def test_check_is_the_oracle_of_arrays():
     V, F, UV = qex.read_obj(SAMPLE)
     r = qex.extract(V, F, UV)

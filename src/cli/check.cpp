@@ -133,11 +133,13 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check
         ->add_option("--uv-tolerance", a.options.uv_tolerance,
                      "largest UV distance of a vertex to its grid point (default 1e-3; K times it, at most 0.1, "
-                     "with --grid-scale K)")
-        ->check(CLI::NonNegativeNumber);
+                     "with --grid-scale K); at most 1 (every point lies within 0.5 of a grid point)")
+        ->check(finite_number())
+        ->check(CLI::Range(0.0, 1.0));
     check
         ->add_option("--distance-tolerance", a.options.distance_tolerance,
                      "largest distance of a vertex to the surface, as a fraction of the diagonal (default 1e-6)")
+        ->check(finite_number())
         ->check(CLI::NonNegativeNumber);
     check
         ->add_option("--digits", a.options.position_digits,

@@ -44,6 +44,9 @@ bool write_text(const std::string& path, const std::string& text);
 int read_features(const std::string& path, Input& input);
 /// Size of the file at `path` in bytes (0 if unknown).
 std::uintmax_t size_of(const std::string& path);
+/// A check of a real option: a finite number. CLI11's number checks compare, and NaN compares
+/// false: they let `nan` through. Chain it with them.
+CLI::Validator finite_number();
 
 // The subcommands, each in its own file: its options (add_*), then its run (run_*).
 struct ExtractArgs {

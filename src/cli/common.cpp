@@ -2,8 +2,11 @@
 #include "cli.h"
 #include "progress.h"
 
+#include "io/checked_int.h"
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -82,7 +85,10 @@ int read_features(const std::string& path, Input& input) {
             std::cerr << "qex: " << path << ": line " << number << ": expected two vertex indices 'i j'\n";
             return kParse;
         }
-        if (i < 0 || j < 0 || i >= nv || j >= nv) {
+        // istream refuses a number beyond long long (malformed); one beyond the vertices here.
+        std::array<int, 2> edge{-1, -1};
+        if (i < 0 || j < 0 || i >= nv || j >= nv || !io_detail::checked_int(i, edge[0]) ||
+            !io_detail::checked_int(j, edge[1])) {
             std::cerr << "qex: " << path << ": line " << number << ": vertex index out of range (" << nv
                       << " vertices, 0-based)\n";
             return kBadInput;
@@ -92,10 +98,20 @@ int read_features(const std::string& path, Input& input) {
                       << ") is not an edge of the mesh\n";
             return kBadInput;
         }
-        features.push_back({static_cast<int>(i), static_cast<int>(j)});
+        features.push_back(edge);
     }
     input.feature_edges = std::move(features);
     return kOk;
+}
+
+CLI::Validator finite_number() {
+    return CLI::Validator(
+        [](std::string& s) -> std::string {
+            double x = 0;
+            if (!CLI::detail::lexical_cast(s, x) || !std::isfinite(x)) return "Value " + s + " is not a finite number";
+            return std::string();
+        },
+        "FINITE");
 }
 
 std::uintmax_t size_of(const std::string& path) {

@@ -158,6 +158,11 @@ int quads_picture(const DrawArgs& a, const Input& in, const std::string& name, s
             std::cerr << "qex: " << a.report_path << ": not a JSON report\n";
             return kParse;
         }
+        if (const std::string problem = report_problem(report); !problem.empty()) {
+            stop_progress();
+            std::cerr << "qex: " << a.report_path << ": " << problem << "\n";
+            return kParse;
+        }
     }
     const VerifyResult check = verify(in, mesh);
     std::vector<std::string> listing;
@@ -210,8 +215,11 @@ CLI::App* add_draw(CLI::App& app, DrawArgs& a) {
     draw->add_option("-o,--output", a.out_path, "the SVG to write")->required();
     draw->add_option("--quads", a.quads_path, "draw this quad mesh (OBJ or PLY) instead of the map");
     draw->add_option("--report", a.report_path, "with --quads: circle the defects of this `qex extract --report`");
-    draw->add_option("--around", a.around, "draw the map around this triangle only")->check(CLI::NonNegativeNumber);
+    // A range of long long: a number past 2^63 is refused as such, not saturated to 2^63 - 1.
+    draw->add_option("--around", a.around, "draw the map around this triangle only")
+        ->check(CLI::Range(0LL, static_cast<long long>(INT32_MAX)));
     draw->add_option("--radius", a.radius, "with --around: how far, in grid units (default 6)")
+        ->check(finite_number())
         ->check(CLI::PositiveNumber);
     draw->add_flag("--png", a.png, "also write a PNG beside the SVG (needs rsvg-convert)");
     return draw;

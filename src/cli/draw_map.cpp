@@ -5,6 +5,8 @@
 #include "draw_parts.h"
 #include "svg.h"
 
+#include "io/checked_int.h"
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -103,10 +105,12 @@ std::string seams_svg(const Input& in, const std::vector<int>& tris, const MapFr
 /// The integer grid (every line while there are few, else every k-th).
 std::string grid_svg(const MapFrame& f) {
     const Vec2 &lo = f.lo, &hi = f.hi;
-    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>(f.span / 200) + 1);
+    // The UVs of a drawn map are validated (below 2^52, times the grid scale): the clamps never bite.
+    const std::int64_t step = std::max<std::int64_t>(1, io_detail::clamped_int<std::int64_t>(f.span / 200) + 1);
     std::string s = "<g stroke=\"#303030\" stroke-width=\"0.8\" stroke-opacity=\"0.6\">\n";
     for (int c = 0; c < 2; ++c)
-        for (std::int64_t g = static_cast<std::int64_t>(std::ceil(lo[c] / step)) * step; g <= hi[c]; g += step) {
+        for (std::int64_t g = io_detail::clamped_int<std::int64_t>(std::ceil(lo[c] / step)) * step; g <= hi[c];
+             g += step) {
             const Vec2 a = c == 0 ? f.at({double(g), lo[1]}) : f.at({lo[0], double(g)});
             const Vec2 b = c == 0 ? f.at({double(g), hi[1]}) : f.at({hi[0], double(g)});
             s += line(a, b);

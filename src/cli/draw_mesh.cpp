@@ -4,6 +4,8 @@
 #include "draw_parts.h"
 #include "svg.h"
 
+#include "io/checked_int.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -70,7 +72,7 @@ std::string draw_view(const QuadMesh& mesh, const std::vector<Mark>& marks, cons
         const double shade = 0.25 + 0.75 * std::max(0.0, dot(n, light) / (len * light_norm));
         std::vector<Vec2> p;
         for (int i : f) p.push_back(at(mesh.positions[i]));
-        const int g = static_cast<int>(255 * shade);
+        const int g = io_detail::clamped_int<int>(255 * shade); // shade lies in [0.25, 1]
         char fill[64];
         if (f.size() == 4)
             std::snprintf(fill, sizeof fill, "fill=\"rgb(%d,%d,%d)\"", g * 7 / 10, g * 8 / 10, g);
@@ -153,7 +155,42 @@ Vec3 surface_point(const Input& in, std::int64_t t, double u, double v) {
     return x;
 }
 
+/// A defect's index `key` into `out` (-1 where it is absent or null); false where it is not an
+/// integer of 64 bits. A JSON float is converted by checked_int(), never cast.
+bool defect_index(const nlohmann::json& d, const char* key, std::int64_t& out) {
+    out = -1;
+    const auto it = d.find(key);
+    if (it == d.end() || it->is_null()) return true;
+    if (it->is_number_unsigned()) return io_detail::checked_int(it->get<std::uint64_t>(), out);
+    if (it->is_number_integer()) return io_detail::checked_int(it->get<std::int64_t>(), out);
+    if (it->is_number_float()) return io_detail::checked_int(it->get<double>(), out);
+    return false;
+}
+
+/// A defect's text `key`, or `fallback` where it is absent.
+std::string defect_text(const nlohmann::json& d, const char* key, const char* fallback) {
+    const auto it = d.find(key);
+    return it != d.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
 } // namespace
+
+std::string report_problem(const nlohmann::json& report) {
+    if (!report.is_object() || !report.contains("defects")) return "";
+    const nlohmann::json& defects = report["defects"];
+    if (!defects.is_array()) return "\"defects\" is not a list";
+    for (std::size_t i = 0; i < defects.size(); ++i) {
+        const nlohmann::json& d = defects[i];
+        const std::string where = "defect " + std::to_string(i) + ": ";
+        if (!d.is_object()) return where + "not an object";
+        std::int64_t x;
+        for (const char* key : {"output_face", "input_element"})
+            if (!defect_index(d, key, x)) return where + key + " " + d[key].dump() + " is not an index";
+        for (const char* key : {"kind", "message"})
+            if (d.contains(key) && !d[key].is_string()) return where + key + " is not a string";
+    }
+    return "";
+}
 
 bool violation_at(const Input& in, const QuadMesh& mesh, const Violation& x, Vec3& at) {
     if (place_of(in, mesh, element_kind(x.kind), x.element, at)) return true;
@@ -190,11 +227,12 @@ std::vector<Mark> collect_marks(const Input& in, const QuadMesh& mesh, const nlo
     if (report.is_object() && report.contains("defects"))
         for (const auto& d : report["defects"]) {
             Vec3 at{};
-            const std::int64_t face = d.value("output_face", std::int64_t{-1});
-            const std::int64_t tri = d.value("input_element", std::int64_t{-1});
-            const bool placed = place_of(in, mesh, ViolationElement::OutputFace, face, at) ||
-                                place_of(in, mesh, ViolationElement::InputTriangle, tri, at);
-            add(placed, at, "defect " + d.value("kind", std::string("?")) + ": " + d.value("message", std::string()));
+            std::int64_t face = -1, tri = -1;
+            const bool placed = (defect_index(d, "output_face", face) &&
+                                 place_of(in, mesh, ViolationElement::OutputFace, face, at)) ||
+                                (defect_index(d, "input_element", tri) &&
+                                 place_of(in, mesh, ViolationElement::InputTriangle, tri, at));
+            add(placed, at, "defect " + defect_text(d, "kind", "?") + ": " + defect_text(d, "message", ""));
         }
     for (const Violation& x : check.violations) {
         Vec3 at{};

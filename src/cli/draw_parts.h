@@ -61,7 +61,14 @@ struct Mark {
 /// (a grid cell's centre or a grid point on the surface through its chart's triangle).
 bool violation_at(const Input& in, const QuadMesh& mesh, const Violation& x, Vec3& at);
 
-/// The marks (and the listing under the picture): the report's defects, then the checker's violations.
+/// What `qex draw --report` cannot read in a report's defects, naming the defect ("" if
+/// nothing): a list of objects whose `output_face` and `input_element`, where given, are
+/// integers of 64 bits (a JSON float too, if it holds one exactly: io/checked_int.h), and whose
+/// `kind` and `message` are strings.
+std::string report_problem(const nlohmann::json& report);
+
+/// The marks (and the listing under the picture): the report's defects (report_problem() finds
+/// nothing wrong with them), then the checker's violations.
 std::vector<Mark> collect_marks(const Input& in, const QuadMesh& mesh, const nlohmann::json& report,
                                 const VerifyResult& check, std::vector<std::string>& listing);
 

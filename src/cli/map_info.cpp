@@ -1,6 +1,8 @@
 // The analysis behind `qex info` and `qex draw` (see map_info.h).
 #include "map_info.h"
 
+#include "io/checked_int.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -8,6 +10,10 @@
 
 namespace qex::cli {
 namespace {
+
+// The UVs are validated (finite, below 2^52; times a grid scale of at most 64 for `qex check
+// --svg`): the grid points of a UV always fit in 64 bits, and no clamp bites.
+using io_detail::clamped_int;
 
 /// Union-find over `n` elements.
 struct Components {
@@ -117,8 +123,8 @@ void add_fold_regions(const Input& in, const std::unordered_map<std::int64_t, in
         for (int k = 0; k < 3; ++k)
             for (int c = 0; c < 2; ++c) {
                 const double x = in.uvs[3 * t + k][c];
-                region.grid_lo[c] = std::min(region.grid_lo[c], static_cast<std::int64_t>(std::floor(x)));
-                region.grid_hi[c] = std::max(region.grid_hi[c], static_cast<std::int64_t>(std::ceil(x)));
+                region.grid_lo[c] = std::min(region.grid_lo[c], clamped_int<std::int64_t>(std::floor(x)));
+                region.grid_hi[c] = std::max(region.grid_hi[c], clamped_int<std::int64_t>(std::ceil(x)));
             }
     }
 }
@@ -143,7 +149,7 @@ void add_singularities(const Input& in, const std::vector<bool>& on_boundary, Ma
         }
     for (std::size_t v = 0; v < nv; ++v) {
         if (on_boundary[v] || first_corner[v] < 0) continue;
-        int valence = static_cast<int>(std::lround(angle[v] / (0.5 * M_PI)));
+        int valence = clamped_int<int>(std::round(angle[v] / (0.5 * M_PI)));
         // A folded fan winds back on itself (a vertex on a fold line sums to about 0): only the
         // fan's rotation, the angle modulo a full turn, is known there. Take the valence closest
         // to 4 with that rotation (3, 4, 5 or 6).
@@ -154,7 +160,7 @@ void add_singularities(const Input& in, const std::vector<bool>& on_boundary, Ma
         s.valence = valence;
         s.triangle = first_corner[v] / 3;
         const auto& uv = in.uvs[first_corner[v]];
-        s.grid = {std::llround(uv[0]), std::llround(uv[1])};
+        s.grid = {clamped_int<std::int64_t>(std::round(uv[0])), clamped_int<std::int64_t>(std::round(uv[1]))};
         s.in_fold = in_fold[v];
         info.singularities.push_back(s);
     }
@@ -203,7 +209,8 @@ Error add_sanitized(const Input& input, int threads, MapInfo& info) {
         const auto& tri = input.triangles[s.triangle];
         const int k = tri[0] == s.vertex ? 0 : tri[1] == s.vertex ? 1 : 2;
         if (live(s.triangle))
-            s.grid = {std::llround(map[3 * s.triangle + k][0]), std::llround(map[3 * s.triangle + k][1])};
+            s.grid = {clamped_int<std::int64_t>(std::round(map[3 * s.triangle + k][0])),
+                      clamped_int<std::int64_t>(std::round(map[3 * s.triangle + k][1]))};
     }
     info.charts = 0;
     for (std::size_t t = 0; t < nt; ++t)

@@ -2,6 +2,7 @@
 // without meaning for the map skipped, and the first problem recorded with its line in the piece.
 #include "io/obj_piece.h"
 
+#include "io/checked_int.h"
 #include "io/text_cursor.h"
 
 #include <cmath>
@@ -46,10 +47,17 @@ bool read_coordinates(Cursor& c, Piece& piece, std::vector<std::array<double, N>
 /// blank, line end or comment. False on a problem.
 bool read_corner(Cursor& c, Piece& piece, std::int64_t& v, std::int64_t& t) {
     const char* const no_uv = "face corner without a texture coordinate (expected v/vt)";
-    if (!c.read_int(v)) return fail(piece, c, IoError::Code::Syntax, "malformed face corner");
+    const auto too_long = [&](const char* what) { // an index of too many digits for any file
+        return fail(piece, c, IoError::Code::IndexOutOfRange,
+                    std::string(what) + " index " + c.too_long_integer() + " out of range");
+    };
+    if (!c.read_int(v))
+        return c.too_long_integer().empty() ? fail(piece, c, IoError::Code::Syntax, "malformed face corner")
+                                            : too_long("vertex");
     if (c.p >= c.end || *c.p != '/') return fail(piece, c, IoError::Code::MissingUv, no_uv);
     ++c.p;
-    if (!c.read_int(t)) return fail(piece, c, IoError::Code::MissingUv, no_uv);
+    if (!c.read_int(t))
+        return c.too_long_integer().empty() ? fail(piece, c, IoError::Code::MissingUv, no_uv) : too_long("texture");
     if (c.p < c.end && *c.p == '/') { // normal index, ignored
         ++c.p;
         std::int64_t nidx;
@@ -71,15 +79,15 @@ bool read_face(Cursor& c, Piece& piece) {
         if (n == 3)
             return fail(piece, c, IoError::Code::NonTriangle,
                         "face with more than 3 corners (only triangles are accepted)");
-        // Beyond 32 bits an index is out of range of any file this reader accepts.
-        if (v < -INT32_MAX || v > INT32_MAX)
+        // Beyond 32 bits an index is out of range of any file this reader accepts (and -2^31,
+        // whose negation, a relative index's distance, would not fit either).
+        if (v < -INT32_MAX || !checked_int(v, face.v[n]))
             return fail(piece, c, IoError::Code::IndexOutOfRange,
                         "vertex index " + std::to_string(v) + " out of range");
-        if (t < -INT32_MAX || t > INT32_MAX)
+        if (t < -INT32_MAX || !checked_int(t, face.t[n]))
             return fail(piece, c, IoError::Code::IndexOutOfRange,
                         "texture index " + std::to_string(t) + " out of range");
-        face.v[n] = static_cast<std::int32_t>(v);
-        face.t[n++] = static_cast<std::int32_t>(t);
+        ++n;
     }
     if (n != 3)
         return fail(piece, c, IoError::Code::NonTriangle,

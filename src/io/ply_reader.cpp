@@ -4,10 +4,10 @@
 // or the byte offset and the element (and instance) being read.
 #include "qex/io.h"
 
+#include "io/checked_int.h"
 #include "io/file_io.h"
+#include "io/ply_values.h"
 #include "io/text_cursor.h"
-
-#include <fast_float/fast_float.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,40 +19,15 @@
 namespace qex {
 namespace {
 
-enum class Type { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
-
-bool parse_type(std::string_view name, Type& t) {
-    static const std::pair<const char*, Type> kNames[] = {
-        {"char", Type::Int8},     {"int8", Type::Int8},       {"uchar", Type::Uint8},    {"uint8", Type::Uint8},
-        {"short", Type::Int16},   {"int16", Type::Int16},     {"ushort", Type::Uint16},  {"uint16", Type::Uint16},
-        {"int", Type::Int32},     {"int32", Type::Int32},     {"uint", Type::Uint32},    {"uint32", Type::Uint32},
-        {"float", Type::Float32}, {"float32", Type::Float32}, {"double", Type::Float64}, {"float64", Type::Float64}};
-    for (const auto& [n, type] : kNames)
-        if (name == n) {
-            t = type;
-            return true;
-        }
-    return false;
-}
-
-std::size_t size_of(Type t) {
-    switch (t) {
-        case Type::Int8:
-        case Type::Uint8: return 1;
-        case Type::Int16:
-        case Type::Uint16: return 2;
-        case Type::Int32:
-        case Type::Uint32:
-        case Type::Float32: return 4;
-        case Type::Float64: return 8;
-    }
-    return 1;
-}
+using io_detail::PlyFormat;
+using io_detail::PlyType;
+using io_detail::ValueRead;
+using io_detail::ValueReader;
 
 struct Property {
     std::string name;
     bool list = false;
-    Type count_type = Type::Uint8, type = Type::Float32;
+    PlyType count_type = PlyType::Uint8, type = PlyType::Float32;
 };
 
 struct Element {
@@ -60,8 +35,6 @@ struct Element {
     std::int64_t count = 0;
     std::vector<Property> properties;
 };
-
-enum class Format { Ascii, BinaryLittle, BinaryBig };
 
 /// What the readers take from a PLY file.
 struct PlyData {
@@ -77,73 +50,8 @@ IoError header_error(std::int64_t line, const std::string& msg) {
             (line > 0 ? "PLY header line " + std::to_string(line) : std::string("PLY header")) + ": " + msg, line};
 }
 
-/// Reads the values of the data section, one at a time, in the file's format.
-class ValueReader {
-public:
-    ValueReader(const char* begin, const char* p, const char* end, Format f) : begin_(begin), p_(p), end_(end), f_(f) {}
-
-    /// The next value of type `t`; false at the end of the data or on a malformed ASCII number.
-    bool read(Type t, double& x) {
-        if (f_ == Format::Ascii) return read_ascii(t, x);
-        const std::size_t n = size_of(t);
-        if (static_cast<std::size_t>(end_ - p_) < n) return false;
-        unsigned char b[8];
-        std::memcpy(b, p_, n);
-        p_ += n;
-        if (io_detail::big_endian_host() != (f_ == Format::BinaryBig)) std::reverse(b, b + n);
-        switch (t) {
-            case Type::Int8: x = static_cast<std::int8_t>(b[0]); break;
-            case Type::Uint8: x = b[0]; break;
-            case Type::Int16: x = load<std::int16_t>(b); break;
-            case Type::Uint16: x = load<std::uint16_t>(b); break;
-            case Type::Int32: x = load<std::int32_t>(b); break;
-            case Type::Uint32: x = load<std::uint32_t>(b); break;
-            case Type::Float32: x = load<float>(b); break;
-            case Type::Float64: x = load<double>(b); break;
-        }
-        return true;
-    }
-    std::int64_t offset() const { return p_ - begin_; }
-    /// The smallest number of bytes a value takes (for bounding counts by the bytes left).
-    std::size_t min_size(Type t) const { return f_ == Format::Ascii ? 2 : size_of(t); }
-    std::size_t left() const { return static_cast<std::size_t>(end_ - p_); }
-    bool only_blanks_left() {
-        skip_space();
-        return p_ >= end_;
-    }
-
-private:
-    template <class T>
-    static T load(const unsigned char* b) {
-        T v;
-        std::memcpy(&v, b, sizeof v);
-        return v;
-    }
-    void skip_space() {
-        while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
-    }
-    bool read_ascii(Type t, double& x) {
-        skip_space();
-        if (p_ >= end_) return false;
-        const char* from = p_;
-        if (*from == '+') ++from;
-        const auto r = fast_float::from_chars(from, end_, x);
-        if (r.ec != std::errc() || r.ptr == from) return false;
-        if (r.ptr < end_ && !(*r.ptr == ' ' || *r.ptr == '\t' || *r.ptr == '\r' || *r.ptr == '\n')) return false;
-        p_ = r.ptr;
-        // Integer types hold integers (a list's count, an index).
-        if (t != Type::Float32 && t != Type::Float64 && x != std::floor(x)) return false;
-        return true;
-    }
-
-    const char* begin_;
-    const char* p_;
-    const char* end_;
-    Format f_;
-};
-
 /// Parses the header from `data`; on success `body` is where the data begin.
-IoError parse_header(const char* data, std::size_t size, Format& format, std::vector<Element>& elements,
+IoError parse_header(const char* data, std::size_t size, PlyFormat& format, std::vector<Element>& elements,
                      std::size_t& body) {
     io_detail::Cursor c{data, data + size};
     bool have_format = false;
@@ -171,11 +79,11 @@ IoError parse_header(const char* data, std::size_t size, Format& format, std::ve
         if (words[0] == "format") {
             if (words.size() != 3 || words[2] != "1.0") return header_error(number, "expected 'format <kind> 1.0'");
             if (words[1] == "ascii")
-                format = Format::Ascii;
+                format = PlyFormat::Ascii;
             else if (words[1] == "binary_little_endian")
-                format = Format::BinaryLittle;
+                format = PlyFormat::BinaryLittle;
             else if (words[1] == "binary_big_endian")
-                format = Format::BinaryBig;
+                format = PlyFormat::BinaryBig;
             else
                 return header_error(number, "unknown format '" + std::string(words[1]) + "'");
             have_format = true;
@@ -191,13 +99,13 @@ IoError parse_header(const char* data, std::size_t size, Format& format, std::ve
             Property prop;
             if (words.size() == 5 && words[1] == "list") {
                 prop.list = true;
-                if (!parse_type(words[2], prop.count_type) || !parse_type(words[3], prop.type))
+                if (!io_detail::parse_type(words[2], prop.count_type) || !io_detail::parse_type(words[3], prop.type))
                     return header_error(number, "unknown type in a list property");
-                if (prop.count_type == Type::Float32 || prop.count_type == Type::Float64)
+                if (!io_detail::is_integer(prop.count_type))
                     return header_error(number, "a list's count must have an integer type");
                 prop.name = std::string(words[4]);
             } else if (words.size() == 3) {
-                if (!parse_type(words[1], prop.type))
+                if (!io_detail::parse_type(words[1], prop.type))
                     return header_error(number, "unknown type '" + std::string(words[1]) + "'");
                 prop.name = std::string(words[2]);
             } else {
@@ -264,7 +172,15 @@ struct Instance {
     std::vector<double> tex;
 };
 
-/// Reads instance `i` of `el`, keeping the values of the properties with a role.
+/// Why a value read as `got` (not Ok) is refused: "missing or malformed list count", or
+/// "list count inf does not fit its type uint8".
+std::string refusal(ValueRead got, const char* what, double x, PlyType t) {
+    if (got == ValueRead::Missing) return std::string("missing or malformed ") + what;
+    return std::string(what) + " " + io_detail::number_text(x) + " does not fit its type " + io_detail::type_name(t);
+}
+
+/// Reads instance `i` of `el`, keeping the values of the properties with a role. Every number
+/// that becomes an integer (a list's count, a vertex index) goes through checked_int().
 IoError read_instance(ValueReader& r, const Element& el, std::int64_t i, const Roles& roles, Instance& in) {
     for (std::size_t k = 0; k < el.properties.size(); ++k) {
         const Property& p = el.properties[k];
@@ -275,8 +191,9 @@ IoError read_instance(ValueReader& r, const Element& el, std::int64_t i, const R
                            0, r.offset()};
         };
         double x = 0;
+        ValueRead got = ValueRead::Ok;
         if (!p.list) {
-            if (!r.read(p.type, x)) return fail("missing or malformed value");
+            if ((got = r.read(p.type, x)) != ValueRead::Ok) return fail(refusal(got, "value", x, p.type));
             const int ki = static_cast<int>(k);
             if (ki == roles.px || ki == roles.py || ki == roles.pz)
                 in.pos[ki == roles.px ? 0 : ki == roles.py ? 1 : 2] = x;
@@ -285,16 +202,24 @@ IoError read_instance(ValueReader& r, const Element& el, std::int64_t i, const R
             continue;
         }
         double n = 0;
-        if (!r.read(p.count_type, n) || n < 0) return fail("missing or malformed list count");
-        if (n * static_cast<double>(r.min_size(p.type)) > static_cast<double>(r.left()))
-            return fail("a list of " + std::to_string(static_cast<long long>(n)) + " values runs past the end");
+        std::int64_t count = -1;
+        if ((got = r.read(p.count_type, n)) != ValueRead::Ok) return fail(refusal(got, "list count", n, p.count_type));
+        if (!io_detail::checked_int(n, count) || count < 0)
+            return fail("list count " + io_detail::number_text(n) + " out of range");
+        // A count is below 2^32 here (its type has 32 bits at most): the product cannot overflow.
+        if (static_cast<std::uint64_t>(count) * r.min_size(p.type) > r.left())
+            return fail("a list of " + std::to_string(count) + " values runs past the end");
         const bool indices = static_cast<int>(k) == roles.pidx, texcoords = static_cast<int>(k) == roles.ptex;
-        for (std::int64_t j = 0; j < static_cast<std::int64_t>(n); ++j) {
-            if (!r.read(p.type, x)) return fail("missing or malformed list value");
+        for (std::int64_t j = 0; j < count; ++j) {
+            if ((got = r.read(p.type, x)) == ValueRead::Missing) return fail("missing or malformed list value");
             if (indices) {
-                if (!(x >= 0 && x <= INT32_MAX))
-                    return fail("vertex index " + std::to_string(static_cast<long long>(x)) + " out of range");
-                in.face.push_back(static_cast<int>(x));
+                int v = -1;
+                if (got != ValueRead::Ok || !io_detail::checked_int(x, v) || v < 0)
+                    return fail("vertex index " + io_detail::number_text(x) +
+                                (x == std::trunc(x) ? " out of range" : " is not an integer"));
+                in.face.push_back(v);
+            } else if (got != ValueRead::Ok) {
+                return fail(refusal(got, "list value", x, p.type));
             }
             if (texcoords) in.tex.push_back(x);
         }
@@ -342,7 +267,7 @@ IoError check_indices(const PlyData& out) {
 
 /// The header, then the data: the vertices and faces of the file, checked.
 IoError parse_data(const char* data, std::size_t size, PlyData& out) {
-    Format format = Format::Ascii;
+    PlyFormat format = PlyFormat::Ascii;
     std::vector<Element> elements;
     std::size_t body = 0;
     if (IoError e = parse_header(data, size, format, elements, body); !e.ok()) return e;
@@ -353,7 +278,7 @@ IoError parse_data(const char* data, std::size_t size, PlyData& out) {
         if (IoError e = find_roles(el, seen_vertex, seen_face, out, roles); !e.ok()) return e;
         if (IoError e = read_element(r, el, roles, out); !e.ok()) return e;
     }
-    if (format == Format::Ascii ? !r.only_blanks_left() : r.left() != 0)
+    if (format == PlyFormat::Ascii ? !r.only_blanks_left() : r.left() != 0)
         return {IoError::Code::PlySyntax, "byte " + std::to_string(r.offset()) + ": data after the last element", 0,
                 r.offset()};
     if (!seen_vertex) return header_error(0, "no vertex element");

@@ -18,12 +18,22 @@ using io_detail::Cursor;
 using io_detail::err;
 
 /// An `f` record after its key: a vertex index per corner, resolved against the vertices so
-/// far; what follows an index up to the next blank (`/vt`, `/vt/vn`) is skipped.
+/// far; what follows an index's `/` up to the next blank (`/vt`, `/vt/vn`) is skipped. An index
+/// is an integer: `1.5` or `2e3` is malformed, not vertex 1 or 2.
 IoError read_polygon_face(Cursor& c, QuadMesh& out) {
     std::vector<int> face;
+    const auto ends_index = [&c] {
+        return c.p >= c.end || *c.p == '/' || *c.p == ' ' || *c.p == '\t' || *c.p == '\r' || *c.p == '\n' ||
+               *c.p == '#';
+    };
     while (!c.at_eol()) {
         std::int64_t v;
-        if (!c.read_int(v)) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+        if (!c.read_int(v)) {
+            const std::string digits = c.too_long_integer(); // too many for any file: out of range
+            if (digits.empty()) return err(IoError::Code::Syntax, c.line, "malformed face corner");
+            return err(IoError::Code::IndexOutOfRange, c.line, "vertex index " + digits + " out of range");
+        }
+        if (!ends_index()) return err(IoError::Code::Syntax, c.line, "malformed face corner");
         int vi;
         if (!io_detail::resolve(v, out.positions.size(), vi))
             return err(IoError::Code::IndexOutOfRange, c.line,

@@ -4,6 +4,8 @@
 
 #include "qex/io.h"
 
+#include "io/checked_int.h"
+
 #include <fast_float/fast_float.h>
 
 #include <cstdint>
@@ -79,6 +81,16 @@ struct Cursor {
         x = neg ? -v : v;
         return true;
     }
+    /// The signed decimal integer written at the cursor, as text ("" if there is none): to name
+    /// one that read_int() refused as too long, out of range rather than malformed.
+    std::string too_long_integer() const {
+        const char* q = p < end && (*p == '-' || *p == '+') ? p + 1 : p;
+        const char* const digits = q;
+        while (q < end && *q >= '0' && *q <= '9') ++q;
+        if (q == digits) return "";
+        const auto n = static_cast<std::size_t>(q - p);
+        return n <= 24 ? std::string(p, n) : std::string(p, 20) + "... (" + std::to_string(q - digits) + " digits)";
+    }
 };
 
 /// An error of kind `c` on `line`, its message prefixed by "line N: ".
@@ -86,17 +98,13 @@ inline IoError err(IoError::Code c, std::int64_t line, const std::string& msg) {
     return {c, "line " + std::to_string(line) + ": " + msg, line};
 }
 
-/// Resolves a 1-based (or negative, relative) OBJ index against `count` elements.
+/// Resolves a 1-based (or negative, relative) OBJ index against `count` elements; false if it
+/// names none, or one beyond what an int holds.
 inline bool resolve(std::int64_t idx, std::size_t count, int& out) {
-    const auto n = static_cast<std::int64_t>(count);
-    if (idx > 0 && idx <= n) {
-        out = static_cast<int>(idx - 1);
-        return true;
-    }
-    if (idx < 0 && -idx <= n) {
-        out = static_cast<int>(n + idx);
-        return true;
-    }
+    std::int64_t n = 0;
+    if (!checked_int(count, n) || idx == INT64_MIN) return false;
+    if (idx > 0 && idx <= n) return checked_int(idx - 1, out);
+    if (idx < 0 && -idx <= n) return checked_int(n + idx, out);
     return false;
 }
 

@@ -1,6 +1,7 @@
 // VVAL valence files: a JSON header line, the vertex count, then one valence per vertex.
 #include "qex/io.h"
 
+#include "io/checked_int.h"
 #include "io/text_cursor.h"
 
 #include <algorithm>
@@ -34,16 +35,22 @@ IoError parse_vval_records(const char* data, std::size_t size, std::vector<int>&
             continue;
         }
         if (c.p >= c.end) break;
-        std::int64_t x;
-        if (!c.read_int(x)) return err(IoError::Code::VvalSyntax, c.line, "expected an integer");
+        // An integer of too many digits for read_int() is out of range, not malformed.
+        std::int64_t x = 0;
+        const bool read = c.read_int(x);
+        const std::string shown = read ? std::to_string(x) : c.too_long_integer();
+        if (shown.empty()) return err(IoError::Code::VvalSyntax, c.line, "expected an integer");
         if (count < 0) {
-            if (x < 0 || x > (std::int64_t{1} << 30))
-                return err(IoError::Code::VvalSyntax, c.line, "implausible vertex count");
+            if (!read || x < 0 || x > (std::int64_t{1} << 30))
+                return err(IoError::Code::VvalSyntax, c.line, "implausible vertex count " + shown);
             count = x;
-            valences.reserve(static_cast<std::size_t>(std::min<std::int64_t>(count, 1 << 24)));
+            std::size_t room = 0;
+            if (io_detail::checked_int(std::min<std::int64_t>(count, 1 << 24), room)) valences.reserve(room);
         } else {
-            if (x < 0 || x > 1000) return err(IoError::Code::VvalSyntax, c.line, "implausible valence");
-            valences.push_back(static_cast<int>(x));
+            int valence = -1;
+            if (!read || !io_detail::checked_int(x, valence) || valence < 0 || valence > 1000)
+                return err(IoError::Code::VvalSyntax, c.line, "implausible valence " + shown);
+            valences.push_back(valence);
         }
         if (!c.at_eol()) return err(IoError::Code::VvalSyntax, c.line, "trailing characters");
     }

@@ -9,7 +9,10 @@
 #include "qex/qex.h"
 #include "qex/report.h"
 
+#include "io/checked_int.h"
+
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -29,14 +32,37 @@ void expect_shape(const py::array& a, py::ssize_t cols, const char* what) {
 }
 
 int to_index(std::int64_t x, const char* what) {
-    if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
+    int i = 0;
+    if (!qex::io_detail::checked_int(x, i))
         throw py::value_error(std::string(what) + ": " + std::to_string(x) + " does not fit in 32 bits");
-    return static_cast<int>(x);
+    return i;
+}
+
+/// `obj` as an int64 array, for indices: an array of integers (or bools), as the Python half
+/// requires. Not forcecast from anything else: a float array would be truncated, and its NaN,
+/// infinities and values past 2^63 have no int64 at all; a uint64 past 2^63 would wrap.
+Int64s integer_array(const py::handle& obj, const char* what) {
+    const py::array a = py::array::ensure(obj);
+    if (!a) throw py::value_error(std::string(what) + " must be an array of integers");
+    const char kind = a.dtype().kind();
+    if (a.size() > 0 && kind != 'b' && kind != 'i' && kind != 'u')
+        throw py::value_error(std::string(what) + " must hold integers, not " + std::string(py::str(a.dtype())));
+    if (kind == 'u' && a.itemsize() == 8) {
+        const py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast> u(a);
+        const std::uint64_t* x = u.data();
+        for (py::ssize_t i = 0; i < u.size(); ++i)
+            if (std::int64_t fits = 0; !qex::io_detail::checked_int(x[i], fits))
+                throw py::value_error(std::string(what) + ": index " + std::to_string(x[i]) + " is out of range");
+    }
+    Int64s out = Int64s::ensure(a);
+    if (!out) throw py::value_error(std::string(what) + " must be an array of integers");
+    return out;
 }
 
 /// The Input of arrays V (n,3), F (m,3) and UV (3m,2), valences (n,) or None, feature edges (e,2) or None.
-qex::Input to_input(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
+qex::Input to_input(const Doubles& V, const py::object& F_in, const Doubles& UV, const py::object& valences,
                     const py::object& feature_edges) {
+    const Int64s F = integer_array(F_in, "F");
     expect_shape(V, 3, "V");
     expect_shape(F, 3, "F");
     expect_shape(UV, 2, "UV");
@@ -55,13 +81,13 @@ qex::Input to_input(const Doubles& V, const Int64s& F, const Doubles& UV, const 
     in.uvs.resize(static_cast<std::size_t>(UV.shape(0)));
     for (py::ssize_t i = 0; i < UV.shape(0); ++i) in.uvs[i] = {uv(i, 0), uv(i, 1)};
     if (!valences.is_none()) {
-        const Int64s a = valences.cast<Int64s>();
+        const Int64s a = integer_array(valences, "valences");
         if (a.ndim() != 1) throw py::value_error("valences must have shape (n,)");
         auto x = a.unchecked<1>();
         for (py::ssize_t i = 0; i < a.shape(0); ++i) in.valences.push_back(to_index(x(i), "valences"));
     }
     if (!feature_edges.is_none()) {
-        const Int64s a = feature_edges.cast<Int64s>();
+        const Int64s a = integer_array(feature_edges, "feature_edges");
         expect_shape(a, 2, "feature_edges");
         auto x = a.unchecked<2>();
         for (py::ssize_t i = 0; i < a.shape(0); ++i)
@@ -71,7 +97,8 @@ qex::Input to_input(const Doubles& V, const Int64s& F, const Doubles& UV, const 
 }
 
 /// The mesh of arrays QV (p,3) and QF (k,c): one face per row.
-qex::QuadMesh to_mesh(const Doubles& QV, const Int64s& QF) {
+qex::QuadMesh to_mesh(const Doubles& QV, const py::object& QF_in) {
+    const Int64s QF = integer_array(QF_in, "QF");
     expect_shape(QV, 3, "QV");
     if (QF.ndim() != 2) throw py::value_error("QF must have shape (k, 4)");
     qex::QuadMesh m;
@@ -88,11 +115,26 @@ qex::QuadMesh to_mesh(const Doubles& QV, const Int64s& QF) {
     throw py::value_error(std::string(qex::to_string(e.code)) + ": " + e.message);
 }
 
+/// An integer option: a Python int (or numpy integer), not a float (a cast_error: TypeError, as
+/// for any other wrong type); one beyond 64 bits is a ValueError.
+std::int64_t int64_option(const std::string& k, const py::handle& value) {
+    if (PyFloat_Check(value.ptr()) || !PyIndex_Check(value.ptr())) throw py::cast_error();
+    const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+    if (!i) throw py::error_already_set();
+    int overflow = 0;
+    const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow != 0)
+        throw py::value_error("extract(): option '" + k + "' = " + std::string(py::str(value)) +
+                              " does not fit in 64 bits");
+    if (x == -1 && PyErr_Occurred()) throw py::error_already_set();
+    return x;
+}
+
 void set_option(qex::Options& o, const std::string& k, const py::handle& value) {
     if (k == "max_qvertices")
-        o.max_qvertices = value.cast<std::int64_t>();
+        o.max_qvertices = int64_option(k, value);
     else if (k == "max_trace_steps")
-        o.max_trace_steps = value.cast<std::int64_t>();
+        o.max_trace_steps = int64_option(k, value);
     else if (k == "recover_lost_edges")
         o.recover_lost_edges = value.cast<bool>();
     else if (k == "merge_vertices")
@@ -193,7 +235,7 @@ py::dict provenance_arrays(const qex::QuadMesh& m) {
 
 /// What extract() returns to the Python side: the mesh (kept for verify and write_obj) and the
 /// arrays and report made of it.
-py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py::object& valences,
+py::dict extract(const Doubles& V, const py::object& F, const Doubles& UV, const py::object& valences,
                  const py::object& feature_edges, int threads, const py::dict& options) {
     qex::Input in = to_input(V, F, UV, valences, feature_edges);
     qex::Options o;
@@ -217,7 +259,7 @@ py::dict extract(const Doubles& V, const Int64s& F, const Doubles& UV, const py:
     return out;
 }
 
-std::string verify(const Doubles& V, const Int64s& F, const Doubles& UV, const qex::QuadMesh& mesh, int threads) {
+std::string verify(const Doubles& V, const py::object& F, const Doubles& UV, const qex::QuadMesh& mesh, int threads) {
     const qex::Input in = to_input(V, F, UV, py::none(), py::none());
     py::gil_scoped_release unlocked;
     qex::VerifyOptions o;
@@ -225,8 +267,14 @@ std::string verify(const Doubles& V, const Int64s& F, const Doubles& UV, const q
     return qex::verify_json(qex::verify(in, mesh, o));
 }
 
-std::string check(const Doubles& V, const Int64s& F, const Doubles& UV, const Doubles& QV, const Int64s& QF,
+std::string check(const Doubles& V, const py::object& F, const Doubles& UV, const Doubles& QV, const py::object& QF,
                   double uv_tolerance, double distance_tolerance, bool locate, int threads) {
+    // As the Python half: finite tolerances, the UV one at most a cell (the checker's search
+    // for the cells about a triangle grows with it).
+    if (!(uv_tolerance >= 0 && uv_tolerance <= 1))
+        throw py::value_error("uv_tolerance must be a finite number from 0 to 1");
+    if (!(distance_tolerance >= 0 && std::isfinite(distance_tolerance)))
+        throw py::value_error("distance_tolerance must be a finite number from 0");
     const qex::Input in = to_input(V, F, UV, py::none(), py::none());
     const qex::QuadMesh mesh = to_mesh(QV, QF);
     qex::Error e;

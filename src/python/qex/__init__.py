@@ -107,10 +107,12 @@ def _threads(threads):
     return int(threads)
 
 
-def _tolerance(name, x):
+def _tolerance(name, x, most=None):
+    """A tolerance: a finite number from 0 (to `most`, if given); NaN and infinities refused."""
     x = float(x)
-    if not x >= 0:  # NaN too
-        raise ValueError("%s must be a non-negative number, not %r" % (name, x))
+    if not (0 <= x < _np.inf and (most is None or x <= most)):  # NaN fails the comparisons
+        bound = "" if most is None else " to %g" % most
+        raise ValueError("%s must be a finite number from 0%s, not %r" % (name, bound, x))
     return x
 
 
@@ -222,7 +224,8 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
     QF : array_like of int, shape (k, 4)
         Its faces, indices into `QV`, counter-clockwise.
     uv_tolerance : float, optional
-        Largest UV distance (inf-norm) of a vertex to its integer grid point (default 1e-3).
+        Largest UV distance (inf-norm) of a vertex to its integer grid point (default 1e-3), at
+        most 1.
     distance_tolerance : float, optional
         Largest distance of a vertex to the surface, as a fraction of the bounding-box diagonal
         (default 1e-6).
@@ -245,7 +248,7 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
     V, F, UV = _map(V, F, UV)
     QV = _real("QV", QV, (None, 3))
     QF = _integer("QF", QF, (None, None))
-    uv_tolerance = _tolerance("uv_tolerance", uv_tolerance)
+    uv_tolerance = _tolerance("uv_tolerance", uv_tolerance, 1.0)
     distance_tolerance = _tolerance("distance_tolerance", distance_tolerance)
     return _json.loads(_qex.check(V, F, UV, QV, QF, uv_tolerance, distance_tolerance, bool(locate), _threads(threads)))
 
