@@ -4,11 +4,13 @@
 // BM_<stage> each stage of the pipeline's stage table as extract() runs it.
 #include "heap_policy.h"
 #include "map_generators.h"
+#include "ladder/ladder.h"
 #include "pipeline.h"
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -65,6 +67,50 @@ void register_stages(const std::string& name, const Input* in, int iterations) {
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime()
             ->Iterations(iterations);
+    }
+}
+
+/// BM_repair/<folder>/<map>: stage repair alone, on the map as given sanitized (what the
+/// repaired rung hands it), each iteration on a freshly sanitized map; manual time of the repair only.
+void BM_Repair(benchmark::State& state, const Input* in) {
+    std::int64_t repaired = 0, unrepaired = 0;
+    for (auto _ : state) {
+        // The sanitized map is made afresh (TriMesh does not copy); only the repair is timed.
+        qex::detail::TriMesh m;
+        qex::Report report;
+        if (!qex::detail::sanitize_as_given(*in, qex::Options{}, m, report)) {
+            state.SkipWithError("the map is rejected before stage repair");
+            return;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        const qex::detail::RepairOutcome out = qex::detail::repair(m, in->feature_edges, !in->valences.empty(), report);
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        repaired = static_cast<std::int64_t>(out.repaired_faces.size());
+        unrepaired = static_cast<std::int64_t>(out.unrepaired.size());
+    }
+    state.counters["repaired_triangles"] = static_cast<double>(repaired);
+    state.counters["unrepaired_regions"] = static_cast<double>(unrepaired);
+    state.counters["triangles"] = static_cast<double>(in->triangles.size());
+}
+
+/// Registers BM_repair for every map with a flipped or degenerate triangle in the shared folders.
+void register_repairs(const fs::path& meshes, std::vector<std::unique_ptr<Input>>& kept) {
+    for (const char* folder : {"paper", "miq", "miq-more", "quadcover"}) {
+        std::error_code ec;
+        std::vector<fs::path> files;
+        for (const auto& e : fs::directory_iterator(meshes / folder, ec))
+            if (e.path().extension() == ".obj") files.push_back(e.path());
+        std::sort(files.begin(), files.end());
+        for (const auto& path : files) {
+            Input in;
+            if (!qex::read_obj(path.string(), in).ok()) continue;
+            kept.push_back(std::make_unique<Input>(std::move(in)));
+            const std::string name = std::string(folder) + "/" + path.stem().string();
+            benchmark::RegisterBenchmark(("BM_repair/" + name).c_str(), BM_Repair, kept.back().get())
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(3);
+        }
     }
 }
 
@@ -183,6 +229,7 @@ int main(int argc, char** argv) {
                                          (fs::temp_directory_path() / "qex_bench_write.obj").string())
                 ->Unit(benchmark::kMillisecond);
     }
+    register_repairs(fs::path(QEX_SHARED_DIR) / "meshes", inputs);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
