@@ -21,12 +21,12 @@ double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const Res
     const double j10 = a1 * s.g00 + b1 * s.g10, j11 = a1 * s.g01 + b1 * s.g11;
     const double det = j00 * j11 - j01 * j10;
     const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
-    const double c = chi(det, eps);
+    const double r = std::sqrt(eps * eps + det * det);
+    const double c = chi_with(det, eps, r);
     constexpr double theta = kAreaWeight;
     const double num = (1 - theta) * frob + theta * (det * det + 1.0);
     const double energy = s.area * num / c;
     if (grad) {
-        const double r = std::sqrt(eps * eps + det * det);
         const double dchi = 0.5 * (1.0 + det / r);
         // dE/dJ = (2 J + 2 det cof J) / chi - num chi' / chi^2 cof J, cof J = [[j11, -j10], [-j01, j00]].
         const double k = num * dchi / (c * c);
@@ -58,11 +58,6 @@ int canonical_base(const TriMesh& m, int f) {
 }
 
 } // namespace
-
-double chi(double d, double eps) {
-    const double r = std::sqrt(eps * eps + d * d);
-    return d >= 0 ? 0.5 * (d + r) : 0.5 * eps * eps / (r - d);
-}
 
 std::vector<double> region_point(const TriMesh& m, const Region& r, double& length) {
     std::vector<double> x(2 * r.fans.size());

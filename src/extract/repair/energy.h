@@ -6,6 +6,7 @@
 #include "extract/repair/regions.h"
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace qex::detail::repair_impl {
@@ -18,8 +19,12 @@ struct RestShape {
     int base; ///< corner the triangle's Jacobian starts at (canonical: smallest 3D position)
 };
 
-/// chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, without cancellation for D < 0.
-double chi(double d, double eps);
+/// chi(D, eps) = (D + r) / 2 with r = sqrt(eps^2 + D^2) given, without cancellation for D < 0.
+inline double chi_with(double d, double eps, double r) { return d >= 0 ? 0.5 * (d + r) : 0.5 * eps * eps / (r - d); }
+
+/// chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, without cancellation for D < 0. Inline: the
+/// energy evaluates it for every triangle of a region at every step.
+inline double chi(double d, double eps) { return chi_with(d, eps, std::sqrt(eps * eps + d * d)); }
 
 /// The free vertices' UVs in their first charts (the unknowns), and their mean edge length.
 std::vector<double> region_point(const TriMesh& m, const Region& r, double& length);
