@@ -35,7 +35,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,7 +60,6 @@ struct Attempts {
           distance(static_cast<std::size_t>(m.num_vertices), -1),
           label(distance.size(), -1),
           reembedded(static_cast<std::size_t>(m.num_vertices), 0),
-          warm(m.uv.size(), Point2{std::numeric_limits<double>::quiet_NaN(), 0.0}),
           log(static_cast<std::size_t>(m.num_vertices)) {
         marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
         marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
@@ -72,9 +70,6 @@ struct Attempts {
     RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
     /// Per vertex: re-embedded by a certified region (a dipole merge stands only if its path was).
     std::vector<char> reembedded;
-    /// Per corner: where the last failed attempt that held its vertex left it (NaN: none). A
-    /// larger region starts its free vertices there (warm_start) rather than at the given UVs.
-    std::vector<Point2> warm;
     FailureLog log;
 };
 
@@ -99,23 +94,6 @@ std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& see
     return regions;
 }
 
-/// Moves every free vertex of r that a failed smaller attempt held to where that attempt left it:
-/// the untangler then starts part of the way there. The given UVs are restored if r fails too.
-void warm_start(TriMesh& m, const Region& r, const std::vector<Point2>& warm) {
-    for (const FreeFan& fan : r.fans) {
-        bool held = true;
-        for (const int c : fan.corners) held = held && !std::isnan(warm[c][0]);
-        if (held)
-            for (const int c : fan.corners) m.uv[c] = warm[c];
-    }
-}
-
-/// Keeps where a failed attempt left r's free vertices, for the next ring's warm_start.
-void keep_warm(const TriMesh& m, const Region& r, std::vector<Point2>& warm) {
-    for (const FreeFan& fan : r.fans)
-        for (const int c : fan.corners) warm[c] = m.uv[c];
-}
-
 /// One attempt at region r: admitted by the room certificate, untangled, and certified by the
 /// winding certificate (once more with cone fans opened where that is what failed); then
 /// relaxed. True when repaired; otherwise its UVs are restored and its failure recorded.
@@ -136,7 +114,6 @@ bool attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given
     const bool admitted = admits_embedding(m, r, valences_given, marks);
     RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
     if (admitted) {
-        warm_start(m, r, a.warm);
         const bool untangled = untangle_region(m, r, a.work);
         repaired = untangled && windings_kept(m, r, marks);
         if (!repaired) failure = describe_failure(m, r, marks, true, radius);
@@ -157,7 +134,6 @@ bool attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given
             static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
     if (!repaired) a.log.record(r, failure);
     marks.clear(r);
-    if (!repaired && admitted) keep_warm(m, r, a.warm);
     if (!repaired) restore_region_uvs(m, r, before);
     return repaired;
 }
