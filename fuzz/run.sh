@@ -1,33 +1,24 @@
 #!/usr/bin/env bash
 # Runs one fuzz target under libFuzzer with address and undefined-behaviour sanitizers.
-#   fuzz/run.sh TARGET [SECONDS=600] [JOBS=2]
-# Builds into build-fuzz/ with clang, fuzzes a scratch copy of corpus/TARGET, merges new coverage
-# back into corpus/TARGET/merged/, and prints exec/s and coverage from the log.
+#   fuzz/run.sh TARGET [SECONDS=600] [JOBS=number of cores]
+# Builds into build-fuzz/ with clang, fuzzes a scratch copy of corpus/TARGET (with fuzz/obj.dict
+# or fuzz/ply.dict for fuzz_obj and fuzz_ply), copies findings to corpus/TARGET/regressions/,
+# keeps the units of new coverage in corpus/TARGET/merged/, and prints the run's numbers.
+# The log and the artifacts stay in build-fuzz/run/. fuzz/campaign.sh runs every target.
 set -euo pipefail
+# shellcheck source=fuzz/fuzz_lib.sh
+. "$(dirname "$0")/fuzz_lib.sh"
 target=${1:?usage: fuzz/run.sh TARGET [SECONDS] [JOBS]}
 seconds=${2:-600}
-jobs=${3:-2}
-root=$(cd "$(dirname "$0")/.." && pwd)
-build="$root/build-fuzz"
-if [ ! -f "$build/build.ninja" ]; then
-  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DQEX_LIBFUZZER=ON -DQEX_BUILD_TESTS=OFF -DQEX_BUILD_CLI=OFF -DQEX_BUILD_FUZZERS=ON >/dev/null
+jobs=${3:-$(getconf _NPROCESSORS_ONLN)}
+qex_fuzz_build "$target"
+out="$qex_build/run"
+qex_fuzz_run "$target" "$seconds" "$jobs" "$out"
+IFS=$'\t' read -r _ wall runs eps cov ft added findings slow <"$out/$target.row"
+grep -E "stat::" "$out/$target.log" | tail -n 8 || true
+echo "$target: $wall s, $runs executions, $eps exec/s, cov $cov ft $ft, $added new units in merged/"
+echo "findings: $findings; slow units: $slow (log and artifacts in $out/)"
+if [ "$findings" != none ]; then
+  echo "FINDINGS copied to corpus/$target/regressions/ (add a note of what each found to its NOTES.md)"
 fi
-cmake --build "$build" --target "$target"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-mkdir -p "$work/corpus" "$root/corpus/$target/merged" "$work/artifacts"
-find "$root/corpus/$target" -type f ! -name '*.md' -exec cp {} "$work/corpus/" \;
-cd "$work"
-"$build/fuzz/$target" -max_total_time="$seconds" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
-  -timeout=30 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -artifact_prefix="$work/artifacts/" \
-  "$work/corpus" >"$work/log" 2>&1 || true
-grep -E "exec/s|cov:" "$work/log" | tail -n 2
-grep -E "stat::" "$work/log" | tail -n 8 || true
-if ls "$work/artifacts"/* >/dev/null 2>&1; then
-  mkdir -p "$root/corpus/$target/regressions"
-  for a in "$work/artifacts"/*; do cp "$a" "$root/corpus/$target/regressions/$(sha1sum "$a" | cut -c1-16)"; done
-  echo "FINDINGS copied to corpus/$target/regressions/ (add a note of what each found)"
-fi
-"$build/fuzz/$target" -merge=1 "$root/corpus/$target/merged" "$work/corpus" >/dev/null 2>&1 || true
-echo "corpus: $(find "$root/corpus/$target" -type f | wc -l) files"
+echo "corpus: $(find "$qex_root/corpus/$target" -type f ! -name '*.md' | wc -l) files"

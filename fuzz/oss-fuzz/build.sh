@@ -13,3 +13,5 @@ for t in fuzz_obj fuzz_ply fuzz_extract fuzz_sanitize fuzz_predicates_differenti
   cp "build-oss/fuzz/$t" "$OUT/"
   (cd "corpus/$t" && zip -qr "$OUT/${t}_seed_corpus.zip" .)
 done
+cp fuzz/obj.dict "$OUT/fuzz_obj.dict" # libFuzzer dictionaries, found by the target's name
+cp fuzz/ply.dict "$OUT/fuzz_ply.dict"

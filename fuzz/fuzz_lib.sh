@@ -1,0 +1,114 @@
+# shellcheck shell=bash
+# Shared by fuzz/run.sh and fuzz/campaign.sh (source it, do not run it): the clang libFuzzer
+# build in build-fuzz/ and the run of one target.
+#   qex_fuzz_build TARGET...                  configure build-fuzz/ if needed, build the targets
+#   qex_fuzz_run TARGET SECONDS JOBS OUTDIR   fuzz one target; see the function for what it writes
+
+qex_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+qex_build="$qex_root/build-fuzz"
+# shellcheck disable=SC2034 # used by campaign.sh
+QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_extract) # slowest last
+# Units of the merged corpus are kept only up to this size, to keep the repository small.
+QEX_FUZZ_MAX_KEEP=16384
+
+qex_fuzz_build() {
+  if [ ! -f "$qex_build/build.ninja" ]; then
+    CC=clang CXX=clang++ cmake -S "$qex_root" -B "$qex_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DQEX_LIBFUZZER=ON -DQEX_BUILD_TESTS=OFF -DQEX_BUILD_CLI=OFF -DQEX_BUILD_FUZZERS=ON >/dev/null
+  fi
+  cmake --build "$qex_build" --target "$@"
+}
+
+# The -dict file of a target, if it has one.
+qex_fuzz_dict() {
+  case "$1" in
+    fuzz_obj) echo "$qex_root/fuzz/obj.dict" ;;
+    fuzz_ply) echo "$qex_root/fuzz/ply.dict" ;;
+  esac
+}
+
+# Fuzzes a scratch copy of corpus/TARGET (seeds, merged/, regressions/) for SECONDS in libFuzzer's
+# fork mode with JOBS workers, ignoring crashes, timeouts and out-of-memory so that one run
+# collects every finding. Writes, under OUTDIR:
+#   TARGET.log    libFuzzer's output
+#   TARGET.row    one tab-separated line: target, wall seconds, executions, exec/s, cov, ft,
+#                 new units kept, findings (count and kinds), slow units
+#   TARGET/       the artifacts libFuzzer wrote (crash-*, timeout-*, oom-*, leak-*, slow-unit-*)
+# and in the repository: every artifact but slow units in corpus/TARGET/regressions/<sha1:16>,
+# and the units the run added (fork mode adds only units with features new to the whole corpus)
+# up to QEX_FUZZ_MAX_KEEP bytes in corpus/TARGET/merged/.
+qex_fuzz_run() {
+  local target=$1 seconds=$2 jobs=$3 out=$4
+  local bin="$qex_build/fuzz/$target" work="$qex_build/fuzz-work/$target"
+  local dict
+  dict=$(qex_fuzz_dict "$target")
+  rm -rf "${work:?}" "${out:?}/$target"
+  mkdir -p "$work/corpus" "$out/$target" "$qex_root/corpus/$target/merged"
+  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$work/corpus" {} +
+  (cd "$work/corpus" && ls) | sort >"$work/before"
+  local start end
+  start=$(date +%s)
+  (cd "$work" && "$bin" -max_total_time="$seconds" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 \
+    -ignore_ooms=1 -timeout=30 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+    -artifact_prefix="$out/$target/" ${dict:+-dict="$dict"} "$work/corpus") >"$out/$target.log" 2>&1 || true
+  end=$(date +%s)
+
+  # The last stats line: "#RUNS: cov: C ft: F corp: ... exec/s E ..." (fork mode) or
+  # "#RUNS <event> cov: C ft: F ... exec/s: E ..." (one process).
+  local stats runs cov ft eps
+  stats=$(grep -E '^#[0-9]+.*cov: [0-9]+' "$out/$target.log" | tail -n 1 || true)
+  runs=$(sed -nE 's/^#([0-9]+).*/\1/p' <<<"$stats")
+  cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<<"$stats")
+  ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$stats")
+  eps=$(sed -nE 's/.* exec\/s:? ([0-9]+).*/\1/p' <<<"$stats")
+
+  # Findings: every artifact but slow units goes to regressions/, named by content.
+  local a kind n=0 slow=0 kinds=""
+  for a in "$out/$target"/*; do
+    [ -f "$a" ] || continue
+    kind=$(basename "$a" | sed -E 's/-[0-9a-f]{40}$//')
+    if [ "$kind" = slow-unit ]; then slow=$((slow + 1)); continue; fi
+    mkdir -p "$qex_root/corpus/$target/regressions"
+    cp "$a" "$qex_root/corpus/$target/regressions/$(sha1sum "$a" | cut -c1-16)"
+    n=$((n + 1))
+    kinds="$kinds $kind"
+  done
+  local findings=none
+  if [ "$n" -gt 0 ]; then
+    findings="$n ($(tr ' ' '\n' <<<"$kinds" | sed '/^$/d' | sort | uniq -c | awk '{printf "%s%s %s", s, $1, $2; s=", "}'))"
+  fi
+
+  # New coverage: the units the run added to the scratch corpus, up to QEX_FUZZ_MAX_KEEP bytes.
+  local f
+  mkdir -p "$work/new"
+  (cd "$work/corpus" && ls) | sort | comm -13 "$work/before" - >"$work/new.list"
+  while read -r f; do
+    if [ -n "$f" ] && [ "$(stat -c %s "$work/corpus/$f")" -le "$QEX_FUZZ_MAX_KEEP" ]; then
+      cp "$work/corpus/$f" "$work/new/"
+    fi
+  done <"$work/new.list"
+  local added
+  added=$(qex_fuzz_keep "$target" "$work/new")
+  rm -rf "$work"
+
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$target" "$((end - start))" "${runs:-?}" "${eps:-?}" \
+    "${cov:-?}" "${ft:-?}" "$added" "$findings" "$slow" >"$out/$target.row"
+}
+
+# Minimizes the units in DIR (a merge among themselves: a later unit can cover an earlier one's
+# features, so some are not needed) and copies the rest to corpus/TARGET/merged/ under
+# libFuzzer's hash names. Replays only DIR's units, not the corpus. Prints how many it copied.
+qex_fuzz_keep() {
+  local target=$1 dir=$2 kept n=0 f
+  kept=$(mktemp -d)
+  "$qex_build/fuzz/$target" -merge=1 -timeout=30 -rss_limit_mb=2048 "$kept" "$dir" >"$kept.log" 2>&1 || true
+  for f in "$kept"/*; do
+    [ -f "$f" ] || continue
+    if [ ! -e "$qex_root/corpus/$target/merged/$(basename "$f")" ]; then
+      cp "$f" "$qex_root/corpus/$target/merged/"
+      n=$((n + 1))
+    fi
+  done
+  rm -rf "$kept" "$kept.log"
+  echo "$n"
+}
