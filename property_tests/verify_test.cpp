@@ -34,6 +34,30 @@ TEST(Checker, AcceptsExtraction) {
     EXPECT_EQ(v.input_signed_uv_area_rounded, static_cast<std::int64_t>(f.mesh.faces.size()));
 }
 
+TEST(Checker, AUvToleranceAboveOneIsOneAndNanIsZero) {
+    // Every point lies within 0.5 of a grid point: verify() takes a larger tolerance as 1 (the
+    // coverage search would otherwise grow with it: 1e308 hung `qex check`), NaN or negative as 0.
+    Fixture f;
+    QuadMesh bare;
+    bare.positions = f.mesh.positions;
+    bare.faces = f.mesh.faces;
+    bare.faces.pop_back(); // a hole, so that the verdicts have violations to compare
+    const auto judged = [&](double tolerance) {
+        VerifyOptions o;
+        o.uv_tolerance = tolerance;
+        return verify(f.in, bare, o);
+    };
+    const VerifyResult one = judged(1.0), huge = judged(1e308), zero = judged(0.0);
+    EXPECT_FALSE(one.valid);
+    EXPECT_EQ(huge.valid, one.valid);
+    EXPECT_EQ(huge.violations.size(), one.violations.size());
+    for (const double bad : {std::nan(""), -1.0}) {
+        const VerifyResult r = judged(bad);
+        EXPECT_EQ(r.valid, zero.valid);
+        EXPECT_EQ(r.violations.size(), zero.violations.size());
+    }
+}
+
 TEST(Checker, LocatedModeAcceptsAMeshOfAMapFarFromTheOrigin) {
     // UVs near 2^43, where one unit in the last place is 2^-9: a vertex located on the surface
     // gets its UV interpolated in doubles that far out, a rounding step off its grid point,

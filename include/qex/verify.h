@@ -190,7 +190,8 @@ struct VerifyOptions {
     /// what rounding its position may move it in UV (see position_digits); and seams whose UV
     /// copies no transition relates within it are not crossed. A mesh with QuadMesh::grid_scale
     /// K is judged against the map times K, whose noise is K times the map's: K times this (at
-    /// most 0.1, or this where larger) then.
+    /// most 0.1, or this where larger) then. Above 1 it is taken as 1 (every point lies within
+    /// 0.5 of a grid point); NaN or negative, as 0.
     double uv_tolerance = 1e-3;
     /// Located mode: and lie within this fraction of the bounding-box diagonal of the surface,
     /// plus what rounding its position may move it (see position_digits).

@@ -254,7 +254,12 @@ VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOpt
 } // namespace verify_detail
 
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options) {
-    return verify_detail::verify_at(input, mesh, options, 1.0);
+    // Every point lies within 0.5 of a grid point: a UV tolerance above 1 says no more than 1 does,
+    // and one that is NaN or negative holds no point. Taken so here, for every caller (the CLI, the
+    // bindings, C++), the coverage search never grows with it.
+    VerifyOptions o = options;
+    o.uv_tolerance = o.uv_tolerance >= 0 ? std::min(o.uv_tolerance, 1.0) : 0.0;
+    return verify_detail::verify_at(input, mesh, o, 1.0);
 }
 
 } // namespace qex
