@@ -1,0 +1,198 @@
+// The quad layout (qex/layout.h, issue 33): generated maps with a known layout (a cube's 6
+// patches, a torus without separatrix, disks and an annulus with boundary corners), the check
+// rejecting broken layouts, invariance under input order, and the shared real maps (the check
+// accepts each layout, patch sizes sum to the face count, the layout's time against extraction's).
+#include "test_support.h"
+
+#include "qex/layout.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numeric>
+#include <random>
+
+namespace qex::testing {
+namespace {
+
+using Point = std::array<double, 3>;
+
+QuadMesh mesh_of(const QuadLayout& layout, int n) {
+    const Result r = extract_valid(make_map(layout, n, n));
+    return r.mesh;
+}
+
+/// A valid layout whose patch sizes add up to the face count; returns it.
+Layout expect_layout(const QuadMesh& mesh, const LayoutOptions& options = {}) {
+    Layout l = extract_layout(mesh, options);
+    EXPECT_TRUE(l.valid) << l.error;
+    EXPECT_EQ(check_layout(mesh, l, options), "");
+    long long area = 0;
+    for (const Patch& p : l.patches) area += static_cast<long long>(p.u) * p.v;
+    EXPECT_EQ(area, static_cast<long long>(mesh.faces.size()));
+    return l;
+}
+
+/// The layout by positions: separatrices as position lists, patches as (u, v, their faces' sorted corners).
+struct Picture {
+    std::vector<std::vector<Point>> separatrices;
+    std::vector<std::tuple<int, int, std::vector<std::array<Point, 4>>>> patches;
+    bool operator==(const Picture& o) const { return separatrices == o.separatrices && patches == o.patches; }
+};
+
+Picture picture(const QuadMesh& m, const Layout& l) {
+    Picture pic;
+    for (const Separatrix& s : l.separatrices) {
+        pic.separatrices.emplace_back();
+        for (const int v : s.vertices) pic.separatrices.back().push_back(m.positions[v]);
+    }
+    for (const Patch& p : l.patches) {
+        std::vector<std::array<Point, 4>> centres;
+        for (const int f : p.faces) {
+            std::array<Point, 4> c;
+            for (int k = 0; k < 4; ++k) c[k] = m.positions[m.faces[f][k]];
+            std::sort(c.begin(), c.end());
+            centres.push_back(c);
+        }
+        std::sort(centres.begin(), centres.end());
+        pic.patches.emplace_back(p.u, p.v, centres);
+    }
+    return pic;
+}
+
+/// The mesh with its vertices renumbered, faces reordered and each face's corners rotated.
+QuadMesh shuffled(const QuadMesh& m, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<int> perm(m.positions.size());
+    std::iota(perm.begin(), perm.end(), 0);
+    std::shuffle(perm.begin(), perm.end(), rng);
+    QuadMesh out;
+    out.positions.resize(m.positions.size());
+    for (std::size_t v = 0; v < perm.size(); ++v) out.positions[perm[v]] = m.positions[v];
+    for (const auto& f : m.faces) {
+        std::vector<int> g;
+        for (const int v : f) g.push_back(perm[v]);
+        std::rotate(g.begin(), g.begin() + rng() % 4, g.end());
+        out.faces.push_back(g);
+    }
+    std::shuffle(out.faces.begin(), out.faces.end(), rng);
+    return out;
+}
+
+TEST(Layout, ACubeHasSixSquarePatches) {
+    const QuadMesh mesh = mesh_of(cube_layout(), 3);
+    const Layout l = expect_layout(mesh);
+    ASSERT_EQ(l.patches.size(), 6u);
+    for (const Patch& p : l.patches) {
+        EXPECT_EQ(p.kind, PatchKind::Rectangle);
+        EXPECT_EQ(p.u, 3);
+        EXPECT_EQ(p.v, 3);
+    }
+    EXPECT_EQ(l.special_vertices.size(), 8u);
+    ASSERT_EQ(l.separatrices.size(), 12u); // the cube's edges, each traced from both ends
+    for (const Separatrix& s : l.separatrices) {
+        EXPECT_EQ(s.vertices.size(), 4u);
+        EXPECT_EQ(s.end, SeparatrixEnd::HeadOn);
+    }
+    EXPECT_EQ(l.adjacency.size(), 12u);
+}
+
+TEST(Layout, ATorusHasNoSeparatrixAndOnePatch) {
+    const QuadMesh mesh = mesh_of(torus_layout(4, 3), 2);
+    const Layout l = expect_layout(mesh);
+    EXPECT_TRUE(l.separatrices.empty());
+    EXPECT_TRUE(l.special_vertices.empty());
+    ASSERT_EQ(l.patches.size(), 1u);
+    EXPECT_EQ(l.patches[0].kind, PatchKind::Torus);
+    EXPECT_EQ(l.patches[0].u * l.patches[0].v, 48);
+    EXPECT_FALSE(l.notes.empty());
+}
+
+TEST(Layout, ADiskIsOneRectangleBetweenItsBoundaryCorners) {
+    const QuadMesh mesh = mesh_of(disk_layout(3), 2);
+    const Layout l = expect_layout(mesh);
+    EXPECT_TRUE(l.separatrices.empty());
+    EXPECT_EQ(l.special_vertices.size(), 4u);
+    ASSERT_EQ(l.patches.size(), 1u);
+    EXPECT_EQ(l.patches[0].u, 6);
+    EXPECT_EQ(l.patches[0].v, 6);
+}
+
+TEST(Layout, AnAnnulusIsCutAcross) {
+    const QuadMesh mesh = mesh_of(annulus_layout(6, 2), 2);
+    const Layout l = expect_layout(mesh);
+    ASSERT_EQ(l.separatrices.size(), 2u); // two cuts: each piece a rectangle embedded in the mesh
+    for (const Separatrix& s : l.separatrices) {
+        EXPECT_EQ(s.start, SeparatrixStart::Cut);
+        EXPECT_EQ(s.end, SeparatrixEnd::Boundary);
+    }
+    ASSERT_EQ(l.patches.size(), 2u);
+}
+
+TEST(Layout, ADiskWithAConcaveCornerAndAFeature) {
+    // An L of three squares, 2 x 2 faces each: the concave boundary corner sends two separatrices.
+    QuadMesh m;
+    for (int y = 0; y <= 4; ++y)
+        for (int x = 0; x <= 4; ++x) m.positions.push_back({double(x), double(y), 0.0});
+    const auto id = [](int x, int y) { return 5 * y + x; };
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            if (x < 2 || y < 2) m.faces.push_back({id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)});
+    const Layout l = expect_layout(m);
+    EXPECT_EQ(l.patches.size(), 3u);
+    for (const Patch& p : l.patches) EXPECT_EQ(p.u * p.v, 4);
+    LayoutOptions features;
+    features.feature_edges = {{id(0, 1), id(1, 1)}}; // a dangling feature: 3 more separatrices at its end
+    const Layout lf = expect_layout(m, features);
+    EXPECT_GT(lf.patches.size(), l.patches.size());
+}
+
+TEST(Layout, MoreSingularities) {
+    for (const QuadLayout& q : {icosahedron_layout(), prism_layout(5), prism_layout(3)}) {
+        SCOPED_TRACE(q.name);
+        const Layout l = expect_layout(mesh_of(q, 2));
+        EXPECT_FALSE(l.separatrices.empty());
+    }
+}
+
+TEST(Layout, TheSameForAnyOrderOfFacesCornersAndVertices) {
+    for (const QuadLayout& q : {cube_layout(), icosahedron_layout(), annulus_layout(), prism_layout(5)}) {
+        SCOPED_TRACE(q.name);
+        const QuadMesh mesh = mesh_of(q, 3);
+        const Picture want = picture(mesh, expect_layout(mesh));
+        for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+            const QuadMesh other = shuffled(mesh, seed);
+            EXPECT_TRUE(picture(other, expect_layout(other)) == want) << "seed " << seed;
+        }
+    }
+}
+
+TEST(Layout, TheCheckRejectsABrokenLayout) {
+    const QuadMesh mesh = mesh_of(cube_layout(), 3);
+    const Layout good = expect_layout(mesh);
+    Layout l = good;
+    l.separatrices.pop_back(); // two patches now meet across an edge on no separatrix
+    EXPECT_NE(check_layout(mesh, l), "");
+    l = good;
+    std::swap(l.patches[0].u, l.patches[1].v);
+    l.patches[0].u = 1;
+    EXPECT_NE(check_layout(mesh, l), "");
+    l = good;
+    l.face_patch[0] = (l.face_patch[0] + 1) % 6;
+    EXPECT_NE(check_layout(mesh, l), "");
+    l = good;
+    l.separatrices[0].end = SeparatrixEnd::Boundary;
+    EXPECT_NE(check_layout(mesh, l), "");
+    l = good;
+    l.adjacency.pop_back();
+    EXPECT_NE(check_layout(mesh, l), "");
+    QuadMesh tri = mesh;
+    tri.faces[0].pop_back();
+    EXPECT_FALSE(extract_layout(tri).valid);
+}
+
+} // namespace
+} // namespace qex::testing
