@@ -178,55 +178,84 @@ std::string check_cover(const Judge& j, const Layout& layout) {
     return "";
 }
 
-/// One patch as a sub-complex: a disk with one boundary loop, 4 corners (1 face) and otherwise
-/// sides (2 faces), regular vertices inside, sides u, v, u, v from corners[0] on, u * v faces; or
-/// a torus: a closed component of regular vertices with u * v faces.
-std::string check_patch(const Judge& j, const Layout& layout, int p) {
+/// The face corners joined across the edges on no separatrix or cut: the vertices of the patches
+/// as surfaces (a vertex a patch's boundary passes twice is two of them).
+Find patch_vertices(const Judge& j) {
+    const auto& faces = j.mesh.faces;
+    Find groups(static_cast<int>(4 * faces.size()));
+    const auto corner = [&](int f, int v) {
+        for (int k = 0; k < 4; ++k)
+            if (faces[f][k] == v) return 4 * f + k;
+        return -1;
+    };
+    for (const auto& [k, e] : j.edge) {
+        const auto [f, g] = j.edge_faces[e];
+        if (g < 0 || j.edge_layout[e]) continue;
+        for (const int v : {static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)})
+            groups.join(corner(f, v), corner(g, v));
+    }
+    return groups;
+}
+
+/// Walks a rectangle's boundary from a corner at corners[0]: sides u, v, u, v to corners[1..3, 0],
+/// and nothing else on the boundary.
+bool sides_match(const Patch& patch, const std::unordered_map<int, int>& next, const std::unordered_map<int, int>& vertex,
+                 int start) {
+    const int sides[4] = {patch.u, patch.v, patch.u, patch.v};
+    int g = start;
+    std::size_t walked = 0;
+    for (int s = 0; s < 4; ++s) {
+        for (int i = 0; i < sides[s]; ++i, ++walked) {
+            const auto it = next.find(g);
+            if (it == next.end() || walked > next.size()) return false;
+            g = it->second;
+        }
+        if (vertex.at(g) != patch.corners[(s + 1) % 4]) return false;
+    }
+    return g == start && walked == next.size();
+}
+
+/// One patch as a surface (its corners joined across its inner edges): a disk with one boundary
+/// loop, 4 corners (1 face) and otherwise sides (2 faces), regular vertices inside, sides u, v,
+/// u, v from corners[0] on, u * v faces; or a torus: a closed component of regular vertices.
+std::string check_patch(const Judge& j, Find& groups, const Layout& layout, int p) {
     const Patch& patch = layout.patches[p];
     const std::string name = "patch " + std::to_string(p);
-    std::unordered_map<int, int> faces_at;
-    std::map<std::uint64_t, int> edges;
+    std::unordered_map<int, int> faces_at, vertex, next; // per group (its root)
+    long long twice_edges = 0;
     for (const int f : patch.faces)
         for (int k = 0; k < 4; ++k) {
-            const int a = j.mesh.faces[f][k], b = j.mesh.faces[f][(k + 1) % 4];
-            ++faces_at[a];
-            ++edges[key(a, b)];
+            const int a = j.mesh.faces[f][k], b = j.mesh.faces[f][(k + 1) % 4], g = groups.root(4 * f + k);
+            ++faces_at[g];
+            vertex[g] = a;
+            const bool rim = j.edge_layout[j.find_edge(a, b)] != 0;
+            twice_edges += rim ? 2 : 1;
+            if (rim && !next.emplace(g, groups.root(4 * f + (k + 1) % 4)).second)
+                return name + " has a boundary that branches at vertex " + std::to_string(a);
         }
-    std::unordered_map<int, int> boundary_next;
-    for (const int f : patch.faces)
-        for (int k = 0; k < 4; ++k) {
-            const int a = j.mesh.faces[f][k], b = j.mesh.faces[f][(k + 1) % 4];
-            if (edges[key(a, b)] != 1) continue;
-            if (!boundary_next.emplace(a, b).second) return name + " has a pinched boundary at vertex " + std::to_string(a);
-        }
-    const long long euler = static_cast<long long>(faces_at.size()) - static_cast<long long>(edges.size()) +
+    const long long euler = static_cast<long long>(faces_at.size()) - twice_edges / 2 +
                             static_cast<long long>(patch.faces.size());
     if (static_cast<long long>(patch.u) * patch.v != static_cast<long long>(patch.faces.size()) || patch.u < 1)
         return name + " has " + std::to_string(patch.faces.size()) + " faces, not u * v";
-    std::vector<int> corners;
-    for (const auto& [v, n] : faces_at) {
-        const bool on_rim = boundary_next.count(v) != 0;
+    std::vector<int> corners, starts;
+    for (const auto& [g, n] : faces_at) {
+        const int v = vertex[g];
+        const bool on_rim = next.count(g) != 0;
         if (!on_rim && (n != 4 || j.special[v] || j.cut(v)))
             return name + " has an irregular vertex inside: " + std::to_string(v);
-        if (on_rim && n == 1) corners.push_back(v);
         if (on_rim && n > 2) return name + " has a concave corner at vertex " + std::to_string(v);
+        if (on_rim && n == 1) corners.push_back(v);
+        if (on_rim && n == 1 && v == patch.corners[0]) starts.push_back(g);
     }
-    if (patch.kind == PatchKind::Torus)
-        return boundary_next.empty() && euler == 0 ? "" : name + " is no closed torus component";
+    if (patch.kind == PatchKind::Torus) return next.empty() && euler == 0 ? "" : name + " is no closed torus component";
     if (euler != 1 || corners.size() != 4) return name + " is not a disk with 4 corners";
     std::sort(corners.begin(), corners.end());
     std::array<int, 4> given = patch.corners;
     std::sort(given.begin(), given.end());
     if (!std::equal(corners.begin(), corners.end(), given.begin())) return name + " does not name its corners";
-    const int sides[4] = {patch.u, patch.v, patch.u, patch.v};
-    int v = patch.corners[0];
-    std::size_t walked = 0;
-    for (int s = 0; s < 4; ++s) {
-        for (int i = 0; i < sides[s]; ++i, ++walked) v = boundary_next.at(v);
-        if (v != patch.corners[(s + 1) % 4]) return name + "'s sides are not u, v, u, v from corners[0]";
-    }
-    if (walked != boundary_next.size()) return name + " has more than one boundary loop";
-    return "";
+    for (const int g : starts)
+        if (sides_match(patch, next, vertex, g)) return "";
+    return name + "'s boundary is not one loop of sides u, v, u, v from corners[0]";
 }
 
 std::string check_adjacency(const Judge& j, const Layout& layout) {
@@ -256,8 +285,9 @@ std::string check_layout(const QuadMesh& mesh, const Layout& layout, const Layou
     if (special != layout.special_vertices) return "the special vertices are not the mesh's";
     if (std::string e = check_separatrices(j, layout); !e.empty()) return e;
     if (std::string e = check_cover(j, layout); !e.empty()) return e;
+    Find groups = patch_vertices(j);
     for (int p = 0; p < static_cast<int>(layout.patches.size()); ++p)
-        if (std::string e = check_patch(j, layout, p); !e.empty()) return e;
+        if (std::string e = check_patch(j, groups, layout, p); !e.empty()) return e;
     return check_adjacency(j, layout);
 }
 

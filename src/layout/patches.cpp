@@ -42,9 +42,13 @@ bool rectangle_size(const QuadTopology& t, const Loop& loop, int faces, Patch& p
     std::vector<int> at; // loop positions of the corners
     for (std::size_t i = 0; i < loop.sector.size(); ++i)
         if (loop.sector[i] == 1) at.push_back(static_cast<int>(i));
+    // The first corner in the vertex order (then by the next: a patch may have one vertex as two corners).
+    const auto key = [&](int j) {
+        return std::make_pair(t.rank[t.to(loop.halfedges[at[j]])], t.rank[t.to(loop.halfedges[at[(j + 1) % 4]])]);
+    };
     int first = 0;
     for (int j = 1; j < 4; ++j)
-        if (t.rank[t.to(loop.halfedges[at[j]])] < t.rank[t.to(loop.halfedges[at[first]])]) first = j;
+        if (key(j) < key(first)) first = j;
     const int n = static_cast<int>(loop.halfedges.size());
     std::array<int, 4> side{};
     for (int j = 0; j < 4; ++j) {
@@ -137,10 +141,9 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
             twice_edges += inside ? 1 : 2;
             if (is_layout[h]) starts.push_back(h);
         }
-    const long long euler = vertices - twice_edges / 2 + static_cast<long long>(faces.size());
     std::vector<Loop> loops;
     std::vector<char> seen(starts.size(), 0);
-    int corners = 0, concave = 0, pinched = 0;
+    int corners = 0, concave = 0, pinched = 0; // pinched: a vertex the boundary passes more than once
     for (std::size_t i = 0; i < starts.size(); ++i) {
         if (seen[i]) continue;
         loops.push_back(walk_loop(t, is_layout, starts[i]));
@@ -155,17 +158,19 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
             stamp[v] = 2 * p + 1;
         }
     }
+    // Of the patch as a surface: a vertex its boundary passes twice is two vertices of it.
+    const long long euler = vertices + pinched - twice_edges / 2 + static_cast<long long>(faces.size());
     const std::string what = std::to_string(loops.size()) + " boundary loops, euler characteristic " +
                              std::to_string(euler) + ", " + std::to_string(corners) + " corners, " +
                              std::to_string(concave) + " concave corners, " + std::to_string(pinched) + " pinches";
-    if (loops.size() == 1 && euler == 1 && corners == 4 && concave == 0 && pinched == 0) {
+    if (loops.size() == 1 && euler == 1 && corners == 4 && concave == 0) {
         s.ok = rectangle_size(t, loops[0], static_cast<int>(faces.size()), s.patch);
         if (!s.ok) s.problem = "a disk with 4 corners whose sides (" + std::to_string(s.patch.u) + " x " +
                                std::to_string(s.patch.v) + ") do not match its faces";
     } else if (loops.empty() && euler == 0) {
         s.ok = torus_size(t, faces, s.patch);
         if (!s.ok) s.problem = "a torus whose grid lines do not close evenly";
-    } else if (loops.size() == 2 && euler == 0 && corners == 0 && concave == 0 && pinched == 0) {
+    } else if (loops.size() == 2 && euler == 0 && corners == 0 && concave == 0) {
         s.annulus = true;
         std::size_t loop = 0, at = 0;
         for (std::size_t l = 0; l < loops.size(); ++l)
