@@ -20,8 +20,11 @@ enum class SeparatrixStart : std::uint8_t {
     IrregularVertex, ///< an interior vertex of valence other than 4
     BoundaryVertex,  ///< a boundary vertex whose fan between two boundary edges is not 2 faces
     FeatureVertex,   ///< a vertex on a feature line whose fan between two feature edges is not 2 faces
-    /// A cut: a region without corners (an annulus between two boundary loops) is cut from its
-    /// first boundary vertex (canonical order) across to its other side, to make it a rectangle.
+    /// A cut, from a regular vertex of a patch's side across the patch, where the separatrices
+    /// leave a patch that is not a rectangle embedded in the mesh: an annulus between two boundary
+    /// loops without corners (cut twice, from its first boundary vertex in the canonical order and
+    /// half way round that loop), or a rectangle glued to itself along a separatrix (cut from the
+    /// middle of a free side, parallel to the glued ones).
     Cut,
 };
 const char* to_string(SeparatrixStart start);
@@ -87,7 +90,7 @@ struct Layout {
     std::vector<Patch> patches;
     /// Sorted by (a, b).
     std::vector<PatchAdjacency> adjacency;
-    /// Anything worth saying in words (a torus without separatrix, a cut annulus).
+    /// Anything worth saying in words (a torus without separatrix, a patch cut).
     std::vector<std::string> notes;
 };
 

@@ -135,7 +135,7 @@ std::string check_separatrices(Judge& j, const Layout& layout) {
         case SeparatrixStart::IrregularVertex: start = j.special[a] && !j.cut(a); break;
         case SeparatrixStart::BoundaryVertex: start = j.special[a] && j.boundary[a]; break;
         case SeparatrixStart::FeatureVertex: start = j.special[a] && j.feature[a] && !j.boundary[a]; break;
-        case SeparatrixStart::Cut: start = !j.special[a] && j.boundary[a]; break;
+        case SeparatrixStart::Cut: start = !j.special[a] && (j.cut(a) || inner[a]); break;
         }
         switch (x.end) {
         case SeparatrixEnd::SpecialVertex:

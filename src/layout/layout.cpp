@@ -39,7 +39,7 @@ std::vector<char> layout_halfedges(const QuadTopology& t, const layout::Motorcyc
     return is_layout;
 }
 
-/// The patches; annuli are cut (and the patches found again) at most twice over.
+/// The patches; annuli and rectangles glued to themselves are cut (and the patches found again) at most thrice over.
 std::string find_patches(const QuadTopology& t, layout::Motorcycles& m, Layout& out) {
     for (int round = 0;; ++round) {
         const std::vector<char> is_layout = layout_halfedges(t, m);
@@ -49,10 +49,10 @@ std::string find_patches(const QuadTopology& t, layout::Motorcycles& m, Layout& 
         bool cut = false;
         for (std::size_t p = 0; p < faces.size(); ++p) {
             layout::PatchShape s = layout::analyse_patch(t, is_layout, out.face_patch, faces[p], stamp);
-            if (s.annulus && round < 2) {
+            if (s.needs_cut && round < 3) {
                 for (const int h : s.cuts) layout::add_trace(m, t.from(h), h, SeparatrixStart::Cut);
-                out.notes.push_back("an annulus without corners, cut across from its boundary vertices " +
-                                    std::to_string(t.from(s.cuts[0])) + " and " + std::to_string(t.from(s.cuts[1])));
+                out.notes.push_back(s.problem + ": cut across from its boundary vertex " + std::to_string(t.from(s.cuts[0])) +
+                                    (s.cuts.size() > 1 ? " and " + std::to_string(t.from(s.cuts[1])) : ""));
                 cut = true;
             } else if (!s.ok) {
                 return "patch " + std::to_string(p) + " (face " + std::to_string(faces[p][0]) + ") is " + s.problem;

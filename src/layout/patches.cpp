@@ -81,6 +81,35 @@ bool torus_size(const QuadTopology& t, const std::vector<int>& faces, Patch& p) 
     return o == o0 && static_cast<long long>(p.u) * p.v == static_cast<long long>(faces.size());
 }
 
+/// Whether a patch's boundary half-edge has the patch on its other side too.
+bool glued_to_itself(const QuadTopology& t, const std::vector<int>& face_patch, const std::vector<int>& halfedges, int p) {
+    for (const int h : halfedges)
+        if (t.twin[h] >= 0 && face_patch[t.twin[h] / 4] == p) return true;
+    return false;
+}
+
+/// A rectangle glued to itself along a separatrix (its sides A and C one line): a cut from the
+/// middle of a side that is not glued (B or D, 2 edges or longer) across to the other, parallel to
+/// the glued sides, leaves A and C in two patches. The side whose middle vertex is first in the
+/// vertex order; none if the free sides are 1 edge long.
+std::vector<int> split_cut(const QuadTopology& t, const std::vector<int>& face_patch, const Loop& loop, int p) {
+    std::vector<int> at;
+    for (std::size_t i = 0; i < loop.sector.size(); ++i)
+        if (loop.sector[i] == 1) at.push_back(static_cast<int>(i));
+    const int n = static_cast<int>(loop.halfedges.size());
+    int best = -1;
+    for (int j = 0; j < 4; ++j) {
+        const int len = ((at[(j + 1) % 4] - at[j]) % n + n) % n;
+        std::vector<int> side;
+        for (int i = 1; i <= len; ++i) side.push_back(loop.halfedges[(at[j] + i) % n]);
+        if (len < 2 || glued_to_itself(t, face_patch, side, p)) continue;
+        const int middle = side[len / 2 - 1]; // arrives at the side's middle vertex
+        if (best < 0 || t.rank[t.to(middle)] < t.rank[t.to(best)]) best = middle;
+    }
+    if (best < 0) return {};
+    return {QuadTopology::next(best)};
+}
+
 } // namespace
 
 std::vector<std::vector<int>> number_patches(const QuadTopology& t, const std::vector<char>& is_layout,
@@ -138,7 +167,7 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
                 ++vertices;
             }
             const bool inside = t.twin[h] >= 0 && face_patch[t.twin[h] / 4] == p;
-            twice_edges += inside ? 1 : 2;
+            twice_edges += inside && !is_layout[h] ? 1 : 2; // a separatrix inside: an edge each side
             if (is_layout[h]) starts.push_back(h);
         }
     std::vector<Loop> loops;
@@ -167,11 +196,19 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
         s.ok = rectangle_size(t, loops[0], static_cast<int>(faces.size()), s.patch);
         if (!s.ok) s.problem = "a disk with 4 corners whose sides (" + std::to_string(s.patch.u) + " x " +
                                std::to_string(s.patch.v) + ") do not match its faces";
+        if (s.ok && glued_to_itself(t, face_patch, loops[0].halfedges, p)) {
+            s.ok = false;
+            s.needs_cut = true;
+            s.cuts = split_cut(t, face_patch, loops[0], p);
+            s.problem = "a rectangle glued to itself along a separatrix" +
+                        std::string(s.cuts.empty() ? " and one face wide across it" : "");
+            s.needs_cut = !s.cuts.empty();
+        }
     } else if (loops.empty() && euler == 0) {
         s.ok = torus_size(t, faces, s.patch);
         if (!s.ok) s.problem = "a torus whose grid lines do not close evenly";
     } else if (loops.size() == 2 && euler == 0 && corners == 0 && concave == 0) {
-        s.annulus = true;
+        s.needs_cut = true;
         std::size_t loop = 0, at = 0;
         for (std::size_t l = 0; l < loops.size(); ++l)
             for (std::size_t i = 0; i < loops[l].halfedges.size(); ++i)
@@ -181,7 +218,7 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
                 }
         const std::vector<int>& hs = loops[loop].halfedges;
         s.cuts = {QuadTopology::next(hs[at]), QuadTopology::next(hs[(at + hs.size() / 2) % hs.size()])};
-        s.problem = "an annulus (" + what + ")";
+        s.problem = "an annulus without corners";
     } else {
         s.problem = "not a rectangle: " + what;
     }

@@ -14,9 +14,11 @@ namespace qex::layout {
 struct PatchShape {
     Patch patch;
     bool ok = false;       ///< a rectangle or a torus
-    bool annulus = false;  ///< two boundary loops without corners: to be cut
-    /// Annulus: the outgoing half-edges two cuts start along, from its first boundary vertex and
-    /// from the vertex half way round that loop (two cuts leave two rectangles each embedded).
+    /// An annulus (two boundary loops without corners), or a rectangle glued to itself along a
+    /// separatrix: to be cut along `cuts`, the outgoing half-edges the cuts start along. An
+    /// annulus is cut twice, from its first boundary vertex and from the vertex half way round
+    /// that loop, so that each piece is a rectangle embedded in the mesh.
+    bool needs_cut = false;
     std::vector<int> cuts;
     std::string problem;   ///< why it is neither
 };
