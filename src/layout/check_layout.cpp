@@ -31,40 +31,71 @@ std::uint64_t key(int a, int b) {
 /// The mesh as the check sees it: edges with their faces, cuts, and which vertices are regular.
 struct Judge {
     const QuadMesh& mesh;
-    std::unordered_map<std::uint64_t, int> edge;
-    std::vector<std::array<int, 2>> edge_faces;   ///< -1 where none
-    std::vector<char> edge_cut, edge_layout;      ///< boundary or feature; and cut or separatrix
-    std::vector<char> boundary, feature, special; ///< per vertex
+    std::vector<std::array<int, 2>> edge_ends, edge_faces; ///< faces: -1 where none
+    std::vector<int> corner_edge;                          ///< per face corner 4f+k: the edge to corner k+1
+    std::vector<int> star_begin;                           ///< per vertex + 1: its range in `star`
+    std::vector<std::pair<int, int>> star;                 ///< (neighbour, edge)
+    std::vector<char> edge_cut, edge_layout;               ///< boundary or feature; and cut or separatrix
+    std::vector<char> boundary, feature, special;          ///< per vertex
     explicit Judge(const QuadMesh& m) : mesh(m) {}
 
     int find_edge(int a, int b) const {
-        const auto it = edge.find(key(a, b));
-        return it == edge.end() ? -1 : it->second;
+        for (int i = star_begin[a]; i < star_begin[a + 1]; ++i)
+            if (star[i].first == b) return star[i].second;
+        return -1;
     }
     bool cut(int v) const { return boundary[v] || feature[v]; }
 };
 
-std::string build_edges(Judge& j, const LayoutOptions& options) {
+/// The edges, each with its faces, from the face corners sorted by edge.
+std::string build_edge_table(Judge& j) {
     const auto& faces = j.mesh.faces;
     const int nv = static_cast<int>(j.mesh.positions.size());
+    std::vector<std::pair<std::uint64_t, int>> corners;
     for (std::size_t f = 0; f < faces.size(); ++f) {
         if (faces[f].size() != 4) return "face " + std::to_string(f) + " is not a quad";
         for (int k = 0; k < 4; ++k) {
             const int a = faces[f][k], b = faces[f][(k + 1) % 4];
             if (a < 0 || b < 0 || a >= nv || b >= nv) return "face " + std::to_string(f) + " has a bad index";
-            const auto [it, fresh] = j.edge.emplace(key(a, b), static_cast<int>(j.edge_faces.size()));
-            if (fresh) j.edge_faces.push_back({static_cast<int>(f), -1});
-            else if (j.edge_faces[it->second][1] < 0) j.edge_faces[it->second][1] = static_cast<int>(f);
-            else return "an edge of face " + std::to_string(f) + " has more than two faces";
+            corners.emplace_back(key(a, b), static_cast<int>(4 * f + k));
         }
     }
+    std::sort(corners.begin(), corners.end());
+    j.corner_edge.assign(corners.size(), -1);
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        const int c = corners[i].second, f = c / 4;
+        if (i > 0 && corners[i - 1].first == corners[i].first) {
+            if (j.edge_faces.back()[1] >= 0) return "an edge of face " + std::to_string(f) + " has more than two faces";
+            j.edge_faces.back()[1] = f;
+        } else {
+            j.edge_ends.push_back({static_cast<int>(corners[i].first >> 32), static_cast<int>(corners[i].first & 0xffffffffu)});
+            j.edge_faces.push_back({f, -1});
+        }
+        j.corner_edge[c] = static_cast<int>(j.edge_faces.size()) - 1;
+    }
+    j.star_begin.assign(nv + 1, 0);
+    for (const auto& [a, b] : j.edge_ends) ++j.star_begin[a + 1], ++j.star_begin[b + 1];
+    std::partial_sum(j.star_begin.begin(), j.star_begin.end(), j.star_begin.begin());
+    j.star.resize(2 * j.edge_ends.size());
+    std::vector<int> fill(j.star_begin.begin(), j.star_begin.end() - 1);
+    for (int e = 0; e < static_cast<int>(j.edge_ends.size()); ++e) {
+        const auto [a, b] = j.edge_ends[e];
+        j.star[fill[a]++] = {b, e};
+        j.star[fill[b]++] = {a, e};
+    }
+    return "";
+}
+
+std::string build_edges(Judge& j, const LayoutOptions& options) {
+    if (std::string e = build_edge_table(j); !e.empty()) return e;
+    const int nv = static_cast<int>(j.mesh.positions.size());
     j.edge_cut.assign(j.edge_faces.size(), 0);
     j.boundary.assign(nv, 0);
     j.feature.assign(nv, 0);
-    for (const auto& [k, e] : j.edge)
+    for (std::size_t e = 0; e < j.edge_faces.size(); ++e)
         if (j.edge_faces[e][1] < 0) {
             j.edge_cut[e] = 1;
-            j.boundary[static_cast<int>(k >> 32)] = j.boundary[static_cast<int>(k & 0xffffffffu)] = 1;
+            j.boundary[j.edge_ends[e][0]] = j.boundary[j.edge_ends[e][1]] = 1;
         }
     for (const auto& fe : options.feature_edges) {
         const int e = fe[0] >= 0 && fe[0] < nv && fe[1] >= 0 && fe[1] < nv ? j.find_edge(fe[0], fe[1]) : -1;
@@ -86,11 +117,10 @@ void find_special(Judge& j) {
             if (faces[f][k] == v) return 4 * f + k;
         return -1;
     };
-    for (const auto& [k, e] : j.edge) {
+    for (std::size_t e = 0; e < j.edge_faces.size(); ++e) {
         const auto [f, g] = j.edge_faces[e];
         if (g < 0 || j.edge_cut[e]) continue;
-        for (const int v : {static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)})
-            groups.join(corner(f, v), corner(g, v));
+        for (const int v : j.edge_ends[e]) groups.join(corner(f, v), corner(g, v));
     }
     std::vector<int> size(4 * faces.size(), 0), corners(j.mesh.positions.size(), 0);
     for (int c = 0; c < static_cast<int>(size.size()); ++c) ++size[groups.root(c)];
@@ -188,74 +218,87 @@ Find patch_vertices(const Judge& j) {
             if (faces[f][k] == v) return 4 * f + k;
         return -1;
     };
-    for (const auto& [k, e] : j.edge) {
+    for (std::size_t e = 0; e < j.edge_faces.size(); ++e) {
         const auto [f, g] = j.edge_faces[e];
         if (g < 0 || j.edge_layout[e]) continue;
-        for (const int v : {static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)})
-            groups.join(corner(f, v), corner(g, v));
+        for (const int v : j.edge_ends[e]) groups.join(corner(f, v), corner(g, v));
     }
     return groups;
 }
 
+/// Per face-corner group (its root): faces, its vertex, the next group along the patch's boundary
+/// (-1: none); reset after each patch.
+struct Groups {
+    Find find;
+    std::vector<int> faces_at, vertex, next;
+    explicit Groups(Find f) : find(std::move(f)), faces_at(find.up.size(), 0), vertex(find.up.size(), -1), next(find.up.size(), -1) {}
+};
+
 /// Walks a rectangle's boundary from a corner at corners[0]: sides u, v, u, v to corners[1..3, 0],
-/// and nothing else on the boundary.
-bool sides_match(const Patch& patch, const std::unordered_map<int, int>& next, const std::unordered_map<int, int>& vertex,
-                 int start) {
+/// and nothing else on the boundary (`rim` groups in all).
+bool sides_match(const Patch& patch, const Groups& gs, int start, std::size_t rim) {
     const int sides[4] = {patch.u, patch.v, patch.u, patch.v};
     int g = start;
     std::size_t walked = 0;
     for (int s = 0; s < 4; ++s) {
         for (int i = 0; i < sides[s]; ++i, ++walked) {
-            const auto it = next.find(g);
-            if (it == next.end() || walked > next.size()) return false;
-            g = it->second;
+            if (gs.next[g] < 0 || walked > rim) return false;
+            g = gs.next[g];
         }
-        if (vertex.at(g) != patch.corners[(s + 1) % 4]) return false;
+        if (gs.vertex[g] != patch.corners[(s + 1) % 4]) return false;
     }
-    return g == start && walked == next.size();
+    return g == start && walked == rim;
 }
 
 /// One patch as a surface (its corners joined across its inner edges): a disk with one boundary
 /// loop, 4 corners (1 face) and otherwise sides (2 faces), regular vertices inside, sides u, v,
 /// u, v from corners[0] on, u * v faces; or a torus: a closed component of regular vertices.
-std::string check_patch(const Judge& j, Find& groups, const Layout& layout, int p) {
+std::string check_patch(const Judge& j, Groups& gs, const Layout& layout, int p) {
     const Patch& patch = layout.patches[p];
     const std::string name = "patch " + std::to_string(p);
-    std::unordered_map<int, int> faces_at, vertex, next; // per group (its root)
+    std::vector<int> touched;
     long long twice_edges = 0;
+    std::size_t rim = 0;
     for (const int f : patch.faces)
         for (int k = 0; k < 4; ++k) {
-            const int a = j.mesh.faces[f][k], b = j.mesh.faces[f][(k + 1) % 4], g = groups.root(4 * f + k);
-            ++faces_at[g];
-            vertex[g] = a;
-            const bool rim = j.edge_layout[j.find_edge(a, b)] != 0;
-            twice_edges += rim ? 2 : 1;
-            if (rim && !next.emplace(g, groups.root(4 * f + (k + 1) % 4)).second)
-                return name + " has a boundary that branches at vertex " + std::to_string(a);
+            const int g = gs.find.root(4 * f + k);
+            if (gs.faces_at[g]++ == 0) touched.push_back(g);
+            gs.vertex[g] = j.mesh.faces[f][k];
+            const bool on_rim = j.edge_layout[j.corner_edge[4 * f + k]] != 0;
+            twice_edges += on_rim ? 2 : 1;
+            if (!on_rim) continue;
+            if (gs.next[g] >= 0) return name + " has a boundary that branches at vertex " + std::to_string(gs.vertex[g]);
+            gs.next[g] = gs.find.root(4 * f + (k + 1) % 4);
+            ++rim;
         }
-    const long long euler = static_cast<long long>(faces_at.size()) - twice_edges / 2 +
+    const long long euler = static_cast<long long>(touched.size()) - twice_edges / 2 +
                             static_cast<long long>(patch.faces.size());
-    if (static_cast<long long>(patch.u) * patch.v != static_cast<long long>(patch.faces.size()) || patch.u < 1)
-        return name + " has " + std::to_string(patch.faces.size()) + " faces, not u * v";
     std::vector<int> corners, starts;
-    for (const auto& [g, n] : faces_at) {
-        const int v = vertex[g];
-        const bool on_rim = next.count(g) != 0;
-        if (!on_rim && (n != 4 || j.special[v] || j.cut(v)))
-            return name + " has an irregular vertex inside: " + std::to_string(v);
-        if (on_rim && n > 2) return name + " has a concave corner at vertex " + std::to_string(v);
+    std::string problem;
+    for (const int g : touched) {
+        const int v = gs.vertex[g], n = gs.faces_at[g];
+        const bool on_rim = gs.next[g] >= 0;
+        if (!on_rim && (n != 4 || j.special[v] || j.cut(v))) problem = name + " has an irregular vertex inside: " + std::to_string(v);
+        if (on_rim && n > 2) problem = name + " has a concave corner at vertex " + std::to_string(v);
         if (on_rim && n == 1) corners.push_back(v);
         if (on_rim && n == 1 && v == patch.corners[0]) starts.push_back(g);
     }
-    if (patch.kind == PatchKind::Torus) return next.empty() && euler == 0 ? "" : name + " is no closed torus component";
-    if (euler != 1 || corners.size() != 4) return name + " is not a disk with 4 corners";
+    if (static_cast<long long>(patch.u) * patch.v != static_cast<long long>(patch.faces.size()) || patch.u < 1)
+        problem = name + " has " + std::to_string(patch.faces.size()) + " faces, not u * v";
+    else if (patch.kind == PatchKind::Torus && (rim != 0 || euler != 0))
+        problem = name + " is no closed torus component";
+    else if (patch.kind == PatchKind::Rectangle && (euler != 1 || corners.size() != 4))
+        problem = name + " is not a disk with 4 corners";
     std::sort(corners.begin(), corners.end());
     std::array<int, 4> given = patch.corners;
     std::sort(given.begin(), given.end());
-    if (!std::equal(corners.begin(), corners.end(), given.begin())) return name + " does not name its corners";
-    for (const int g : starts)
-        if (sides_match(patch, next, vertex, g)) return "";
-    return name + "'s boundary is not one loop of sides u, v, u, v from corners[0]";
+    if (problem.empty() && patch.kind == PatchKind::Rectangle) {
+        if (!std::equal(corners.begin(), corners.end(), given.begin())) problem = name + " does not name its corners";
+        else if (std::none_of(starts.begin(), starts.end(), [&](int g) { return sides_match(patch, gs, g, rim); }))
+            problem = name + "'s boundary is not one loop of sides u, v, u, v from corners[0]";
+    }
+    for (const int g : touched) gs.faces_at[g] = 0, gs.vertex[g] = -1, gs.next[g] = -1;
+    return problem;
 }
 
 std::string check_adjacency(const Judge& j, const Layout& layout) {
@@ -285,7 +328,7 @@ std::string check_layout(const QuadMesh& mesh, const Layout& layout, const Layou
     if (special != layout.special_vertices) return "the special vertices are not the mesh's";
     if (std::string e = check_separatrices(j, layout); !e.empty()) return e;
     if (std::string e = check_cover(j, layout); !e.empty()) return e;
-    Find groups = patch_vertices(j);
+    Groups groups(patch_vertices(j));
     for (int p = 0; p < static_cast<int>(layout.patches.size()); ++p)
         if (std::string e = check_patch(j, groups, layout, p); !e.empty()) return e;
     return check_adjacency(j, layout);
