@@ -24,10 +24,6 @@ struct Find {
     void join(int a, int b) { up[root(a)] = root(b); }
 };
 
-std::uint64_t key(int a, int b) {
-    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
-}
-
 /// The mesh as the check sees it: edges with their faces, cuts, and which vertices are regular.
 struct Judge {
     const QuadMesh& mesh;
@@ -47,41 +43,52 @@ struct Judge {
     bool cut(int v) const { return boundary[v] || feature[v]; }
 };
 
-/// The edges, each with its faces, from the face corners sorted by edge.
+/// The edges, each with its faces: the face corners bucketed by the smaller vertex of their edge.
 std::string build_edge_table(Judge& j) {
     const auto& faces = j.mesh.faces;
     const int nv = static_cast<int>(j.mesh.positions.size());
-    std::vector<std::pair<std::uint64_t, int>> corners;
+    std::vector<int> begin(nv + 1, 0);
     for (std::size_t f = 0; f < faces.size(); ++f) {
         if (faces[f].size() != 4) return "face " + std::to_string(f) + " is not a quad";
         for (int k = 0; k < 4; ++k) {
             const int a = faces[f][k], b = faces[f][(k + 1) % 4];
-            if (a < 0 || b < 0 || a >= nv || b >= nv) return "face " + std::to_string(f) + " has a bad index";
-            corners.emplace_back(key(a, b), static_cast<int>(4 * f + k));
+            if (a < 0 || b < 0 || a >= nv || b >= nv || a == b) return "face " + std::to_string(f) + " has a bad index";
+            ++begin[std::min(a, b) + 1];
         }
     }
-    std::sort(corners.begin(), corners.end());
+    std::partial_sum(begin.begin(), begin.end(), begin.begin());
+    std::vector<int> corners(4 * faces.size()), fill(begin.begin(), begin.end() - 1);
+    const auto ends = [&](int c) {
+        const int a = faces[c / 4][c % 4], b = faces[c / 4][(c + 1) % 4];
+        return std::make_pair(std::min(a, b), std::max(a, b));
+    };
+    for (int c = 0; c < static_cast<int>(corners.size()); ++c) corners[fill[ends(c).first]++] = c;
     j.corner_edge.assign(corners.size(), -1);
-    for (std::size_t i = 0; i < corners.size(); ++i) {
-        const int c = corners[i].second, f = c / 4;
-        if (i > 0 && corners[i - 1].first == corners[i].first) {
-            if (j.edge_faces.back()[1] >= 0) return "an edge of face " + std::to_string(f) + " has more than two faces";
-            j.edge_faces.back()[1] = f;
-        } else {
-            j.edge_ends.push_back({static_cast<int>(corners[i].first >> 32), static_cast<int>(corners[i].first & 0xffffffffu)});
-            j.edge_faces.push_back({f, -1});
+    for (int v = 0; v < nv; ++v)
+        for (int i = begin[v]; i < begin[v + 1]; ++i) {
+            const int c = corners[i];
+            if (j.corner_edge[c] >= 0) continue;
+            const int e = static_cast<int>(j.edge_faces.size());
+            j.edge_ends.push_back({v, ends(c).second});
+            j.edge_faces.push_back({c / 4, -1});
+            j.corner_edge[c] = e;
+            for (int k = i + 1; k < begin[v + 1]; ++k) {
+                const int d = corners[k];
+                if (ends(d).second != ends(c).second) continue;
+                if (j.edge_faces[e][1] >= 0) return "an edge of face " + std::to_string(d / 4) + " has more than two faces";
+                j.edge_faces[e][1] = d / 4;
+                j.corner_edge[d] = e;
+            }
         }
-        j.corner_edge[c] = static_cast<int>(j.edge_faces.size()) - 1;
-    }
     j.star_begin.assign(nv + 1, 0);
     for (const auto& [a, b] : j.edge_ends) ++j.star_begin[a + 1], ++j.star_begin[b + 1];
     std::partial_sum(j.star_begin.begin(), j.star_begin.end(), j.star_begin.begin());
     j.star.resize(2 * j.edge_ends.size());
-    std::vector<int> fill(j.star_begin.begin(), j.star_begin.end() - 1);
+    std::vector<int> at(j.star_begin.begin(), j.star_begin.end() - 1);
     for (int e = 0; e < static_cast<int>(j.edge_ends.size()); ++e) {
         const auto [a, b] = j.edge_ends[e];
-        j.star[fill[a]++] = {b, e};
-        j.star[fill[b]++] = {a, e};
+        j.star[at[a]++] = {b, e};
+        j.star[at[b]++] = {a, e};
     }
     return "";
 }

@@ -9,10 +9,16 @@
 namespace qex::layout {
 namespace {
 
-std::uint64_t edge_key(int a, int b) {
-    const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
-    return lo << 32 | hi;
-}
+/// The half-edges bucketed by their smaller vertex (a counting sort: no comparison sort needed).
+struct Buckets {
+    std::vector<int> begin, items;
+    Buckets(const QuadTopology& t) : begin(t.vertices + 1, 0), items(4 * static_cast<std::size_t>(t.faces)) {
+        for (int h = 0; h < 4 * t.faces; ++h) ++begin[std::min(t.from(h), t.to(h)) + 1];
+        std::partial_sum(begin.begin(), begin.end(), begin.begin());
+        std::vector<int> fill(begin.begin(), begin.end() - 1);
+        for (int h = 0; h < 4 * t.faces; ++h) items[fill[std::min(t.from(h), t.to(h))]++] = h;
+    }
+};
 
 /// Faces must be quads of four distinct vertices in range.
 std::string check_faces(const QuadMesh& mesh) {
@@ -29,44 +35,48 @@ std::string check_faces(const QuadMesh& mesh) {
     return "";
 }
 
-/// Twins from the half-edges sorted by edge; `keys` stays sorted for the feature look-ups.
-std::string pair_twins(QuadTopology& t, std::vector<std::pair<std::uint64_t, int>>& keys) {
-    const int halfedges = 4 * t.faces;
-    keys.resize(halfedges);
-    for (int h = 0; h < halfedges; ++h) keys[h] = {edge_key(t.from(h), t.to(h)), h};
-    std::sort(keys.begin(), keys.end());
-    t.twin.assign(halfedges, -1);
-    t.cut.assign(halfedges, 0);
-    for (int i = 0; i < halfedges;) {
-        int j = i;
-        while (j < halfedges && keys[j].first == keys[i].first) ++j;
-        const int a = keys[i].second;
-        if (j - i > 2) return "edge of vertices " + std::to_string(t.from(a)) + " and " + std::to_string(t.to(a)) +
-                              " has more than two faces";
-        if (j - i == 2) {
-            const int b = keys[i + 1].second;
+/// Twins: the half-edges of one edge found in the bucket of its smaller vertex.
+std::string pair_twins(QuadTopology& t, const Buckets& buckets) {
+    t.twin.assign(4 * static_cast<std::size_t>(t.faces), -1);
+    t.cut.assign(t.twin.size(), 0);
+    std::vector<char> done(t.twin.size(), 0);
+    for (int v = 0; v < t.vertices; ++v)
+        for (int i = buckets.begin[v]; i < buckets.begin[v + 1]; ++i) {
+            const int a = buckets.items[i], other = std::max(t.from(a), t.to(a));
+            if (done[a]) continue;
+            int b = -1;
+            for (int k = i + 1; k < buckets.begin[v + 1]; ++k) {
+                const int c = buckets.items[k];
+                if (std::max(t.from(c), t.to(c)) != other) continue;
+                if (b >= 0) return "edge of vertices " + std::to_string(v) + " and " + std::to_string(other) +
+                                   " has more than two faces";
+                b = c;
+            }
+            if (b < 0) {
+                t.cut[a] = 1;
+                continue;
+            }
             if (t.from(a) == t.from(b))
-                return "faces " + std::to_string(a / 4) + " and " + std::to_string(b / 4) +
-                       " are inconsistently oriented";
+                return "faces " + std::to_string(a / 4) + " and " + std::to_string(b / 4) + " are inconsistently oriented";
             t.twin[a] = b;
             t.twin[b] = a;
-        } else {
-            t.cut[a] = 1;
+            done[b] = 1;
         }
-        i = j;
-    }
     return "";
 }
 
-std::string mark_features(QuadTopology& t, const std::vector<std::pair<std::uint64_t, int>>& keys,
-                          const LayoutOptions& options) {
+std::string mark_features(QuadTopology& t, const Buckets& buckets, const LayoutOptions& options) {
     t.feature.assign(t.vertices, 0);
     for (const auto& e : options.feature_edges) {
-        const std::uint64_t key = edge_key(e[0], e[1]);
-        auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(key, -1));
-        if (e[0] == e[1] || it == keys.end() || it->first != key)
-            return "feature edge " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " is not an edge of the mesh";
-        for (; it != keys.end() && it->first == key; ++it) t.cut[it->second] = 1;
+        const int lo = std::min(e[0], e[1]), hi = std::max(e[0], e[1]);
+        bool found = false;
+        for (int i = buckets.begin[lo]; i < buckets.begin[lo + 1] && lo != hi; ++i) {
+            const int h = buckets.items[i];
+            if (std::max(t.from(h), t.to(h)) != hi) continue;
+            t.cut[h] = 1;
+            found = true;
+        }
+        if (!found) return "feature edge " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " is not an edge of the mesh";
         t.feature[e[0]] = t.feature[e[1]] = 1;
     }
     return "";
@@ -104,12 +114,12 @@ std::string build_topology(const QuadMesh& mesh, const LayoutOptions& options, Q
     t.vertices = static_cast<int>(mesh.positions.size());
     t.faces = static_cast<int>(mesh.faces.size());
     if (std::string e = check_faces(mesh); !e.empty()) return e;
-    std::vector<std::pair<std::uint64_t, int>> keys;
-    if (std::string e = pair_twins(t, keys); !e.empty()) return e;
+    const Buckets buckets(t);
+    if (std::string e = pair_twins(t, buckets); !e.empty()) return e;
     for (const auto& e : options.feature_edges)
         if (e[0] < 0 || e[1] < 0 || e[0] >= t.vertices || e[1] >= t.vertices)
             return "feature edge " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " is out of range";
-    if (std::string e = mark_features(t, keys, options); !e.empty()) return e;
+    if (std::string e = mark_features(t, buckets, options); !e.empty()) return e;
     if (std::string e = build_fans(t); !e.empty()) return e;
     std::vector<int> order(t.vertices);
     std::iota(order.begin(), order.end(), 0);
