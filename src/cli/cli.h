@@ -84,6 +84,7 @@ struct DrawArgs {
     long long around = -1;
     double radius = 6.0;
     bool png = false;
+    bool layout = false; ///< with --quads: draw the mesh's quad layout instead of its defects
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);
 int run_draw(const DrawArgs& a);
