@@ -231,10 +231,11 @@ TEST_P(RealMapLayout, IsCheckedAndCanonicalAndCheap) {
     serial.threads = 1;
     const Result r1 = extract(in, serial);
     EXPECT_TRUE(picture(r1.mesh, extract_layout(r1.mesh)) == want);
-    std::printf("[ layout   ] %s: %zu faces, %zu patches, %zu separatrices, %zu special vertices; layout %.2f ms, "
-                "extraction %.1f ms (%.2f%%)\n",
-                GetParam(), r.mesh.faces.size(), l.patches.size(), l.separatrices.size(), l.special_vertices.size(),
-                1e3 * layout_seconds, 1e3 * extract_seconds, 100 * layout_seconds / extract_seconds);
+    std::printf(
+        "[ layout   ] %s: %zu faces, %zu patches, %zu separatrices, %zu special vertices; layout %.2f ms, "
+        "extraction %.1f ms (%.2f%%)\n",
+        GetParam(), r.mesh.faces.size(), l.patches.size(), l.separatrices.size(), l.special_vertices.size(),
+        1e3 * layout_seconds, 1e3 * extract_seconds, 100 * layout_seconds / extract_seconds);
     EXPECT_LT(layout_seconds, 0.1 * extract_seconds);
 }
 

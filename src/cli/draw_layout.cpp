@@ -43,7 +43,8 @@ struct Drawn {
 std::string layout_view(const QuadMesh& mesh, const Layout& layout, const std::vector<std::array<int, 4>>& sep_edges,
                         const LayoutView& v, double x0, double y0, const Vec3& lo, const Vec3& hi) {
     const Vec3 mid = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-12}), scale = (kPanel - 40) / extent;
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-12}),
+                 scale = (kPanel - 40) / extent;
     const auto at = [&](int i) {
         const Vec3& p = mesh.positions[i];
         const Vec3 d = {p[0] - mid[0], p[1] - mid[1], p[2] - mid[2]};
@@ -76,8 +77,9 @@ std::string layout_view(const QuadMesh& mesh, const Layout& layout, const std::v
         const double d = std::max(e[2] >= 0 ? depth[e[2]] : -1e300, e[3] >= 0 ? depth[e[3]] : -1e300);
         if (d == -1e300) continue;
         const Vec2 a = at(e[0]), b = at(e[1]);
-        items.push_back({d + 1e-9 * extent, "<line x1=\"" + num(a[0]) + "\" y1=\"" + num(a[1]) + "\" x2=\"" + num(b[0]) +
-                                                "\" y2=\"" + num(b[1]) + "\" stroke=\"#101010\" stroke-width=\"2.2\"/>\n"});
+        items.push_back({d + 1e-9 * extent, "<line x1=\"" + num(a[0]) + "\" y1=\"" + num(a[1]) + "\" x2=\"" +
+                                                num(b[0]) + "\" y2=\"" + num(b[1]) +
+                                                "\" stroke=\"#101010\" stroke-width=\"2.2\"/>\n"});
     }
     std::stable_sort(items.begin(), items.end(), [](const Drawn& a, const Drawn& b) { return a.depth < b.depth; });
     std::string s = "<g stroke=\"#506070\" stroke-width=\"0.3\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n";
@@ -119,7 +121,8 @@ std::string draw_layout(const QuadMesh& mesh, const Layout& layout, const std::s
     const double margin = 20, top = 40;
     const auto edges = separatrix_edges(mesh, layout);
     std::string s = text(margin, 26, title, "font-size=\"16\" font-weight=\"bold\"");
-    for (int i = 0; i < 3; ++i) s += layout_view(mesh, layout, edges, views[i], margin + i * (kPanel + margin), top, lo, hi);
+    for (int i = 0; i < 3; ++i)
+        s += layout_view(mesh, layout, edges, views[i], margin + i * (kPanel + margin), top, lo, hi);
     width = 3 * kPanel + 4 * margin;
     height = top + kPanel + margin;
     return s;

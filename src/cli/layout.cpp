@@ -92,7 +92,8 @@ int run_layout(const LayoutArgs& a) {
         Input input;
         if (const int code = read_map(a.param_path, input); code != kOk) return code;
         if (const Error e = validate(input); e.code != ErrorCode::None) {
-            std::cerr << "qex: " << a.param_path << ": invalid input (" << to_string(e.code) << "): " << e.message << "\n";
+            std::cerr << "qex: " << a.param_path << ": invalid input (" << to_string(e.code) << "): " << e.message
+                      << "\n";
             return kBadInput;
         }
         VerifyOptions vo;

@@ -75,7 +75,8 @@ std::string build_edge_table(Judge& j) {
             for (int k = i + 1; k < begin[v + 1]; ++k) {
                 const int d = corners[k];
                 if (ends(d).second != ends(c).second) continue;
-                if (j.edge_faces[e][1] >= 0) return "an edge of face " + std::to_string(d / 4) + " has more than two faces";
+                if (j.edge_faces[e][1] >= 0)
+                    return "an edge of face " + std::to_string(d / 4) + " has more than two faces";
                 j.edge_faces[e][1] = d / 4;
                 j.corner_edge[d] = e;
             }
@@ -153,7 +154,8 @@ std::string check_separatrices(Judge& j, const Layout& layout) {
         for (std::size_t i = 0; i + 1 < p.size(); ++i) {
             const int e = j.find_edge(p[i], p[i + 1]);
             if (e < 0) return name + " leaves the mesh edges at vertex " + std::to_string(p[i]);
-            if (j.edge_layout[e]) return name + " runs along a cut or another separatrix at vertex " + std::to_string(p[i]);
+            if (j.edge_layout[e])
+                return name + " runs along a cut or another separatrix at vertex " + std::to_string(p[i]);
             j.edge_layout[e] = 1;
         }
         for (std::size_t i = 1; i + 1 < p.size(); ++i) {
@@ -169,17 +171,17 @@ std::string check_separatrices(Judge& j, const Layout& layout) {
         const int a = x.vertices.front(), z = x.vertices.back();
         bool start = false, end = false;
         switch (x.start) {
-        case SeparatrixStart::IrregularVertex: start = j.special[a] && !j.cut(a); break;
-        case SeparatrixStart::BoundaryVertex: start = j.special[a] && j.boundary[a]; break;
-        case SeparatrixStart::FeatureVertex: start = j.special[a] && j.feature[a] && !j.boundary[a]; break;
-        case SeparatrixStart::Cut: start = !j.special[a] && (j.cut(a) || inner[a]); break;
+            case SeparatrixStart::IrregularVertex: start = j.special[a] && !j.cut(a); break;
+            case SeparatrixStart::BoundaryVertex: start = j.special[a] && j.boundary[a]; break;
+            case SeparatrixStart::FeatureVertex: start = j.special[a] && j.feature[a] && !j.boundary[a]; break;
+            case SeparatrixStart::Cut: start = !j.special[a] && (j.cut(a) || inner[a]); break;
         }
         switch (x.end) {
-        case SeparatrixEnd::SpecialVertex:
-        case SeparatrixEnd::HeadOn: end = j.special[z]; break;
-        case SeparatrixEnd::Boundary: end = !j.special[z] && j.boundary[z]; break;
-        case SeparatrixEnd::Feature: end = !j.special[z] && j.feature[z] && !j.boundary[z]; break;
-        case SeparatrixEnd::Separatrix: end = !j.special[z] && !j.cut(z) && inner[z]; break;
+            case SeparatrixEnd::SpecialVertex:
+            case SeparatrixEnd::HeadOn: end = j.special[z]; break;
+            case SeparatrixEnd::Boundary: end = !j.special[z] && j.boundary[z]; break;
+            case SeparatrixEnd::Feature: end = !j.special[z] && j.feature[z] && !j.boundary[z]; break;
+            case SeparatrixEnd::Separatrix: end = !j.special[z] && !j.cut(z) && inner[z]; break;
         }
         if (!start) return "separatrix " + std::to_string(s) + " does not start as " + to_string(x.start) + " says";
         if (!end) return "separatrix " + std::to_string(s) + " does not end as " + to_string(x.end) + " says";
@@ -193,7 +195,8 @@ std::string check_cover(const Judge& j, const Layout& layout) {
     if (static_cast<int>(layout.face_patch.size()) != nf) return "face_patch does not name a patch per face";
     std::vector<std::vector<int>> members(np);
     for (int f = 0; f < nf; ++f) {
-        if (layout.face_patch[f] < 0 || layout.face_patch[f] >= np) return "face " + std::to_string(f) + " has no patch";
+        if (layout.face_patch[f] < 0 || layout.face_patch[f] >= np)
+            return "face " + std::to_string(f) + " has no patch";
         members[layout.face_patch[f]].push_back(f);
     }
     Find pieces(nf);
@@ -201,9 +204,11 @@ std::string check_cover(const Judge& j, const Layout& layout) {
         const auto [f, g] = j.edge_faces[e];
         if (g < 0) continue;
         const bool apart = layout.face_patch[f] != layout.face_patch[g];
-        if (apart && !j.edge_layout[e]) return "faces " + std::to_string(f) + " and " + std::to_string(g) +
-                                               " are in different patches across an edge on no separatrix";
-        if (!apart && j.edge_layout[e]) return "a separatrix or cut runs inside patch " + std::to_string(layout.face_patch[f]);
+        if (apart && !j.edge_layout[e])
+            return "faces " + std::to_string(f) + " and " + std::to_string(g) +
+                   " are in different patches across an edge on no separatrix";
+        if (!apart && j.edge_layout[e])
+            return "a separatrix or cut runs inside patch " + std::to_string(layout.face_patch[f]);
         if (!apart) pieces.join(f, g);
     }
     for (int p = 0; p < np; ++p) {
@@ -238,7 +243,8 @@ Find patch_vertices(const Judge& j) {
 struct Groups {
     Find find;
     std::vector<int> faces_at, vertex, next;
-    explicit Groups(Find f) : find(std::move(f)), faces_at(find.up.size(), 0), vertex(find.up.size(), -1), next(find.up.size(), -1) {}
+    explicit Groups(Find f)
+        : find(std::move(f)), faces_at(find.up.size(), 0), vertex(find.up.size(), -1), next(find.up.size(), -1) {}
 };
 
 /// Walks a rectangle's boundary from a corner at corners[0]: sides u, v, u, v to corners[1..3, 0],
@@ -274,18 +280,20 @@ std::string check_patch(const Judge& j, Groups& gs, const Layout& layout, int p)
             const bool on_rim = j.edge_layout[j.corner_edge[4 * f + k]] != 0;
             twice_edges += on_rim ? 2 : 1;
             if (!on_rim) continue;
-            if (gs.next[g] >= 0) return name + " has a boundary that branches at vertex " + std::to_string(gs.vertex[g]);
+            if (gs.next[g] >= 0)
+                return name + " has a boundary that branches at vertex " + std::to_string(gs.vertex[g]);
             gs.next[g] = gs.find.root(4 * f + (k + 1) % 4);
             ++rim;
         }
-    const long long euler = static_cast<long long>(touched.size()) - twice_edges / 2 +
-                            static_cast<long long>(patch.faces.size());
+    const long long euler =
+        static_cast<long long>(touched.size()) - twice_edges / 2 + static_cast<long long>(patch.faces.size());
     std::vector<int> corners, starts;
     std::string problem;
     for (const int g : touched) {
         const int v = gs.vertex[g], n = gs.faces_at[g];
         const bool on_rim = gs.next[g] >= 0;
-        if (!on_rim && (n != 4 || j.special[v] || j.cut(v))) problem = name + " has an irregular vertex inside: " + std::to_string(v);
+        if (!on_rim && (n != 4 || j.special[v] || j.cut(v)))
+            problem = name + " has an irregular vertex inside: " + std::to_string(v);
         if (on_rim && n > 2) problem = name + " has a concave corner at vertex " + std::to_string(v);
         if (on_rim && n == 1) corners.push_back(v);
         if (on_rim && n == 1 && v == patch.corners[0]) starts.push_back(g);
@@ -300,7 +308,8 @@ std::string check_patch(const Judge& j, Groups& gs, const Layout& layout, int p)
     std::array<int, 4> given = patch.corners;
     std::sort(given.begin(), given.end());
     if (problem.empty() && patch.kind == PatchKind::Rectangle) {
-        if (!std::equal(corners.begin(), corners.end(), given.begin())) problem = name + " does not name its corners";
+        if (!std::equal(corners.begin(), corners.end(), given.begin()))
+            problem = name + " does not name its corners";
         else if (std::none_of(starts.begin(), starts.end(), [&](int g) { return sides_match(patch, gs, g, rim); }))
             problem = name + "'s boundary is not one loop of sides u, v, u, v from corners[0]";
     }
@@ -318,7 +327,8 @@ std::string check_adjacency(const Judge& j, const Layout& layout) {
     for (const auto& [ab, n] : shared) {
         const PatchAdjacency& x = layout.adjacency[i++];
         if (x.a != ab.first || x.b != ab.second || x.shared_edges != n)
-            return "the adjacency of patches " + std::to_string(ab.first) + " and " + std::to_string(ab.second) + " is wrong";
+            return "the adjacency of patches " + std::to_string(ab.first) + " and " + std::to_string(ab.second) +
+                   " is wrong";
     }
     return "";
 }

@@ -51,7 +51,8 @@ std::string find_patches(const QuadTopology& t, layout::Motorcycles& m, Layout& 
             layout::PatchShape s = layout::analyse_patch(t, is_layout, out.face_patch, faces[p], stamp);
             if (s.needs_cut && round < 3) {
                 for (const int h : s.cuts) layout::add_trace(m, t.from(h), h, SeparatrixStart::Cut);
-                out.notes.push_back(s.problem + ": cut across from its boundary vertex " + std::to_string(t.from(s.cuts[0])) +
+                out.notes.push_back(s.problem + ": cut across from its boundary vertex " +
+                                    std::to_string(t.from(s.cuts[0])) +
                                     (s.cuts.size() > 1 ? " and " + std::to_string(t.from(s.cuts[1])) : ""));
                 cut = true;
             } else if (!s.ok) {
@@ -104,21 +105,21 @@ Layout extract_layout(const QuadMesh& mesh, const LayoutOptions& options) {
 
 const char* to_string(SeparatrixStart s) {
     switch (s) {
-    case SeparatrixStart::IrregularVertex: return "IrregularVertex";
-    case SeparatrixStart::BoundaryVertex: return "BoundaryVertex";
-    case SeparatrixStart::FeatureVertex: return "FeatureVertex";
-    case SeparatrixStart::Cut: return "Cut";
+        case SeparatrixStart::IrregularVertex: return "IrregularVertex";
+        case SeparatrixStart::BoundaryVertex: return "BoundaryVertex";
+        case SeparatrixStart::FeatureVertex: return "FeatureVertex";
+        case SeparatrixStart::Cut: return "Cut";
     }
     return "?";
 }
 
 const char* to_string(SeparatrixEnd e) {
     switch (e) {
-    case SeparatrixEnd::SpecialVertex: return "SpecialVertex";
-    case SeparatrixEnd::Boundary: return "Boundary";
-    case SeparatrixEnd::Feature: return "Feature";
-    case SeparatrixEnd::Separatrix: return "Separatrix";
-    case SeparatrixEnd::HeadOn: return "HeadOn";
+        case SeparatrixEnd::SpecialVertex: return "SpecialVertex";
+        case SeparatrixEnd::Boundary: return "Boundary";
+        case SeparatrixEnd::Feature: return "Feature";
+        case SeparatrixEnd::Separatrix: return "Separatrix";
+        case SeparatrixEnd::HeadOn: return "HeadOn";
     }
     return "?";
 }

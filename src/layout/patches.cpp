@@ -82,7 +82,8 @@ bool torus_size(const QuadTopology& t, const std::vector<int>& faces, Patch& p) 
 }
 
 /// Whether a patch's boundary half-edge has the patch on its other side too.
-bool glued_to_itself(const QuadTopology& t, const std::vector<int>& face_patch, const std::vector<int>& halfedges, int p) {
+bool glued_to_itself(const QuadTopology& t, const std::vector<int>& face_patch, const std::vector<int>& halfedges,
+                     int p) {
     for (const int h : halfedges)
         if (t.twin[h] >= 0 && face_patch[t.twin[h] / 4] == p) return true;
     return false;
@@ -194,8 +195,9 @@ PatchShape analyse_patch(const QuadTopology& t, const std::vector<char>& is_layo
                              std::to_string(concave) + " concave corners, " + std::to_string(pinched) + " pinches";
     if (loops.size() == 1 && euler == 1 && corners == 4 && concave == 0) {
         s.ok = rectangle_size(t, loops[0], static_cast<int>(faces.size()), s.patch);
-        if (!s.ok) s.problem = "a disk with 4 corners whose sides (" + std::to_string(s.patch.u) + " x " +
-                               std::to_string(s.patch.v) + ") do not match its faces";
+        if (!s.ok)
+            s.problem = "a disk with 4 corners whose sides (" + std::to_string(s.patch.u) + " x " +
+                        std::to_string(s.patch.v) + ") do not match its faces";
         if (s.ok && glued_to_itself(t, face_patch, loops[0].halfedges, p)) {
             s.ok = false;
             s.needs_cut = true;

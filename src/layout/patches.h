@@ -13,14 +13,14 @@ namespace qex::layout {
 
 struct PatchShape {
     Patch patch;
-    bool ok = false;       ///< a rectangle or a torus
+    bool ok = false; ///< a rectangle or a torus
     /// An annulus (two boundary loops without corners), or a rectangle glued to itself along a
     /// separatrix: to be cut along `cuts`, the outgoing half-edges the cuts start along. An
     /// annulus is cut twice, from its first boundary vertex and from the vertex half way round
     /// that loop, so that each piece is a rectangle embedded in the mesh.
     bool needs_cut = false;
     std::vector<int> cuts;
-    std::string problem;   ///< why it is neither
+    std::string problem; ///< why it is neither
 };
 
 /// Numbers the patches (canonically: by their first face in the vertex order) into `face_patch`;
@@ -29,8 +29,8 @@ std::vector<std::vector<int>> number_patches(const QuadTopology& topo, const std
                                              std::vector<int>& face_patch);
 
 /// The shape of the patch with faces `faces` (increasing); `stamp` is scratch (per vertex, -1 initially).
-PatchShape analyse_patch(const QuadTopology& topo, const std::vector<char>& is_layout, const std::vector<int>& face_patch,
-                         const std::vector<int>& faces, std::vector<int>& stamp);
+PatchShape analyse_patch(const QuadTopology& topo, const std::vector<char>& is_layout,
+                         const std::vector<int>& face_patch, const std::vector<int>& faces, std::vector<int>& stamp);
 
 /// The pairs of patches that share mesh edges, sorted.
 std::vector<PatchAdjacency> patch_adjacency(const QuadTopology& topo, const std::vector<int>& face_patch);

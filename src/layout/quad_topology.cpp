@@ -48,8 +48,9 @@ std::string pair_twins(QuadTopology& t, const Buckets& buckets) {
             for (int k = i + 1; k < buckets.begin[v + 1]; ++k) {
                 const int c = buckets.items[k];
                 if (std::max(t.from(c), t.to(c)) != other) continue;
-                if (b >= 0) return "edge of vertices " + std::to_string(v) + " and " + std::to_string(other) +
-                                   " has more than two faces";
+                if (b >= 0)
+                    return "edge of vertices " + std::to_string(v) + " and " + std::to_string(other) +
+                           " has more than two faces";
                 b = c;
             }
             if (b < 0) {
@@ -57,7 +58,8 @@ std::string pair_twins(QuadTopology& t, const Buckets& buckets) {
                 continue;
             }
             if (t.from(a) == t.from(b))
-                return "faces " + std::to_string(a / 4) + " and " + std::to_string(b / 4) + " are inconsistently oriented";
+                return "faces " + std::to_string(a / 4) + " and " + std::to_string(b / 4) +
+                       " are inconsistently oriented";
             t.twin[a] = b;
             t.twin[b] = a;
             done[b] = 1;
@@ -76,7 +78,8 @@ std::string mark_features(QuadTopology& t, const Buckets& buckets, const LayoutO
             t.cut[h] = 1;
             found = true;
         }
-        if (!found) return "feature edge " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " is not an edge of the mesh";
+        if (!found)
+            return "feature edge " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " is not an edge of the mesh";
         t.feature[e[0]] = t.feature[e[1]] = 1;
     }
     return "";
@@ -102,7 +105,8 @@ std::string build_fans(QuadTopology& t) {
             t.fan[k++] = o;
             if (t.rot(o) == first[v]) break;
         }
-        if (k != t.fan_begin[v + 1]) return "vertex " + std::to_string(v) + " is not manifold (its faces form several fans)";
+        if (k != t.fan_begin[v + 1])
+            return "vertex " + std::to_string(v) + " is not manifold (its faces form several fans)";
     }
     return "";
 }

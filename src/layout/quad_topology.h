@@ -14,13 +14,13 @@ namespace qex::layout {
 struct QuadTopology {
     const QuadMesh* mesh = nullptr;
     int vertices = 0, faces = 0;
-    std::vector<int> twin;       ///< per half-edge; -1 on the boundary
-    std::vector<char> cut;       ///< per half-edge: a boundary or feature edge
-    std::vector<int> fan_begin;  ///< per vertex + 1: its range in `fan`
-    std::vector<int> fan;        ///< outgoing half-edges, each the rot() of the one before
-    std::vector<char> boundary;  ///< per vertex: on the boundary
-    std::vector<char> feature;   ///< per vertex: on a feature edge
-    std::vector<int> rank;       ///< per vertex: its place in the canonical order (position, index)
+    std::vector<int> twin;      ///< per half-edge; -1 on the boundary
+    std::vector<char> cut;      ///< per half-edge: a boundary or feature edge
+    std::vector<int> fan_begin; ///< per vertex + 1: its range in `fan`
+    std::vector<int> fan;       ///< outgoing half-edges, each the rot() of the one before
+    std::vector<char> boundary; ///< per vertex: on the boundary
+    std::vector<char> feature;  ///< per vertex: on a feature edge
+    std::vector<int> rank;      ///< per vertex: its place in the canonical order (position, index)
 
     int from(int h) const { return mesh->faces[h / 4][h % 4]; }
     int to(int h) const { return mesh->faces[h / 4][(h + 1) % 4]; }
