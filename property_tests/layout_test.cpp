@@ -2,6 +2,7 @@
 // patches, a torus without separatrix, disks and an annulus with boundary corners), the check
 // rejecting broken layouts, invariance under input order, and the shared real maps (the check
 // accepts each layout, patch sizes sum to the face count, the layout's time against extraction's).
+#include "quad_grids.h"
 #include "test_support.h"
 
 #include "qex/layout.h"
@@ -168,6 +169,51 @@ TEST(Layout, TheSameForAnyOrderOfFacesCornersAndVertices) {
             EXPECT_TRUE(picture(other, expect_layout(other)) == want) << "seed " << seed;
         }
     }
+}
+
+TEST(Layout, EveryGeneratedMapAtEveryScale) {
+    for (const QuadLayout& q : {cube_layout(), torus_layout(), icosahedron_layout(), prism_layout(3), prism_layout(6),
+                                disk_layout(2), annulus_layout(5, 1), annulus_layout(3, 3), torus_layout(3, 5)})
+        for (int n = 1; n <= 4; ++n) {
+            SCOPED_TRACE(q.name + " n=" + std::to_string(n));
+            const QuadMesh mesh = mesh_of(q, n);
+            const Layout l = expect_layout(mesh);
+            const QuadMesh other = shuffled(mesh, 11u + n);
+            EXPECT_TRUE(picture(other, expect_layout(other)) == picture(mesh, l));
+        }
+}
+
+/// Grids on the plane, a cylinder and a torus with random faces left out: every mesh the layout
+/// takes (an oriented manifold) gets a layout the check accepts, the same when shuffled.
+TEST(Layout, GridsWithHoles) {
+    std::mt19937 rng(33);
+    int valid = 0, refused = 0, cut = 0;
+    for (int round = 0; round < 600; ++round) {
+        const int w = 3 + static_cast<int>(rng() % 8), h = 3 + static_cast<int>(rng() % 8), kind = round % 4;
+        std::vector<char> keep(w * h, 1);
+        const int holes = static_cast<int>(rng() % (w * h / 3 + 1));
+        for (int k = 0; k < holes; ++k) keep[rng() % keep.size()] = 0;
+        const QuadMesh mesh = quad_grid(w, h, kind & 1, kind & 2, keep);
+        if (mesh.faces.empty()) continue;
+        const Layout l = extract_layout(mesh);
+        if (!l.valid) {
+            // Only a mesh that is no oriented manifold is refused, before any tracing.
+            EXPECT_EQ(l.error.rfind("no layout: vertex", 0), 0u) << "round " << round << ": " << l.error;
+            ++refused;
+            continue;
+        }
+        ++valid;
+        cut += !l.notes.empty();
+        long long area = 0;
+        for (const Patch& p : l.patches) area += static_cast<long long>(p.u) * p.v;
+        EXPECT_EQ(area, static_cast<long long>(mesh.faces.size())) << "round " << round;
+        const QuadMesh other = shuffled(mesh, static_cast<std::uint32_t>(round));
+        EXPECT_TRUE(picture(other, extract_layout(other)) == picture(mesh, l)) << "round " << round;
+    }
+    std::printf(
+        "[ layout   ] grids with holes: %d valid layouts (%d with a cut or a torus), %d refused as non-manifold\n",
+        valid, cut, refused);
+    EXPECT_GT(valid, 300);
 }
 
 TEST(Layout, TheCheckRejectsABrokenLayout) {
