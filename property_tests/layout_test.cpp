@@ -185,6 +185,29 @@ TEST(Layout, EveryGeneratedMapAtEveryScale) {
 
 /// Grids on the plane, a cylinder and a torus with random faces left out: every mesh the layout
 /// takes (an oriented manifold) gets a layout the check accepts, the same when shuffled.
+/// A planar polygon split into quads round its centre: an irregular vertex (valence = sides) with
+/// separatrices to the boundary, and a corner of one face at each of the polygon's corners.
+TEST(Layout, PolygonsSplitRoundTheirCentre) {
+    const double pi = std::acos(-1.0);
+    for (int sides = 3; sides <= 6; ++sides) {
+        std::vector<std::array<double, 3>> corners;
+        std::vector<int> polygon;
+        for (int i = 0; i < sides; ++i) {
+            corners.push_back({std::cos(2 * pi * i / sides), std::sin(2 * pi * i / sides), 0.0});
+            polygon.push_back(i);
+        }
+        for (int n = 1; n <= 3; ++n) {
+            SCOPED_TRACE(std::to_string(sides) + " sides, n=" + std::to_string(n));
+            const QuadMesh mesh = mesh_of(split_polygons("polygon", corners, {polygon}), n);
+            const Layout l = expect_layout(mesh);
+            // A square's centre is regular: one patch of 2n x 2n.
+            EXPECT_EQ(l.patches.size(), sides == 4 ? 1u : static_cast<std::size_t>(sides));
+            for (const Patch& p : l.patches) EXPECT_EQ(p.u * p.v, sides == 4 ? 4 * n * n : n * n);
+            EXPECT_EQ(l.special_vertices.size(), static_cast<std::size_t>(sides == 4 ? 4 : sides + 1));
+        }
+    }
+}
+
 TEST(Layout, GridsWithHoles) {
     std::mt19937 rng(33);
     int valid = 0, refused = 0, cut = 0;
