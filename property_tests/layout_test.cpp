@@ -151,6 +151,30 @@ TEST(Layout, ADiskWithAConcaveCornerAndAFeature) {
     EXPECT_GT(lf.patches.size(), l.patches.size());
 }
 
+/// Feature edges of the map along the iso-line u = 2 of every face of a 4 x 4 cube: the mesh's edges
+/// on them (through the provenance) cut the layout, each face's line ending on the cube's edges.
+TEST(Layout, TheMapsFeatureEdgesCutTheLayout) {
+    Input in = make_map(cube_layout(), 4, 4);
+    for (std::size_t t = 0; t < in.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const auto &a = in.uvs[3 * t + k], &b = in.uvs[3 * t + (k + 1) % 3];
+            if (a[0] == 2 && b[0] == 2) in.feature_edges.push_back({in.triangles[t][k], in.triangles[t][(k + 1) % 3]});
+        }
+    ASSERT_FALSE(in.feature_edges.empty());
+    const Result r = extract_valid(in);
+    LayoutOptions options;
+    options.feature_edges = quad_feature_edges(in, r.mesh);
+    EXPECT_EQ(options.feature_edges.size(), 24u); // 4 edges across each face
+    const Layout plain = expect_layout(r.mesh), cut = expect_layout(r.mesh, options);
+    EXPECT_EQ(plain.patches.size(), 6u);
+    EXPECT_GT(cut.patches.size(), 6u);
+    // A feature line ending on a cube edge makes its end a feature corner (a sector of 4 faces).
+    EXPECT_TRUE(std::any_of(cut.separatrices.begin(), cut.separatrices.end(),
+                            [](const Separatrix& s) { return s.start == SeparatrixStart::FeatureVertex; }));
+    std::printf("[ layout   ] the cube with feature lines: %zu patches, %zu separatrices\n", cut.patches.size(),
+                cut.separatrices.size());
+}
+
 TEST(Layout, MoreSingularities) {
     for (const QuadLayout& q : {icosahedron_layout(), prism_layout(5), prism_layout(3)}) {
         SCOPED_TRACE(q.name);

@@ -114,6 +114,12 @@ Layout extract_layout(const QuadMesh& mesh, const LayoutOptions& options = {});
 /// says; the adjacency is the patches' shared edges. Returns the first problem found, or "".
 std::string check_layout(const QuadMesh& mesh, const Layout& layout, const LayoutOptions& options = {});
 
+/// The edges of qex's mesh (with its provenance) that run along the input's feature edges
+/// (Input::feature_edges, snapped onto iso-lines by the extraction): both ends on one feature
+/// edge, at one of its vertices or inside it. For LayoutOptions::feature_edges. Empty for a mesh
+/// without provenance.
+std::vector<std::array<int, 2>> quad_feature_edges(const Input& input, const QuadMesh& mesh);
+
 /// The layout as JSON: "valid", "error", "special_vertices", "separatrices" (vertices, start,
 /// end), "patches" (kind, u, v, corners, faces), "face_patch", "adjacency", "notes".
 std::string layout_json(const Layout& layout, int indent = 2);

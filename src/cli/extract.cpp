@@ -122,7 +122,11 @@ int run_extract(const ExtractArgs& a) {
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
             static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
             r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
-    if (!a.layout_path.empty()) return write_layout(a.layout_path, "", result.mesh, {}, a.quiet);
+    if (!a.layout_path.empty()) { // cut along the mesh's edges on the map's feature edges
+        LayoutOptions layout;
+        layout.feature_edges = quad_feature_edges(input, result.mesh);
+        return write_layout(a.layout_path, "", result.mesh, layout, a.quiet);
+    }
     return kOk;
 }
 
