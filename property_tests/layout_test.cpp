@@ -8,6 +8,7 @@
 #include "qex/layout.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -99,6 +100,24 @@ TEST(Layout, ACubeHasSixSquarePatches) {
         EXPECT_EQ(s.end, SeparatrixEnd::HeadOn);
     }
     EXPECT_EQ(l.adjacency.size(), 12u);
+}
+
+TEST(Layout, TheJsonSaysWhatTheStructSays) {
+    const QuadMesh mesh = mesh_of(cube_layout(), 2);
+    const Layout l = expect_layout(mesh);
+    const nlohmann::json j = nlohmann::json::parse(layout_json(l));
+    EXPECT_EQ(j["valid"], true);
+    EXPECT_EQ(j["error"], "");
+    EXPECT_EQ(j["separatrices"].size(), l.separatrices.size());
+    EXPECT_EQ(j["separatrices"][0]["end"], "HeadOn");
+    EXPECT_EQ(j["separatrices"][0]["vertices"].get<std::vector<int>>(), l.separatrices[0].vertices);
+    ASSERT_EQ(j["patches"].size(), 6u);
+    EXPECT_EQ(j["patches"][0]["u"], 2);
+    EXPECT_EQ(j["patches"][0]["kind"], "Rectangle");
+    EXPECT_EQ(j["patches"][0]["faces"].get<std::vector<int>>(), l.patches[0].faces);
+    EXPECT_EQ(j["face_patch"].get<std::vector<int>>(), l.face_patch);
+    EXPECT_EQ(j["adjacency"].size(), 12u);
+    EXPECT_EQ(j["special_vertices"].size(), 8u);
 }
 
 TEST(Layout, ATorusHasNoSeparatrixAndOnePatch) {
