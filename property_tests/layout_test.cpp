@@ -131,6 +131,38 @@ TEST(Layout, ATorusHasNoSeparatrixAndOnePatch) {
     EXPECT_FALSE(l.notes.empty());
 }
 
+/// A torus whose grid lines in one direction close only after several turns (the v-wrap shifted
+/// by s), beside a cube: the torus one patch whatever its twist, the cube six.
+TEST(Layout, ATwistedTorusBesideACube) {
+    const double pi = std::acos(-1.0);
+    for (int s = 0; s < 5; ++s) {
+        const int w = 5, h = 3;
+        QuadMesh m;
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const double t = 2 * pi * (i + double(s) * j / h) / w, p = 2 * pi * j / h;
+                m.positions.push_back({(3 + std::cos(p)) * std::cos(t), (3 + std::cos(p)) * std::sin(t), std::sin(p)});
+            }
+        const auto id = [&](int i, int j) { return j == h ? (i + s) % w : j * w + i % w; };
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+        const QuadMesh cube = mesh_of(cube_layout(), 2);
+        const int base = static_cast<int>(m.positions.size());
+        for (const auto& p : cube.positions) m.positions.push_back({p[0] + 10, p[1], p[2]});
+        for (auto f : cube.faces) {
+            for (int& v : f) v += base;
+            m.faces.push_back(f);
+        }
+        SCOPED_TRACE("twist " + std::to_string(s));
+        const Layout l = expect_layout(m);
+        ASSERT_EQ(l.patches.size(), 7u);
+        EXPECT_EQ(std::count_if(l.patches.begin(), l.patches.end(),
+                                [](const Patch& p) { return p.kind == PatchKind::Torus; }),
+                  1);
+        EXPECT_EQ(l.separatrices.size(), 12u);
+    }
+}
+
 TEST(Layout, ADiskIsOneRectangleBetweenItsBoundaryCorners) {
     const QuadMesh mesh = mesh_of(disk_layout(3), 2);
     const Layout l = expect_layout(mesh);
