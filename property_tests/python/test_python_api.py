@@ -287,7 +287,11 @@ def test_docstrings_and_stubs():
         assert "Returns" in f.__doc__ or "Raises" in f.__doc__
     import pathlib
 
-    assert (pathlib.Path(qex.__file__).parent / "__init__.pyi").exists()
+    package = pathlib.Path(qex.__file__).parent
+    assert (package / "py.typed").exists() and (package / "_qex.pyi").exists()
+    # The compiled functions' docstrings, numpy-style too (after pybind11's signature line).
+    for f in (qex._qex.extract, qex._qex.verify, qex._qex.check, qex._qex.read_obj, qex._qex.write_obj):
+        assert "Parameters\n----------" in f.__doc__, f.__name__
 
 
 def test_threads_run_in_parallel_and_agree():
