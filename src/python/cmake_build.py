@@ -18,7 +18,8 @@ pyproject.toml), with these commands in place of setuptools' own:
     compiled module, so it is not a pure-Python wheel.
 ``build``, ``egg_info``
     Keep setuptools' own files under ``build/python-wheel`` (``DIR/python-wheel`` with
-    ``QEX_CMAKE_BUILD_DIR``), out of the source folders.
+    ``QEX_CMAKE_BUILD_DIR``), out of the source folders; ``build`` empties the package's folder
+    there first, so that no file since removed from src/python/qex/ reaches the wheel.
 ``sdist``
     Adds the C++ sources (CMakeLists.txt, include/, src/) that the compiled module is built from.
 
@@ -160,11 +161,16 @@ class BdistWheel(_bdist_wheel):
 
 
 class Build(_build):
-    """build, with its files under build/python-wheel (or QEX_CMAKE_BUILD_DIR/python-wheel)."""
+    """build, with its files under build/python-wheel (or QEX_CMAKE_BUILD_DIR/python-wheel), the
+    package's folder there emptied first: a file since removed from src/python/qex/ stays out."""
 
     def initialize_options(self):
         super().initialize_options()
         self.build_base = _build_base()
+
+    def run(self):
+        shutil.rmtree(os.path.join(self.build_lib, "qex"), ignore_errors=True)
+        super().run()
 
 
 class EggInfo(_egg_info):
