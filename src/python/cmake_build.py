@@ -7,8 +7,8 @@ pyproject.toml), with these commands in place of setuptools' own:
     Builds the compiled module ``qex._qex`` (the CMake target ``qex_python``) for the interpreter
     that runs the build, and copies it into the wheel. By default it configures a CMake build tree
     of its own, ``build/python-wheel/cmake``: Release, the module and the libraries it links, no
-    CLI, C API, tests, fuzzers or install rules; a second build finds it configured and recompiles
-    only what changed. ``QEX_CMAKE_BUILD_DIR=DIR`` names instead a build tree configured from this
+    CLI, C API, tests, fuzzers or install rules; a second build configures it again for the
+    interpreter running it (a fraction of a second) and recompiles only what changed. ``QEX_CMAKE_BUILD_DIR=DIR`` names instead a build tree configured from this
     checkout with the Python module on (the README's ``build``, for example): then only
     ``cmake --build DIR --target qex_python`` runs, nothing when the module is up to date.
     ``CMAKE_ARGS`` adds options to the configuration (``-DCMAKE_CXX_COMPILER_LAUNCHER=ccache``);
@@ -131,10 +131,13 @@ class BuildExt(_build_ext):
             if home is None or os.path.realpath(home) != os.path.realpath(SOURCE_DIR):
                 raise SetupError("qex: QEX_CMAKE_BUILD_DIR=%s is not a CMake build tree of %s"
                                  % (build_dir, SOURCE_DIR))
-        elif _cache_value(build_dir, "CMAKE_HOME_DIRECTORY") is None:
+        else:
+            # Configured at every build (a fraction of a second once the tree exists): the
+            # interpreter and CMAKE_ARGS may have changed since the last one.
             command = ["cmake", "-S", SOURCE_DIR, "-B", build_dir] + CMAKE_OPTIONS
             command.append("-DPython_EXECUTABLE=" + sys.executable)
-            if not os.environ.get("CMAKE_GENERATOR") and shutil.which("ninja"):
+            fresh = _cache_value(build_dir, "CMAKE_HOME_DIRECTORY") is None
+            if fresh and not os.environ.get("CMAKE_GENERATOR") and shutil.which("ninja"):
                 command += ["-G", "Ninja"]
             command += shlex.split(os.environ.get("CMAKE_ARGS", ""))
             _run(command, "configuring the CMake build tree " + build_dir)
