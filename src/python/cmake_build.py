@@ -8,8 +8,9 @@ pyproject.toml), with these commands in place of setuptools' own:
     that runs the build, and copies it into the wheel. By default it configures a CMake build tree
     of its own, ``build/python-wheel/cmake``: Release, the module and the libraries it links, no
     CLI, C API, tests, fuzzers or install rules; a second build configures it again for the
-    interpreter running it (a fraction of a second) and recompiles only what changed. ``QEX_CMAKE_BUILD_DIR=DIR`` names instead a build tree configured from this
-    checkout with the Python module on (the README's ``build``, for example): then only
+    interpreter running it (a fraction of a second) and recompiles only what changed.
+    ``QEX_CMAKE_BUILD_DIR=DIR`` names instead a build tree configured from this checkout with the
+    Python module on (the README's ``build``, for example): then only
     ``cmake --build DIR --target qex_python`` runs, nothing when the module is up to date.
     ``CMAKE_ARGS`` adds options to the configuration (``-DCMAKE_CXX_COMPILER_LAUNCHER=ccache``);
     ``CMAKE_GENERATOR`` and ``CMAKE_BUILD_PARALLEL_LEVEL`` are CMake's own variables.
@@ -41,7 +42,10 @@ from setuptools.command.build_ext import build_ext as _build_ext
 from setuptools.command.egg_info import egg_info as _egg_info
 from setuptools.command.sdist import sdist as _sdist
 from setuptools.errors import SetupError
-from wheel.bdist_wheel import bdist_wheel as _bdist_wheel
+try:  # setuptools >= 70.1 has its own; Debian 12's setuptools 66 takes wheel's
+    from setuptools.command.bdist_wheel import bdist_wheel as _bdist_wheel
+except ImportError:
+    from wheel.bdist_wheel import bdist_wheel as _bdist_wheel
 
 # The checkout: this file is src/python/cmake_build.py.
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -141,15 +145,19 @@ class BuildExt(_build_ext):
                 command += ["-G", "Ninja"]
             command += shlex.split(os.environ.get("CMAKE_ARGS", ""))
             _run(command, "configuring the CMake build tree " + build_dir)
-        _run(["cmake", "--build", build_dir, "--target", TARGET], "building the module (CMake target %s)" % TARGET)
+        what = "building the module (CMake target %s)" % TARGET
+        if given:
+            what += " in QEX_CMAKE_BUILD_DIR (configured with QEX_BUILD_PYTHON on, without sanitizers?)"
+        _run(["cmake", "--build", build_dir, "--target", TARGET], what)
         # CMake names the module for the interpreter it found, setuptools for the one running.
-        built = os.path.join(build_dir, "python", "qex", "_qex" + sysconfig.get_config_var("EXT_SUFFIX"))
+        suffix = sysconfig.get_config_var("EXT_SUFFIX")
+        folder = os.path.join(build_dir, "python", "qex")
+        built = os.path.join(folder, "_qex" + suffix)
         if not os.path.isfile(built):
-            found = [f for f in os.listdir(os.path.dirname(built)) if f.startswith("_qex.")] \
-                if os.path.isdir(os.path.dirname(built)) else []
+            found = sorted(f for f in os.listdir(folder) if f.startswith("_qex.")) if os.path.isdir(folder) else []
             raise SetupError("qex: %s holds %s, not the module for this interpreter (%s, %s): configure it with "
-                             "-DPython_EXECUTABLE=%s" % (build_dir, ", ".join(found) or "no module", sys.executable,
-                                                         sysconfig.get_config_var("EXT_SUFFIX"), sys.executable))
+                             "-DPython_EXECUTABLE=%s" % (folder, ", ".join(found) or "no module", sys.executable, suffix,
+                                                         sys.executable))
         destination = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(destination), exist_ok=True)
         self.copy_file(built, destination)
@@ -191,13 +199,16 @@ class EggInfo(_egg_info):
 
 
 class Sdist(_sdist):
-    """sdist, with the C++ sources and the CMake files the compiled module is built from."""
+    """sdist, with the C++ sources and the CMake files the compiled module is built from (setuptools'
+    sdist takes its file list from egg_info, which knows only the package: they join it here)."""
 
-    def add_defaults(self):
-        super().add_defaults()
+    def make_distribution(self):
         self.filelist.append("CMakeLists.txt")
         for top in ("include", "src"):
             for root, dirs, files in os.walk(os.path.join(SOURCE_DIR, top)):
                 dirs[:] = sorted(d for d in dirs if d != "__pycache__")
                 for f in sorted(files):
                     self.filelist.append(os.path.relpath(os.path.join(root, f), SOURCE_DIR))
+        self.filelist.sort()
+        self.filelist.remove_duplicates()
+        super().make_distribution()
