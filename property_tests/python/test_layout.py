@@ -1,5 +1,5 @@
-# The compiled layout (qex._qex.layout, issue 33): numpy arrays of the quad layout, from an
-# extracted mesh or from vertex and face arrays. The package's Python half has no wrapper yet.
+# The compiled layout (qex._qex.layout and layout_of_arrays, issue 33): numpy arrays of the quad
+# layout, from an extracted mesh or from vertex and face arrays. The package's Python half has no wrapper yet.
 import numpy as np
 import pytest
 
@@ -22,7 +22,7 @@ def test_the_cube_has_six_square_patches():
 def test_arrays_in_and_the_reason_of_a_refusal():
     QV = np.array([[x, y, 0.0] for y in range(3) for x in range(3)])
     QF = np.array([[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]])
-    d = qex._qex.layout(QV, QF)
+    d = qex._qex.layout_of_arrays(QV, QF)
     assert d["valid"] and d["patch_sizes"].tolist() == [[2, 2]] and d["separatrices"] == []
-    bad = qex._qex.layout(QV, QF[:, :3])
+    bad = qex._qex.layout_of_arrays(QV, QF[:, :3])
     assert not bad["valid"] and "3 vertices" in bad["error"]
