@@ -6,6 +6,7 @@
 #include "map_generators.h"
 #include "ladder/ladder.h"
 #include "pipeline.h"
+#include "qex/layout.h"
 
 #include <benchmark/benchmark.h>
 
@@ -119,6 +120,12 @@ void BM_Verify(benchmark::State& state, const Input* in) {
     for (auto _ : state) benchmark::DoNotOptimize(qex::verify(*in, r.mesh).valid);
 }
 
+/// The quad layout of the extraction of `in` (issue 33), its check included.
+void BM_Layout(benchmark::State& state, const Input* in) {
+    const qex::Result r = qex::extract(*in);
+    for (auto _ : state) benchmark::DoNotOptimize(qex::extract_layout(r.mesh).valid);
+}
+
 /// Reads an OBJ file with `threads` (0: every core).
 void BM_ReadObj(benchmark::State& state, std::string path, int threads) {
     const auto bytes = fs::file_size(path);
@@ -186,6 +193,7 @@ int main(int argc, char** argv) {
         const Input* base = keep(std::move(in));
         benchmark::RegisterBenchmark(("BM_Extract/" + name).c_str(), BM_Extract, base)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("BM_Verify/" + name).c_str(), BM_Verify, base)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("BM_Layout/" + name).c_str(), BM_Layout, base)->Unit(benchmark::kMillisecond);
         register_stages(name, base, 30);
         if (name == "duck_miq_8_param") {
             const Input* s1 = keep(qex::testing::subdivide(*base));

@@ -2,6 +2,7 @@
 // extension (OBJ or PLY), atomic text output, and the subcommands' entry points.
 #pragma once
 
+#include "qex/layout.h"
 #include "qex/qex.h"
 
 #include <CLI/CLI.hpp>
@@ -51,6 +52,7 @@ CLI::Validator finite_number();
 // The subcommands, each in its own file: its options (add_*), then its run (run_*).
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
+    std::string layout_path; ///< --layout: the mesh's quad layout as JSON
     bool poly = false, quiet = false, snap_boundary = false, round_seams = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
@@ -82,6 +84,7 @@ struct DrawArgs {
     long long around = -1;
     double radius = 6.0;
     bool png = false;
+    bool layout = false; ///< with --quads: draw the mesh's quad layout instead of its defects
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);
 int run_draw(const DrawArgs& a);
@@ -94,5 +97,16 @@ struct BatchArgs {
 };
 CLI::App* add_batch(CLI::App& app, BatchArgs& a);
 int run_batch(const BatchArgs& a);
+
+struct LayoutArgs {
+    std::string quads_path, out_path, param_path, obj_path, features_path;
+    bool quiet = false;
+};
+CLI::App* add_layout(CLI::App& app, LayoutArgs& a);
+int run_layout(const LayoutArgs& a);
+/// The layout of `mesh` to `json_path` (and the mesh grouped by patch to `obj_path`, if not
+/// empty); a summary on stdout unless `quiet`. kInvalidOutput when the layout check rejects it.
+int write_layout(const std::string& json_path, const std::string& obj_path, const QuadMesh& mesh,
+                 const LayoutOptions& options, bool quiet);
 
 } // namespace qex::cli

@@ -140,10 +140,26 @@ int map_picture(const DrawArgs& a, const Input& in, const std::string& name, std
 }
 
 /// `qex draw --quads`: the quad mesh, checked, with the defects of --report and the violations.
+/// The quad layout of the mesh (`--layout`); exit code 5 if the layout check rejects it.
+int layout_picture(const DrawArgs& a, const QuadMesh& mesh, std::string& body, double& width, double& height) {
+    const Layout layout = extract_layout(mesh);
+    if (!layout.valid) {
+        stop_progress();
+        std::cerr << "qex: no valid layout: " << layout.error << "\n";
+        return kInvalidOutput;
+    }
+    const std::string title = std::filesystem::path(a.quads_path).filename().string() + ": " +
+                              std::to_string(layout.patches.size()) + " patches, " +
+                              std::to_string(layout.separatrices.size()) + " separatrices (qex layout)";
+    body = draw_layout(mesh, layout, title, width, height);
+    return kOk;
+}
+
 int quads_picture(const DrawArgs& a, const Input& in, const std::string& name, std::string& body, double& width,
                   double& height) {
     QuadMesh mesh;
     if (const int code = read_quads(a.quads_path, mesh); code != kOk) return code;
+    if (a.layout) return layout_picture(a, mesh, body, width, height);
     nlohmann::json report;
     if (!a.report_path.empty()) {
         std::ifstream f(a.report_path);
@@ -221,6 +237,7 @@ CLI::App* add_draw(CLI::App& app, DrawArgs& a) {
     draw->add_option("--radius", a.radius, "with --around: how far, in grid units (default 6)")
         ->check(finite_number())
         ->check(CLI::PositiveNumber);
+    draw->add_flag("--layout", a.layout, "with --quads: draw the mesh's quad layout (patches coloured, separatrices)");
     draw->add_flag("--png", a.png, "also write a PNG beside the SVG (needs rsvg-convert)");
     return draw;
 }

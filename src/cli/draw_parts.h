@@ -4,6 +4,7 @@
 #pragma once
 
 #include "map_info.h"
+#include "qex/layout.h"
 #include "qex/qex.h"
 
 #include <nlohmann/json_fwd.hpp>
@@ -76,5 +77,12 @@ std::vector<Mark> collect_marks(const Input& in, const QuadMesh& mesh, const nlo
 /// listing under them (its first kListed lines).
 std::string draw_mesh(const Input& in, const QuadMesh& mesh, const std::vector<Mark>& marks,
                       const std::vector<std::string>& listing, const std::string& title, double& width, double& height);
+
+// === the quad layout in three views (draw_layout.cpp)
+
+/// The layout's picture: three views (front, back, side) with each patch in its own colour, the
+/// separatrices as dark lines; the title above.
+std::string draw_layout(const QuadMesh& mesh, const Layout& layout, const std::string& title, double& width,
+                        double& height);
 
 } // namespace qex::cli

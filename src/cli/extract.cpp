@@ -122,6 +122,11 @@ int run_extract(const ExtractArgs& a) {
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
             static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
             r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
+    if (!a.layout_path.empty()) { // cut along the mesh's edges on the map's feature edges
+        LayoutOptions layout;
+        layout.feature_edges = quad_feature_edges(input, result.mesh);
+        return write_layout(a.layout_path, "", result.mesh, layout, a.quiet);
+    }
     return kOk;
 }
 
@@ -151,6 +156,8 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
                      "when the map gives no valid mesh at its own scale and its UVs /2, /4, ... (up to this power of "
                      "two) are an integer-grid map too, extract there and split each quad back (1: never; default 16)")
         ->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    extract->add_option("--layout", a.layout_path,
+                        "also write the mesh's quad layout as JSON (separatrices, patches, sizes, adjacency)");
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;
 }

@@ -1,7 +1,7 @@
 # Type stubs of the compiled module qex._qex (src/python/qex_module.cpp). Its functions take the
 # arrays the Python half (qex/__init__.py) has already checked and shaped; users call qex itself.
 # `python3 -m mypy.stubtest qex._qex` compares this file with the module (ctest python_types).
-from typing import Any, Dict, Optional, Tuple, TypedDict
+from typing import Any, Dict, List, Optional, Tuple, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -48,3 +48,20 @@ def check(
 ) -> str: ...
 def read_obj(path: str, threads: int) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.float64]]: ...
 def write_obj(path: str, mesh: QuadMesh) -> None: ...
+
+class _Layout(TypedDict):
+    """What `layout` returns (a dict at run time): the quad layout (qex/layout.h)."""
+
+    valid: bool
+    error: str
+    face_patch: npt.NDArray[np.int64]
+    patch_sizes: npt.NDArray[np.int64]
+    patch_corners: npt.NDArray[np.int64]
+    separatrices: List[npt.NDArray[np.int64]]
+    separatrix_ends: List[str]
+    adjacency: npt.NDArray[np.int64]
+    special_vertices: npt.NDArray[np.int64]
+    notes: List[str]
+
+def layout(mesh: QuadMesh) -> _Layout: ...
+def layout_of_arrays(QV: npt.ArrayLike, QF: npt.ArrayLike) -> _Layout: ...
