@@ -14,6 +14,7 @@ Functions
 extract    the quad mesh of a map, with the report and the checker's verdict
 verify     judge an extracted result again (exact checker)
 check      judge any quad mesh, given as arrays, against a map (the oracle of other extractors)
+layout     the patch layout of a quad mesh: separatrices, patches, their sizes and neighbours
 read_obj   read an OBJ map as (V, F, UV)
 write_obj  write an extracted mesh as OBJ
 
@@ -35,7 +36,7 @@ from . import _qex
 _Path = Union[str, "_os.PathLike[str]"]
 _Array = TypeVar("_Array", bound=npt.NDArray[Any])
 
-__all__ = ["Result", "extract", "verify", "check", "read_obj", "write_obj"]
+__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "write_obj"]
 
 
 class Result:
@@ -325,6 +326,35 @@ def check(
     distance = _tolerance("distance_tolerance", distance_tolerance)
     verdict: Dict[str, Any] = _json.loads(_qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), _threads(threads)))
     return verdict
+
+
+def layout(mesh: Union[Result, Tuple[npt.ArrayLike, npt.ArrayLike]]) -> Dict[str, Any]:
+    """The quad layout of a mesh: the separatrices that join its irregular vertices, boundary and
+    feature corners along mesh edges, and the rectangular patches they cut it into.
+
+    Parameters
+    ----------
+    mesh : Result or tuple of (QV, QF)
+        An extracted result, or a quad mesh as arrays: positions (n, 3) and quads (k, 4).
+
+    Returns
+    -------
+    dict
+        ``face_patch`` (k,) the patch of each face; ``patch_sizes`` (P, 2) each patch's integer
+        (u, v) size; ``patch_corners`` (P, 4); ``separatrices``, a list of vertex index arrays, and
+        ``separatrix_ends``, how each ends; ``adjacency`` (A, 3): patch, patch, shared edges;
+        ``special_vertices``; ``valid`` (the independent check accepts the layout), ``error``
+        (why not) and ``notes`` (a torus without separatrix says so).
+
+    Raises
+    ------
+    ValueError
+        Arrays of the wrong shape or dtype.
+    """
+    if isinstance(mesh, Result):
+        return dict(_qex.layout(mesh._mesh))
+    QV, QF = mesh
+    return dict(_qex.layout_of_arrays(_real("QV", QV, (None, 3)), _integer("QF", QF, (None, None))))
 
 
 def read_obj(
