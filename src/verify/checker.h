@@ -255,6 +255,14 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
                       std::vector<Violation>& out);
 
+/// The singularity match (singularities.cpp): every vertex of the mesh located on the map (in a
+/// fold-over region or not) has as many faces as the map's valence where it lies, and every
+/// singularity of the map (and corner of a boundary along iso-lines) carries a vertex. Input
+/// vertices joined by edges shorter than `tol` in UV are one cone. Appends ValenceMismatch and
+/// SingularityNotCarried violations to `out`; counts into r.map_cones and the like.
+void check_singularities(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, double tol,
+                         VerifyResult& r, std::vector<Violation>& out);
+
 /// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v).
 using FaceCell = std::array<std::int64_t, 3>;
 
