@@ -235,9 +235,11 @@ struct VerifyOptions {
     /// Located mode: find the raw map's fold-over regions (FoldRegion: kFoldRegionRings rings
     /// around its flipped or degenerate triangles, where a repair such as qex's may have moved
     /// the map) and judge the vertices located there on the surface only, their faces' failures
-    /// as undecided. Off (the default): the raw map is judged everywhere, as the extractor's own
-    /// gate for relaxed rungs needs. `qex check` turns it on (--no-fold-regions: off).
-    bool fold_regions = false;
+    /// as undecided (the singularity match is decided there all the same). On by default, as
+    /// every front end judges (`qex check`, `qex draw --quads`, the C API, Python: check_mesh in
+    /// qex/check.h); off (`qex check --no-fold-regions`): the raw map judged everywhere, as the
+    /// extractor's own gate for its relaxed rungs requires.
+    bool fold_regions = true;
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;

@@ -82,6 +82,7 @@ struct DrawArgs {
     long long around = -1;
     double radius = 6.0;
     bool png = false;
+    int grid_scale = 0; ///< with --quads: the scale to judge the mesh at (0: the report's, else 1)
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);
 int run_draw(const DrawArgs& a);

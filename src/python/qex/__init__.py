@@ -107,6 +107,13 @@ def _threads(threads):
     return int(threads)
 
 
+def _small_int(name, x, lo, hi):
+    """An integer from lo to hi (bools refused, as for threads)."""
+    if isinstance(x, bool) or not isinstance(x, (int, _np.integer)) or not lo <= x <= hi:
+        raise ValueError("%s must be an integer from %d to %d, not %r" % (name, lo, hi, x))
+    return int(x)
+
+
 def _tolerance(name, x, most=None):
     """A tolerance: a finite number from 0 (to `most`, if given); NaN and infinities refused."""
     x = float(x)
@@ -212,8 +219,12 @@ def verify(V, F, UV, result, *, threads=0):
     return _json.loads(_qex.verify(V, F, UV, result._mesh, _threads(threads)))
 
 
-def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locate=True, threads=0):
+def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locate=True, digits=6, grid_scale=1,
+          fold_regions=True, threads=0):
     """Judge any quad mesh, given as arrays, against a map: the oracle for any extractor's output.
+
+    The same code path and defaults as ``qex check --param`` (and ``qex draw --quads``, the C
+    API's ``qex_check``): the same mesh gets the same verdict.
 
     Parameters
     ----------
@@ -231,6 +242,15 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
         (default 1e-6).
     locate : bool, optional
         Locate the vertices on the map (default); False checks the topology only.
+    digits : int, optional
+        The positions may be rounded to this many significant digits (default 6: float
+        precision); 0 takes them as exact doubles (``qex check --strict``).
+    grid_scale : int, optional
+        Judge the mesh against the map with its UVs multiplied by this power of two (1 to 64; a
+        mesh qex extracted with refinement, ``report["fallback"]["grid_scale"]``).
+    fold_regions : bool, optional
+        Judge vertices in the map's fold-over regions on the surface only (default; False:
+        ``qex check --no-fold-regions``).
     threads : int, optional
         Threads of the checker (0: every core).
 
@@ -250,7 +270,10 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
     QF = _integer("QF", QF, (None, None))
     uv_tolerance = _tolerance("uv_tolerance", uv_tolerance, 1.0)
     distance_tolerance = _tolerance("distance_tolerance", distance_tolerance)
-    return _json.loads(_qex.check(V, F, UV, QV, QF, uv_tolerance, distance_tolerance, bool(locate), _threads(threads)))
+    digits = _small_int("digits", digits, 0, 17)
+    grid_scale = _small_int("grid_scale", grid_scale, 1, 64)
+    return _json.loads(_qex.check(V, F, UV, QV, QF, uv_tolerance, distance_tolerance, bool(locate), digits, grid_scale,
+                                  bool(fold_regions), _threads(threads)))
 
 
 def read_obj(path, *, threads=0):
