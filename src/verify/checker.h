@@ -83,6 +83,38 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                    std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr,
                    std::vector<std::int64_t>* closest_triangle = nullptr, double noise_scale = 1.0);
 
+// ============================================================================ holes (holes.cpp)
+
+/// The mesh's boundary loops (sides without a twin: the reverse side, the edge's only other), each
+/// with the faces whose sides it follows. A vertex with several boundary sides continues along
+/// the first unused one.
+struct Boundary {
+    std::vector<std::vector<std::int64_t>> loops, faces;
+};
+Boundary boundary_loops(const QuadMesh& mesh);
+
+/// The input's boundary edges (edges of one triangle side).
+std::vector<std::array<int, 2>> input_boundary_edges(const Input& in);
+
+/// The squared distance from x to the segment ab.
+double segment_distance2(const std::array<double, 3>& x, const std::array<double, 3>& a,
+                         const std::array<double, 3>& b);
+
+/// Per input component (by triangles sharing vertices) with no located vertex: its first triangle.
+std::vector<std::int64_t> empty_input_components(const Input& in, const std::vector<std::int64_t>& located_triangle);
+
+/// The loops of `b` (the mesh's) that run along no boundary loop of the input: a loop runs along
+/// one when each of its vertices lies within `tol` plus a cell (twice its faces' diagonal) of
+/// it, and each input loop keeps the mesh loop whose farthest vertex is closest (holes.cpp).
+/// Every loop when the input has no boundary; none when too large to decide.
+std::vector<std::size_t> find_holes(const Input& in, const QuadMesh& mesh, const Boundary& b, double tol);
+
+/// Appends a Hole violation per loop find_holes names (its loop, its faces and, in located mode,
+/// the input triangles of its vertices' closest points), and in located mode (`located_triangle`
+/// not empty) a MissingComponent violation per input component no vertex lies on.
+void check_holes(const Input& in, const QuadMesh& mesh, double tol, const std::vector<std::int64_t>& closest_triangle,
+                 const std::vector<std::int64_t>& located_triangle, std::vector<Violation>& out);
+
 // ============================================================================ places (places.cpp)
 
 /// What place_violations needs besides the mesh and the input.
