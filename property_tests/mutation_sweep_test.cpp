@@ -61,6 +61,10 @@ public:
             for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
         return true;
     }
+    /// Claims every face at v, claimed or not.
+    void block(int v) {
+        for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
+    }
     const std::vector<std::size_t>& faces_at(int v) const { return faces_of_[static_cast<std::size_t>(v)]; }
 
 private:
@@ -134,10 +138,18 @@ Tally rotate_edges(const Input& in, const QuadMesh& good) {
     return t;
 }
 
-/// Dropped quads, every k-th, a face apart.
+/// Dropped quads off the boundary (a quad dropped at a boundary off the iso-lines is a dent in
+/// its staircase, which no check can tell from one), every k-th, a face apart: holes.
 Tally drop_faces(const Input& in, const QuadMesh& good) {
     Tally t;
     Sites sites(good);
+    std::set<std::pair<int, int>> sides;
+    for (const auto& f : good.faces)
+        for (std::size_t i = 0; i < 4; ++i) sides.insert({f[i], f[(i + 1) % 4]});
+    std::set<int> boundary;
+    for (const auto& s : sides)
+        if (!sides.count({s.second, s.first})) boundary.insert(s.first), boundary.insert(s.second);
+    for (int v : boundary) sites.block(v);
     std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
     std::vector<char> drop(good.faces.size(), 0);
     const std::size_t stride = std::max<std::size_t>(1, good.faces.size() / (2 * kDrops));

@@ -45,6 +45,12 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
                         static_cast<long long>(v.coverage_skipped_triangles));
         std::printf("\n");
         std::printf(
+            "singularities: %lld of the map, %lld irregular vertices of the mesh, %lld valences judged; "
+            "%lld fold-over footprints undecided (%lld triangles, UV area %.4g)\n",
+            static_cast<long long>(v.map_cones), static_cast<long long>(v.irregular_vertices),
+            static_cast<long long>(v.valences_judged), static_cast<long long>(v.undecided_footprints),
+            static_cast<long long>(v.undecided_triangles), v.undecided_uv_area);
+        std::printf(
             "positions carry up to %d significant digits%s; distance tolerance %.3g + up to %.3g for rounding "
             "(model units)\n",
             v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,

@@ -69,7 +69,8 @@ bool on_iso_boundary_edge(const LocatedMap& map, const Located& L, double tol) {
 }
 
 std::string valence_words(int n, bool modulo) {
-    return "valence " + std::to_string(n) + (modulo ? " (modulo 4: a fold-over lies in its fan)" : "");
+    return modulo ? "angle sum of " + std::to_string(n) + " quarter turns (a valence modulo 4: a fold-over lies in its fan)"
+                  : "valence " + std::to_string(n);
 }
 
 } // namespace
@@ -176,6 +177,30 @@ void judge_cones(const ConeMap& k, VerifyResult& r, Findings& f) {
     }
 }
 
+/// Per footprint: how many quarter turns of irregularity the mesh has there beyond the map's
+/// singularities and what the folds may add: the sum of |faces - 4| over its irregular vertices,
+/// less the sum of |valence - 4| over its singular cones (the smallest a folded cone's residue
+/// allows), less kFoldTurns per folded singularity (at least kFoldTurns in all). A fold may merge
+/// or move singularities, and leaving it as the map gives it makes dipoles next to its cones
+/// (qex's outputs of heavily folded maps: up to 16 quarter turns in a footprint of 9000
+/// triangles); a rotated edge adds four quarter turns.
+constexpr std::int64_t kFoldTurns = 2;
+
+std::vector<std::int64_t> excess_turns(const ConeMap& k, const Findings& f) {
+    std::vector<std::int64_t> excess(k.footprints.size(), 0), folded(k.footprints.size(), 0);
+    for (const auto& [turns, spot] : f.irregular)
+        if (const std::int32_t fp = spot.footprint(k); fp >= 0) excess[static_cast<std::size_t>(fp)] += std::abs(turns);
+    for (const Cone& x : k.cones) {
+        int n = 0;
+        if (x.footprint < 0 || !x.singular() || !x.valence(n)) continue;
+        const int residue = ((n - 4) % 4 + 4) % 4;
+        excess[static_cast<std::size_t>(x.footprint)] -= x.folded ? std::min(residue, 4 - residue) : std::abs(n - 4);
+        folded[static_cast<std::size_t>(x.footprint)] += x.folded;
+    }
+    for (std::size_t i = 0; i < excess.size(); ++i) excess[i] -= kFoldTurns * std::max<std::int64_t>(1, folded[i]);
+    return excess;
+}
+
 /// One round over the footprints: those whose mismatches the mesh's valences explain by their
 /// sum (Gauss-Bonnet on the footprint: a fold may merge or move singularities within it) have
 /// them listed as undecided; the cones of the others are marked in `grow`. Returns the
@@ -190,10 +215,11 @@ std::vector<std::pair<Violation, Spot>> explain_by_sums(const ConeMap& k, Findin
     for (const auto& p : f.pending)
         if (const std::int32_t fp = p.second.footprint(k); fp >= 0) has[static_cast<std::size_t>(fp)] = 1;
     std::vector<char> sums(nf, 0);
+    const std::vector<std::int64_t> excess = excess_turns(k, f);
     for (std::size_t i = 0; i < nf; ++i) {
         if (!has[i]) continue;
         const double want = k.footprints[i].cone_turns + k.footprints[i].correction, n = std::nearbyint(want);
-        sums[i] = std::abs(want - n) <= kQuarterTurnSlack && static_cast<double>(mesh_turns[i]) == n;
+        sums[i] = std::abs(want - n) <= kQuarterTurnSlack && static_cast<double>(mesh_turns[i]) == n && excess[i] <= 0;
         r.undecided_footprints += sums[i];
     }
     mark_undecided(k, sums, f);
@@ -247,23 +273,28 @@ void check_singularities(const LocatedMap& map, const QuadMesh& mesh, const std:
         if (round > 0) regroup_footprints(map, k, grow, round * kFootprintStep);
         f.pending = explain_by_sums(k, f, r, grow);
     }
-    // What is left inside a footprint grown to its limit is undecided too: the map folds over
-    // too much there to tell where its singularities go (on coarse maps, a footprint may hold
-    // most of the surface, or reach its boundary, where the sums do not apply).
+    // What is left inside a footprint grown to its limit is undecided too, unless the mesh is
+    // more irregular there than the map: the map folds over too much there to tell where its
+    // singularities go (on coarse maps, a footprint may hold most of the surface, or reach its
+    // boundary, where the sums do not apply).
     std::vector<char> counted(k.footprints.size(), 0);
+    const std::vector<std::int64_t> excess = excess_turns(k, f);
     for (auto& p : f.pending) {
         const std::int32_t fp = p.second.footprint(k);
         if (fp < 0) {
-            out.push_back(std::move(p.first));
+            add_capped(out, p.first.kind, std::move(p.first.message), p.first.element);
             continue;
         }
         const Footprint& x = k.footprints[static_cast<std::size_t>(fp)];
-        add_capped(r.undecided, p.first.kind,
+        const std::int64_t more = excess[static_cast<std::size_t>(fp)];
+        add_capped(more > 0 ? out : r.undecided, p.first.kind,
                    p.first.message + "; in the fold-over footprint of input triangle " +
                        std::to_string(x.first_triangle) + " (" + std::to_string(x.triangles) +
                        " triangles), whose valences the mesh sums to " + std::to_string(mesh_turns_in(k, f, fp)) +
-                       " quarter turns beyond regular, the map to " + num(x.cone_turns + x.correction),
+                       " quarter turns beyond regular, the map to " + num(x.cone_turns + x.correction) +
+                       ", with " + std::to_string(more) + " quarter turns of irregularity beyond the map's and its folds'",
                    p.first.element);
+        if (more > 0) continue;
         r.undecided_footprints += !counted[static_cast<std::size_t>(fp)];
         counted[static_cast<std::size_t>(fp)] = 1;
     }
