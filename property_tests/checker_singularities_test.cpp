@@ -46,7 +46,8 @@ TEST(CheckerSingularities, CorrectMeshesMatchTheMapsCones) {
 TEST(CheckerSingularities, EveryRotatedEdgeIsAValenceMismatchAtItsFourCorners) {
     // On the cube every face has a cone within a cell, and the faces' own check may be undecided
     // there: the valences are decided all the same, at every edge.
-    for (const Case& c : {make_case("torus", make_map(torus_layout(), 3, 2)), make_case("cube", make_map(cube_layout(), 3, 3))}) {
+    for (const Case& c :
+         {make_case("torus", make_map(torus_layout(), 3, 2)), make_case("cube", make_map(cube_layout(), 3, 3))}) {
         int tried = 0;
         for (std::size_t start = 0; start < c.good.faces.size(); start += 3) {
             const SharedEdge e = shared_edge(c.good, start);
@@ -90,7 +91,8 @@ TEST(CheckerSingularities, AVertexMovedOffACubeCornerLeavesItsConeUncarried) {
             if (f[i] == static_cast<int>(corner)) other = f[(i + 1) % 4];
     for (int d = 0; d < 3; ++d)
         m.positions[corner][static_cast<std::size_t>(d)] =
-            0.5 * (c.good.positions[corner][static_cast<std::size_t>(d)] + c.good.positions[static_cast<std::size_t>(other)][static_cast<std::size_t>(d)]);
+            0.5 * (c.good.positions[corner][static_cast<std::size_t>(d)] +
+                   c.good.positions[static_cast<std::size_t>(other)][static_cast<std::size_t>(d)]);
     const VerifyResult v = verify(c.in, m);
     EXPECT_FALSE(v.valid);
     EXPECT_EQ(count(v, ViolationKind::SingularityNotCarried), 1u);
@@ -98,8 +100,8 @@ TEST(CheckerSingularities, AVertexMovedOffACubeCornerLeavesItsConeUncarried) {
 }
 
 TEST(CheckerSingularities, ADroppedQuadIsAHoleNamingItsLoopAndTriangle) {
-    for (const Case& c : {make_case("torus", make_map(torus_layout(), 3, 2)),
-                          make_case("annulus", make_map(annulus_layout(), 3, 3))}) {
+    for (const Case& c :
+         {make_case("torus", make_map(torus_layout(), 3, 2)), make_case("annulus", make_map(annulus_layout(), 3, 3))}) {
         const std::size_t f = interior_face(c.good, c.good.faces.size() / 2);
         QuadMesh m = c.good;
         const std::vector<Index> loop(m.faces[f].begin(), m.faces[f].end());
@@ -111,7 +113,8 @@ TEST(CheckerSingularities, ADroppedQuadIsAHoleNamingItsLoopAndTriangle) {
         bool triangle = false;
         for (const Violation& x : v.violations)
             if (x.kind == ViolationKind::Hole)
-                for (const Place& p : x.places) triangle = triangle || (p.kind == PlaceKind::InputTriangle && !p.indices.empty());
+                for (const Place& p : x.places)
+                    triangle = triangle || (p.kind == PlaceKind::InputTriangle && !p.indices.empty());
         EXPECT_TRUE(triangle) << c.name;
         // Without locating anything, the hole is still named (topology and the input's boundary).
         VerifyOptions topology;
@@ -132,8 +135,8 @@ TEST(CheckerSingularities, AnInputComponentWithoutAVertexIsMissing) {
     const VerifyResult v = verify(two, one);
     EXPECT_FALSE(v.valid);
     ASSERT_EQ(count(v, ViolationKind::MissingComponent), 1u);
-    EXPECT_TRUE(names(v, ViolationKind::MissingComponent, PlaceKind::InputTriangle,
-                      {static_cast<Index>(a.triangles.size())}));
+    EXPECT_TRUE(
+        names(v, ViolationKind::MissingComponent, PlaceKind::InputTriangle, {static_cast<Index>(a.triangles.size())}));
 }
 
 TEST(CheckerSingularities, CheckMeshIsVerifyWithTheOraclesDefaults) {

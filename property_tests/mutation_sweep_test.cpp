@@ -22,6 +22,9 @@ using Index = std::int64_t;
 
 /// Most mutants of each kind per map (every one on small meshes).
 constexpr std::size_t kRotations = 200, kDrops = 40, kSlides = 40;
+/// Rounds of rotations (each judged at once, its sites a face apart): on small meshes the 200
+/// edges sampled do not all fit in them; the rest are left out.
+constexpr int kRounds = 4;
 
 /// Per kind: rejected (a violation names its place), undecided (an undecided check does), missed.
 struct Tally {
@@ -107,20 +110,20 @@ std::vector<SharedEdge> rotatable_edges(const QuadMesh& m) {
 }
 
 /// Rotated edges (rotate_edge: a and b lose a face, the far corners x of f and z of g gain
-/// one), spread over the mesh (every k-th), in as many rounds as their sites take.
+/// one), spread over the mesh (every k-th), in up to kRounds rounds.
 Tally rotate_edges(const Input& in, const QuadMesh& good) {
     Tally t;
     const std::vector<SharedEdge> edges = rotatable_edges(good);
     const std::size_t stride = std::max<std::size_t>(1, edges.size() / kRotations);
     std::vector<SharedEdge> todo;
     for (std::size_t i = 0; i < edges.size() && todo.size() < kRotations; i += stride) todo.push_back(edges[i]);
-    while (!todo.empty()) {
+    for (int round = 0; round < kRounds && !todo.empty(); ++round) {
         QuadMesh m = good;
         Sites sites(good);
         std::vector<SharedEdge> later;
         std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
         for (const SharedEdge& e : todo) {
-            const std::vector<int> &f = good.faces[e.f], &g = good.faces[e.g];
+            const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
             std::vector<int> all(f.begin(), f.end());
             all.insert(all.end(), g.begin(), g.end());
             if (!sites.claim(all)) {

@@ -134,8 +134,8 @@ qex_verdict* run_check(const double* positions, int64_t num_vertices, const int3
                        const double* corner_uvs, const double* quad_positions, int64_t num_quad_vertices,
                        const int32_t* quads, int64_t num_quads, int grid_scale) {
     constexpr int64_t kMax = std::numeric_limits<int>::max() / 4;
-    if (num_vertices < 0 || num_vertices > kMax || num_triangles < 0 || num_triangles > kMax ||
-        num_quad_vertices < 0 || num_quad_vertices > kMax || num_quads < 0 || num_quads > kMax)
+    if (num_vertices < 0 || num_vertices > kMax || num_triangles < 0 || num_triangles > kMax || num_quad_vertices < 0 ||
+        num_quad_vertices > kMax || num_quads < 0 || num_quads > kMax)
         return refused_check("InvalidArgument", "a count is out of range");
     if ((num_vertices > 0 && !positions) || (num_triangles > 0 && (!triangles || !corner_uvs)) ||
         (num_quad_vertices > 0 && !quad_positions) || (num_quads > 0 && !quads))

@@ -119,8 +119,7 @@ std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& 
             const std::int32_t cx = k.cone_of[static_cast<std::size_t>(map.in.triangles[t][j])];
             const Cone& x = k.cones[static_cast<std::size_t>(cx)];
             const auto ux = carry(m, map.in.uvs[3 * t + j]);
-            if (cx != ca && x.singular() &&
-                std::max(std::abs(ux[0] - ua[0]), std::abs(ux[1] - ua[1])) <= tol &&
+            if (cx != ca && x.singular() && std::max(std::abs(ux[0] - ua[0]), std::abs(ux[1] - ua[1])) <= tol &&
                 std::find(out.begin(), out.end(), cx) == out.end())
                 out.push_back(cx);
             const std::int64_t o = map.edges.opposite[3 * t + j];
@@ -185,7 +184,8 @@ std::vector<char> triangles_within(const LocatedMap& map, const std::vector<char
         for (std::size_t j = 0; j < 3; ++j)
             for (int d = 0; d < 2; ++d) centre[t][d] += in.uvs[3 * t + j][d] / 3;
         for (std::size_t j = 0; j < 3; ++j)
-            radius[t] = std::max(radius[t], std::hypot(in.uvs[3 * t + j][0] - centre[t][0], in.uvs[3 * t + j][1] - centre[t][1]));
+            radius[t] = std::max(radius[t],
+                                 std::hypot(in.uvs[3 * t + j][0] - centre[t][0], in.uvs[3 * t + j][1] - centre[t][1]));
         if (source[t]) dist[t] = -radius[t], heap.push_back({dist[t], static_cast<std::uint32_t>(t)});
     }
     std::make_heap(heap.begin(), heap.end(), std::greater<>());
@@ -216,13 +216,15 @@ std::vector<char> triangles_within(const LocatedMap& map, const std::vector<char
 
 /// Per cone: in a footprint, i.e. a seed, or on a triangle within `cells` (UV) of the fans of
 /// the cones `grow` names.
-std::vector<char> footprint_cones(const LocatedMap& map, const ConeMap& k, const std::vector<char>& grow, double cells) {
+std::vector<char> footprint_cones(const LocatedMap& map, const ConeMap& k, const std::vector<char>& grow,
+                                  double cells) {
     std::vector<char> in_fp = k.seed;
     if (cells <= 0) return in_fp;
     const Input& in = map.in;
     std::vector<char> source(in.triangles.size(), 0);
     for (std::size_t t = 0; t < in.triangles.size(); ++t)
-        for (int v : in.triangles[t]) source[t] = source[t] || grow[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])];
+        for (int v : in.triangles[t])
+            source[t] = source[t] || grow[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])];
     const std::vector<char> within = triangles_within(map, source, cells);
     for (std::size_t t = 0; t < in.triangles.size(); ++t)
         if (within[t])
@@ -256,7 +258,8 @@ void group_footprints(const LocatedMap& map, const std::vector<char>& in_fp, Con
     }
     for (std::size_t t = 0; t < nt; ++t) {
         std::int32_t f = -1;
-        for (int v : in.triangles[t]) f = std::max(f, k.cones[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])].footprint);
+        for (int v : in.triangles[t])
+            f = std::max(f, k.cones[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])].footprint);
         if (f < 0) continue;
         k.footprint_of_triangle[t] = f;
         Footprint& fp = k.footprints[static_cast<std::size_t>(f)];
@@ -271,12 +274,14 @@ void group_footprints(const LocatedMap& map, const std::vector<char>& in_fp, Con
 /// Per footprint: the sum of its interior cones' turns, and the fold triangles' correction.
 void footprint_turns(const LocatedMap& map, ConeMap& k) {
     for (const Cone& x : k.cones)
-        if (x.footprint >= 0 && x.interior) k.footprints[static_cast<std::size_t>(x.footprint)].cone_turns += x.quarter_turns - 4;
+        if (x.footprint >= 0 && x.interior)
+            k.footprints[static_cast<std::size_t>(x.footprint)].cone_turns += x.quarter_turns - 4;
     const Input& in = map.in;
     for (std::size_t t = 0; t < in.triangles.size(); ++t) {
         if (!map.fold_over[t] || k.footprint_of_triangle[t] < 0) continue;
         const auto& tri = in.triangles[t];
-        const std::int32_t c0 = k.cone_of[static_cast<std::size_t>(tri[0])], c1 = k.cone_of[static_cast<std::size_t>(tri[1])],
+        const std::int32_t c0 = k.cone_of[static_cast<std::size_t>(tri[0])],
+                           c1 = k.cone_of[static_cast<std::size_t>(tri[1])],
                            c2 = k.cone_of[static_cast<std::size_t>(tri[2])];
         if (c0 == c1 || c1 == c2 || c0 == c2) continue; // collapsed: no triangle of a fold-free map
         double sum = 0;

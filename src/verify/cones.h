@@ -33,9 +33,9 @@ struct Cone {
     /// Its fan holds a flipped or degenerate triangle, or it is `extreme`: its valence is known
     /// modulo 4 only.
     bool folded = false;
-    bool extreme = false;     ///< at most one quarter turn, or eight or more
-    bool iso_boundary = true; ///< on the boundary: its boundary edges run along integer iso-lines
-    std::int64_t vertex = -1; ///< its smallest input vertex
+    bool extreme = false;        ///< at most one quarter turn, or eight or more
+    bool iso_boundary = true;    ///< on the boundary: its boundary edges run along integer iso-lines
+    std::int64_t vertex = -1;    ///< its smallest input vertex
     std::int32_t footprint = -1; ///< the fold-over footprint it lies in, or -1
 
     /// The valence it reads as, into n; false where the sum is not near a whole number of
@@ -68,8 +68,8 @@ struct Cone {
 /// handling) may merge or move its singularities across it: there the mesh's valences are
 /// judged one by one, and where they differ, by their sum (Gauss-Bonnet on the footprint).
 struct Footprint {
-    std::int64_t triangles = 0;      ///< input triangles with a corner in it
-    double uv_area = 0;              ///< their signed UV area (a double sum)
+    std::int64_t triangles = 0;       ///< input triangles with a corner in it
+    double uv_area = 0;               ///< their signed UV area (a double sum)
     std::int64_t first_triangle = -1; ///< its smallest flipped or degenerate triangle
     /// Quarter turns a fold-free map of the same rim has beyond the folded one's angle sums:
     /// per fold triangle, a half turn less its signed angle sum (4 per flipped triangle).

@@ -129,10 +129,12 @@ std::vector<double> cell_reach(const QuadMesh& mesh) {
     for (const auto& face : mesh.faces)
         for (const int a : face)
             for (const int b : face) {
-                const auto &p = mesh.positions[static_cast<std::size_t>(a)], &q = mesh.positions[static_cast<std::size_t>(b)];
+                const auto &p = mesh.positions[static_cast<std::size_t>(a)],
+                           &q = mesh.positions[static_cast<std::size_t>(b)];
                 const double d = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
                                            (p[2] - q[2]) * (p[2] - q[2]));
-                if (std::isfinite(d)) reach[static_cast<std::size_t>(a)] = std::max(reach[static_cast<std::size_t>(a)], d);
+                if (std::isfinite(d))
+                    reach[static_cast<std::size_t>(a)] = std::max(reach[static_cast<std::size_t>(a)], d);
             }
     return reach;
 }
@@ -182,7 +184,8 @@ std::vector<std::size_t> find_holes(const Input& in, const QuadMesh& mesh, const
             if (along && far < best[i]) best[i] = far, kept_by[i] = static_cast<std::int64_t>(l);
         }
     for (std::size_t l = 0; l < b.loops.size(); ++l)
-        if (std::find(kept_by.begin(), kept_by.end(), static_cast<std::int64_t>(l)) == kept_by.end()) holes.push_back(l);
+        if (std::find(kept_by.begin(), kept_by.end(), static_cast<std::int64_t>(l)) == kept_by.end())
+            holes.push_back(l);
     return holes;
 }
 
@@ -194,16 +197,19 @@ void check_holes(const Input& in, const QuadMesh& mesh, double tol, const std::v
         std::vector<Index> under;
         for (const Index v : loop) {
             const std::int64_t t = static_cast<std::size_t>(v) < closest_triangle.size()
-                                       ? closest_triangle[static_cast<std::size_t>(v)] : -1;
+                                       ? closest_triangle[static_cast<std::size_t>(v)]
+                                       : -1;
             if (t >= 0 && std::find(under.begin(), under.end(), t) == under.end()) under.push_back(t);
         }
         std::string through;
         for (std::size_t i = 0; i < loop.size() && i < 8; ++i) through += (i ? " " : "") + std::to_string(loop[i]);
-        Violation x{ViolationKind::Hole,
-                    "the boundary loop of " + std::to_string(loop.size()) + " vertices through " + through +
-                        (loop.size() > 8 ? " ..." : "") + " runs along no boundary of the input" +
-                        (under.empty() ? std::string() : " (a hole at input triangle " + std::to_string(under[0]) + ")"),
-                    loop[0], {{PlaceKind::Loop, loop}, {PlaceKind::Face, b.faces[l]}}};
+        Violation x{
+            ViolationKind::Hole,
+            "the boundary loop of " + std::to_string(loop.size()) + " vertices through " + through +
+                (loop.size() > 8 ? " ..." : "") + " runs along no boundary of the input" +
+                (under.empty() ? std::string() : " (a hole at input triangle " + std::to_string(under[0]) + ")"),
+            loop[0],
+            {{PlaceKind::Loop, loop}, {PlaceKind::Face, b.faces[l]}}};
         if (!under.empty()) x.places.push_back({PlaceKind::InputTriangle, under});
         if (out.size() < kMaxListed) out.push_back(std::move(x));
     }

@@ -34,15 +34,15 @@ MeshValences mesh_valences(const QuadMesh& mesh) {
     for (const auto& face : mesh.faces)
         for (std::size_t i = 0; i < face.size(); ++i) {
             ++m.faces[static_cast<std::size_t>(face[i])];
-            const auto a = static_cast<std::uint32_t>(face[i]), b = static_cast<std::uint32_t>(face[(i + 1) % face.size()]);
+            const auto a = static_cast<std::uint32_t>(face[i]),
+                       b = static_cast<std::uint32_t>(face[(i + 1) % face.size()]);
             keys.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
         }
     std::sort(keys.begin(), keys.end());
     for (std::size_t i = 0, j = 0; i < keys.size(); i = j) {
         j = i;
         while (j < keys.size() && keys[j] == keys[i]) ++j;
-        if (j - i == 1)
-            m.boundary[keys[i] >> 32] = m.boundary[keys[i] & 0xffffffffu] = 1;
+        if (j - i == 1) m.boundary[keys[i] >> 32] = m.boundary[keys[i] & 0xffffffffu] = 1;
     }
     return m;
 }
@@ -69,7 +69,8 @@ bool on_iso_boundary_edge(const LocatedMap& map, const Located& L, double tol) {
 }
 
 std::string valence_words(int n, bool modulo) {
-    return modulo ? "angle sum of " + std::to_string(n) + " quarter turns (a valence modulo 4: a fold-over lies in its fan)"
+    return modulo ? "angle sum of " + std::to_string(n) +
+                        " quarter turns (a valence modulo 4: a fold-over lies in its fan)"
                   : "valence " + std::to_string(n);
 }
 
@@ -291,8 +292,8 @@ void check_singularities(const LocatedMap& map, const QuadMesh& mesh, const std:
                    p.first.message + "; in the fold-over footprint of input triangle " +
                        std::to_string(x.first_triangle) + " (" + std::to_string(x.triangles) +
                        " triangles), whose valences the mesh sums to " + std::to_string(mesh_turns_in(k, f, fp)) +
-                       " quarter turns beyond regular, the map to " + num(x.cone_turns + x.correction) +
-                       ", with " + std::to_string(more) + " quarter turns of irregularity beyond the map's and its folds'",
+                       " quarter turns beyond regular, the map to " + num(x.cone_turns + x.correction) + ", with " +
+                       std::to_string(more) + " quarter turns of irregularity beyond the map's and its folds'",
                    p.first.element);
         if (more > 0) continue;
         r.undecided_footprints += !counted[static_cast<std::size_t>(fp)];
