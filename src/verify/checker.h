@@ -112,8 +112,10 @@ std::vector<std::size_t> find_holes(const Input& in, const QuadMesh& mesh, const
 /// Appends a Hole violation per loop find_holes names (its loop, its faces and, in located mode,
 /// the input triangles of its vertices' closest points), and in located mode (`located_triangle`
 /// not empty) a MissingComponent violation per input component no vertex lies on.
-void check_holes(const Input& in, const QuadMesh& mesh, double tol, const std::vector<std::int64_t>& closest_triangle,
-                 const std::vector<std::int64_t>& located_triangle, std::vector<Violation>& out);
+/// `has_boundary`: the mesh has boundary loops (else no hole is looked for).
+void check_holes(const Input& in, const QuadMesh& mesh, bool has_boundary, double tol,
+                 const std::vector<std::int64_t>& closest_triangle, const std::vector<std::int64_t>& located_triangle,
+                 std::vector<Violation>& out);
 
 // ============================================================================ places (places.cpp)
 

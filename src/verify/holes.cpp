@@ -189,10 +189,11 @@ std::vector<std::size_t> find_holes(const Input& in, const QuadMesh& mesh, const
     return holes;
 }
 
-void check_holes(const Input& in, const QuadMesh& mesh, double tol, const std::vector<std::int64_t>& closest_triangle,
-                 const std::vector<std::int64_t>& located_triangle, std::vector<Violation>& out) {
-    const Boundary b = boundary_loops(mesh);
-    for (const std::size_t l : find_holes(in, mesh, b, tol)) {
+void check_holes(const Input& in, const QuadMesh& mesh, bool has_boundary, double tol,
+                 const std::vector<std::int64_t>& closest_triangle, const std::vector<std::int64_t>& located_triangle,
+                 std::vector<Violation>& out) {
+    const Boundary b = has_boundary ? boundary_loops(mesh) : Boundary{};
+    for (const std::size_t l : b.loops.empty() ? std::vector<std::size_t>{} : find_holes(in, mesh, b, tol)) {
         const auto& loop = b.loops[l];
         std::vector<Index> under;
         for (const Index v : loop) {
