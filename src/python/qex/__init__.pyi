@@ -44,6 +44,9 @@ def check(
     uv_tolerance: float = ...,
     distance_tolerance: float = ...,
     locate: bool = ...,
+    digits: int = ...,
+    grid_scale: int = ...,
+    fold_regions: bool = ...,
     threads: int = ...,
 ) -> Dict[str, Any]: ...
 def read_obj(
