@@ -81,6 +81,25 @@ QEX_C_API const int64_t* qex_result_face_uvs(const qex_result* result);
 QEX_C_API const char* qex_result_report_json(const qex_result* result);
 QEX_C_API void qex_result_free(qex_result* result);
 
+/* The oracle: judges any extractor's quad mesh against a map, with the same code path and
+ * defaults as `qex check --param MAP MESH --grid-scale K` (and Python's qex.check, `qex draw
+ * --quads`): the map as for qex_extract; quad_positions 3 doubles per vertex, quads 4 vertex
+ * indices per face (counter-clockwise); grid_scale 1, or the power of two (up to 64) the mesh was
+ * refined by. */
+typedef struct qex_verdict qex_verdict; /* opaque */
+QEX_C_API qex_verdict* qex_check(const double* positions, int64_t num_vertices, const int32_t* triangles,
+                                 int64_t num_triangles, const double* corner_uvs /* 6 per triangle */,
+                                 const double* quad_positions, int64_t num_quad_vertices, const int32_t* quads,
+                                 int64_t num_quads, int grid_scale);
+QEX_C_API int qex_verdict_ok(const qex_verdict* verdict);    /* 1: the map was accepted (else an error) */
+QEX_C_API int qex_verdict_valid(const qex_verdict* verdict); /* 1: the checker accepted the mesh */
+/* Why the map or the call was refused, or "" (qex_result_error_code's names in error_code). */
+QEX_C_API const char* qex_verdict_error(const qex_verdict* verdict);
+QEX_C_API const char* qex_verdict_error_code(const qex_verdict* verdict);
+/* The verdict as JSON, the document `qex check --json` prints ("{}" when the map was refused). */
+QEX_C_API const char* qex_verdict_json(const qex_verdict* verdict);
+QEX_C_API void qex_verdict_free(qex_verdict* verdict);
+
 #ifdef __cplusplus
 }
 #endif

@@ -45,6 +45,21 @@ enum class ViolationKind {
     /// face joins them in counter-clockwise order (a hole, a rotated edge, a reversed face);
     /// Violation::element is the input triangle whose chart holds it
     GridCellNotCovered,
+    /// Located mode: a vertex whose number of faces differs from the map's valence where it lies
+    /// (an interior vertex: 4 at a regular point, the singularity's valence on one; a boundary
+    /// vertex on a boundary along iso-lines: the corner's quarter turns), decided in fold-over
+    /// regions too; Violation::element is the vertex
+    ValenceMismatch,
+    /// Located mode: a singularity of the map (or a corner of a boundary along iso-lines) on which
+    /// no vertex of the mesh lies; Violation::element is its input vertex
+    SingularityNotCarried,
+    /// A boundary loop of the mesh that does not run along the input's boundary (a hole);
+    /// Violation::element is its first vertex, its places the loop, its faces and the input
+    /// triangles under it
+    Hole,
+    /// Located mode: a component of the input on which no vertex of the mesh lies;
+    /// Violation::element is its first input triangle
+    MissingComponent,
 };
 const char* to_string(ViolationKind kind);
 
@@ -160,6 +175,19 @@ struct VerifyResult {
     /// input triangles whose UV boxes were too large to enumerate (not checked).
     std::int64_t coverage_cells = 0, uncovered_grid_points = 0, uncovered_cells = 0;
     std::int64_t coverage_skipped_triangles = 0;
+    /// Located mode, the singularity match: the raw map's singularities (cones of valence other
+    /// than 4, modulo 4 where a fold-over lies in their fan), its interior cones whose angle sum
+    /// reads as no whole number of quarter turns (not judged), the mesh's interior vertices of
+    /// valence other than 4, and the vertices whose valence was judged against the map
+    /// (ValenceMismatch, SingularityNotCarried).
+    std::int64_t map_cones = 0, unread_cones = 0, irregular_vertices = 0, valences_judged = 0;
+    /// Located mode, the singularity match in fold-over footprints (the vertices of the map's
+    /// flipped or degenerate triangles, the triangles round them): the footprints whose
+    /// valences the mesh does not match one by one but sums as a fold-free map of their rim
+    /// requires (the fold may have merged or moved singularities; its mismatches are listed as
+    /// undecided), and their input triangles and signed UV area (a double sum).
+    std::int64_t undecided_footprints = 0, undecided_triangles = 0;
+    double undecided_uv_area = 0.0;
     /// Located mode: checks that could not be decided because the map folds over there (a
     /// face's corners carried across flipped or degenerate triangles, or next to them) or
     /// through the fan of a singular vertex; not violations, listed for review.
@@ -207,9 +235,11 @@ struct VerifyOptions {
     /// Located mode: find the raw map's fold-over regions (FoldRegion: kFoldRegionRings rings
     /// around its flipped or degenerate triangles, where a repair such as qex's may have moved
     /// the map) and judge the vertices located there on the surface only, their faces' failures
-    /// as undecided. Off (the default): the raw map is judged everywhere, as the extractor's own
-    /// gate for relaxed rungs needs. `qex check` turns it on (--no-fold-regions: off).
-    bool fold_regions = false;
+    /// as undecided (the singularity match is decided there all the same). On by default, as
+    /// every front end judges (`qex check`, `qex draw --quads`, the C API, Python: check_mesh in
+    /// qex/check.h); off (`qex check --no-fold-regions`): the raw map judged everywhere, as the
+    /// extractor's own gate for its relaxed rungs requires.
+    bool fold_regions = true;
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;

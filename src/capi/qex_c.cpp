@@ -1,7 +1,8 @@
-// The C API (qex/qex_c.h) over qex::extract: arguments checked, every exception caught, the
-// result's arrays flattened once into the handle, which owns them.
+// The C API (qex/qex_c.h) over qex::extract and qex::check_mesh: arguments checked, every
+// exception caught, the result's arrays flattened once into the handle, which owns them.
 #include "qex/qex_c.h"
 
+#include "qex/check.h"
 #include "qex/qex.h"
 #include "qex/report.h"
 
@@ -23,6 +24,14 @@ struct qex_result {
     std::vector<double> positions;
     std::vector<std::int64_t> face_uvs;
     std::string report_json = "{}";
+};
+
+struct qex_verdict {
+    bool ok = false;
+    bool valid = false;
+    std::string error;
+    std::string error_code;
+    std::string json = "{}";
 };
 
 namespace {
@@ -55,17 +64,9 @@ qex::Options to_options(const qex_options* o, int64_t num_vertices, std::vector<
     return options;
 }
 
-qex_result* run(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
-                const double* corner_uvs, const qex_options* options) {
-    constexpr int64_t kMax = std::numeric_limits<int>::max() / 3;
-    if (num_vertices < 0 || num_vertices > kMax)
-        return refused("InvalidArgument", "num_vertices " + std::to_string(num_vertices) + " is out of range");
-    if (num_triangles < 0 || num_triangles > kMax)
-        return refused("InvalidArgument", "num_triangles " + std::to_string(num_triangles) + " is out of range");
-    if ((num_vertices > 0 && !positions) || (num_triangles > 0 && (!triangles || !corner_uvs)))
-        return refused("InvalidArgument", "positions, triangles and corner_uvs must not be NULL");
-    if (options && options->struct_size < sizeof(size_t))
-        return refused("InvalidArgument", "qex_options.struct_size is not set (call qex_options_init)");
+/// The map's arrays as an Input (counts and pointers checked by the caller).
+qex::Input to_input(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
+                    const double* corner_uvs) {
     qex::Input in;
     in.positions.resize(static_cast<std::size_t>(num_vertices));
     for (std::size_t i = 0; i < in.positions.size(); ++i)
@@ -77,6 +78,21 @@ qex_result* run(const double* positions, int64_t num_vertices, const int32_t* tr
         for (std::size_t k = 0; k < 3; ++k)
             in.uvs[3 * f + k] = {corner_uvs[6 * f + 2 * k], corner_uvs[6 * f + 2 * k + 1]};
     }
+    return in;
+}
+
+qex_result* run(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
+                const double* corner_uvs, const qex_options* options) {
+    constexpr int64_t kMax = std::numeric_limits<int>::max() / 3;
+    if (num_vertices < 0 || num_vertices > kMax)
+        return refused("InvalidArgument", "num_vertices " + std::to_string(num_vertices) + " is out of range");
+    if (num_triangles < 0 || num_triangles > kMax)
+        return refused("InvalidArgument", "num_triangles " + std::to_string(num_triangles) + " is out of range");
+    if ((num_vertices > 0 && !positions) || (num_triangles > 0 && (!triangles || !corner_uvs)))
+        return refused("InvalidArgument", "positions, triangles and corner_uvs must not be NULL");
+    if (options && options->struct_size < sizeof(size_t))
+        return refused("InvalidArgument", "qex_options.struct_size is not set (call qex_options_init)");
+    qex::Input in = to_input(positions, num_vertices, triangles, num_triangles, corner_uvs);
     const qex::Options opts = to_options(options, num_vertices, in.valences);
 
     const auto t0 = std::chrono::steady_clock::now();
@@ -105,9 +121,69 @@ qex_result* run(const double* positions, int64_t num_vertices, const int32_t* tr
     return r.release();
 }
 
+qex_verdict* refused_check(const char* code, const std::string& message) {
+    try {
+        auto* v = new qex_verdict;
+        v->error_code = code;
+        v->error = message;
+        return v;
+    } catch (...) { return nullptr; }
+}
+
+qex_verdict* run_check(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
+                       const double* corner_uvs, const double* quad_positions, int64_t num_quad_vertices,
+                       const int32_t* quads, int64_t num_quads, int grid_scale) {
+    constexpr int64_t kMax = std::numeric_limits<int>::max() / 4;
+    if (num_vertices < 0 || num_vertices > kMax || num_triangles < 0 || num_triangles > kMax || num_quad_vertices < 0 ||
+        num_quad_vertices > kMax || num_quads < 0 || num_quads > kMax)
+        return refused_check("InvalidArgument", "a count is out of range");
+    if ((num_vertices > 0 && !positions) || (num_triangles > 0 && (!triangles || !corner_uvs)) ||
+        (num_quad_vertices > 0 && !quad_positions) || (num_quads > 0 && !quads))
+        return refused_check("InvalidArgument", "an array with a positive count must not be NULL");
+    if (grid_scale < 1 || grid_scale > 64 || (grid_scale & (grid_scale - 1)) != 0)
+        return refused_check("InvalidArgument", "grid_scale must be 1, 2, 4, 8, 16, 32 or 64");
+    const qex::Input in = to_input(positions, num_vertices, triangles, num_triangles, corner_uvs);
+    qex::QuadMesh mesh;
+    mesh.positions.resize(static_cast<std::size_t>(num_quad_vertices));
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        mesh.positions[i] = {quad_positions[3 * i], quad_positions[3 * i + 1], quad_positions[3 * i + 2]};
+    mesh.faces.resize(static_cast<std::size_t>(num_quads));
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) mesh.faces[f].assign(quads + 4 * f, quads + 4 * f + 4);
+    // The oracle's one entry (qex/check.h), as `qex check` and Python's qex.check judge.
+    const qex::MeshCheck c = qex::check_mesh(in, std::move(mesh), grid_scale);
+    auto v = std::make_unique<qex_verdict>();
+    v->ok = c.map_ok();
+    v->error_code = qex::to_string(c.error.code);
+    v->error = c.error.message;
+    if (!v->ok) return v.release();
+    v->valid = c.verdict.valid;
+    v->json = qex::verify_json(c.verdict);
+    return v.release();
+}
+
 } // namespace
 
 extern "C" {
+
+qex_verdict* qex_check(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
+                       const double* corner_uvs, const double* quad_positions, int64_t num_quad_vertices,
+                       const int32_t* quads, int64_t num_quads, int grid_scale) {
+    try {
+        return run_check(positions, num_vertices, triangles, num_triangles, corner_uvs, quad_positions,
+                         num_quad_vertices, quads, num_quads, grid_scale);
+    } catch (const std::bad_alloc&) {
+        return refused_check("OutOfMemory", "out of memory");
+    } catch (const std::exception& e) { return refused_check("InternalError", e.what()); } catch (...) {
+        return refused_check("InternalError", "unknown exception");
+    }
+}
+
+int qex_verdict_ok(const qex_verdict* v) { return v && v->ok; }
+int qex_verdict_valid(const qex_verdict* v) { return v && v->valid; }
+const char* qex_verdict_error(const qex_verdict* v) { return v ? v->error.c_str() : "out of memory"; }
+const char* qex_verdict_error_code(const qex_verdict* v) { return v ? v->error_code.c_str() : "OutOfMemory"; }
+const char* qex_verdict_json(const qex_verdict* v) { return v ? v->json.c_str() : "{}"; }
+void qex_verdict_free(qex_verdict* v) { delete v; }
 
 void qex_options_init_size(qex_options* options, size_t struct_size) {
     if (!options || struct_size < sizeof(size_t)) return;

@@ -4,6 +4,7 @@
 #include "draw.h"
 #include "progress.h"
 #include "violations.h"
+#include "qex/check.h"
 #include "qex/report.h"
 
 #include <algorithm>
@@ -44,6 +45,12 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
                         static_cast<long long>(v.coverage_skipped_triangles));
         std::printf("\n");
         std::printf(
+            "singularities: %lld of the map, %lld irregular vertices of the mesh, %lld valences judged; "
+            "%lld fold-over footprints undecided (%lld triangles, UV area %.4g)\n",
+            static_cast<long long>(v.map_cones), static_cast<long long>(v.irregular_vertices),
+            static_cast<long long>(v.valences_judged), static_cast<long long>(v.undecided_footprints),
+            static_cast<long long>(v.undecided_triangles), v.undecided_uv_area);
+        std::printf(
             "positions carry up to %d significant digits%s; distance tolerance %.3g + up to %.3g for rounding "
             "(model units)\n",
             v.position_digits, v.positions_float32 ? " (float32 values)" : "", v.surface_tolerance,
@@ -82,19 +89,20 @@ int run_check(const CheckArgs& a) {
     progress.step("reading " + a.param_path);
     qex::Input input;
     if (const int code = read_map(a.param_path, input); code != kOk) return code;
-    // The map is the judge's reference: one that extraction would reject judges nothing.
-    if (const qex::Error e = qex::validate(input); e.code != qex::ErrorCode::None) {
-        progress.stop();
-        std::cerr << "qex: " << a.param_path << ": invalid input (" << qex::to_string(e.code) << "): " << e.message
-                  << "\n";
-        return kBadInput;
-    }
     progress.step("reading " + a.mesh_path);
     qex::QuadMesh mesh;
     if (const int code = read_quads(a.mesh_path, mesh); code != kOk) return code;
     progress.step("checking " + std::to_string(mesh.faces.size()) + " faces");
-    mesh.grid_scale = a.grid_scale;
-    const qex::VerifyResult v = qex::verify(input, mesh, a.options);
+    // The oracle's one entry (qex/check.h), as qex draw --quads, the C API and Python judge.
+    const qex::MeshCheck c = qex::check_mesh(input, mesh, a.grid_scale, a.options);
+    if (!c.map_ok()) {
+        // The map is the judge's reference: one that extraction would reject judges nothing.
+        progress.stop();
+        std::cerr << "qex: " << a.param_path << ": invalid input (" << qex::to_string(c.error.code)
+                  << "): " << c.error.message << "\n";
+        return kBadInput;
+    }
+    const qex::VerifyResult& v = c.verdict;
     progress.stop();
     // The verdict to files first: a file that cannot be written is an error, whatever the verdict.
     if (!a.report_path.empty() && !write_text(a.report_path, qex::verify_json(v) + "\n")) {
@@ -118,7 +126,6 @@ int run_check(const CheckArgs& a) {
 
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     auto* check = app.add_subcommand("check", "Judge a quad mesh (from any extractor) against an integer-grid map");
-    a.options.fold_regions = true; // a repaired map's mesh is judged on the surface in its fold-over regions
     check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
     check->add_flag("--json", a.json, "print the verdict as JSON");

@@ -85,6 +85,7 @@ struct DrawArgs {
     double radius = 6.0;
     bool png = false;
     bool layout = false; ///< with --quads: draw the mesh's quad layout instead of its defects
+    int grid_scale = 0; ///< with --quads: the scale to judge the mesh at (0: the report's, else 1)
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);
 int run_draw(const DrawArgs& a);

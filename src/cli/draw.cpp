@@ -6,6 +6,7 @@
 // checker's verdict as a picture, for `qex check --svg` (draw.h).
 #include "cli.h"
 #include "draw.h"
+#include "qex/check.h"
 #include "draw_parts.h"
 #include "map_info.h"
 #include "progress.h"
@@ -180,7 +181,16 @@ int quads_picture(const DrawArgs& a, const Input& in, const std::string& name, s
             return kParse;
         }
     }
-    const VerifyResult check = verify(in, mesh);
+    // Judged as `qex check` judges it (qex/check.h), at the grid scale given, or the report's.
+    int grid_scale = a.grid_scale;
+    if (grid_scale == 0) {
+        const auto* scale = report.is_object() && report.contains("fallback") && report["fallback"].is_object() &&
+                                    report["fallback"].contains("grid_scale")
+                                ? &report["fallback"]["grid_scale"]
+                                : nullptr;
+        grid_scale = scale && scale->is_number_integer() ? scale->get<int>() : 1;
+    }
+    const VerifyResult check = check_mesh(in, mesh, grid_scale).verdict;
     std::vector<std::string> listing;
     const std::vector<Mark> marks = collect_marks(in, mesh, report, check, listing);
     const std::string title = std::filesystem::path(a.quads_path).filename().string() + " on " + name + ": " +
@@ -231,6 +241,10 @@ CLI::App* add_draw(CLI::App& app, DrawArgs& a) {
     draw->add_option("-o,--output", a.out_path, "the SVG to write")->required();
     draw->add_option("--quads", a.quads_path, "draw this quad mesh (OBJ or PLY) instead of the map");
     draw->add_option("--report", a.report_path, "with --quads: circle the defects of this `qex extract --report`");
+    draw->add_option("--grid-scale", a.grid_scale,
+                     "with --quads: judge the mesh at this grid scale, as `qex check --grid-scale` (default: the "
+                     "report's, else 1)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
     // A range of long long: a number past 2^63 is refused as such, not saturated to 2^63 - 1.
     draw->add_option("--around", a.around, "draw the map around this triangle only")
         ->check(CLI::Range(0LL, static_cast<long long>(INT32_MAX)));

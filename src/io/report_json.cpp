@@ -65,6 +65,13 @@ nlohmann::json verify_object(const VerifyResult& v) {
         j["located"]["surface_only_faces"] = v.surface_only_faces;
         j["located"]["off_grid_region_vertices"] = v.off_grid_region_vertices;
         j["located"]["max_region_grid_distance"] = v.max_region_grid_distance;
+        j["located"]["singularities"] = {{"map_cones", v.map_cones},
+                                         {"unread_cones", v.unread_cones},
+                                         {"irregular_vertices", v.irregular_vertices},
+                                         {"valences_judged", v.valences_judged},
+                                         {"undecided_footprints", v.undecided_footprints},
+                                         {"undecided_triangles", v.undecided_triangles},
+                                         {"undecided_uv_area", v.undecided_uv_area}};
     }
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "qex/check.h"
 #include "qex/layout.h"
 #include "qex/qex.h"
 #include "qex/report.h"
@@ -269,32 +270,34 @@ std::string verify(const Doubles& V, const py::object& F, const Doubles& UV, con
 }
 
 std::string check(const Doubles& V, const py::object& F, const Doubles& UV, const Doubles& QV, const py::object& QF,
-                  double uv_tolerance, double distance_tolerance, bool locate, int threads) {
+                  double uv_tolerance, double distance_tolerance, bool locate, int digits, int grid_scale,
+                  bool fold_regions, int threads) {
     // As the Python half: finite tolerances, the UV one at most a cell (the checker's search
-    // for the cells about a triangle grows with it).
+    // for the cells about a triangle grows with it); digits and grid scale as `qex check` takes them.
     if (!(uv_tolerance >= 0 && uv_tolerance <= 1))
         throw py::value_error("uv_tolerance must be a finite number from 0 to 1");
     if (!(distance_tolerance >= 0 && std::isfinite(distance_tolerance)))
         throw py::value_error("distance_tolerance must be a finite number from 0");
+    if (digits < 0 || digits > 17) throw py::value_error("digits must be an integer from 0 to 17");
+    if (grid_scale < 1 || grid_scale > 64 || (grid_scale & (grid_scale - 1)) != 0)
+        throw py::value_error("grid_scale must be 1, 2, 4, 8, 16, 32 or 64");
     const qex::Input in = to_input(V, F, UV, py::none(), py::none());
     const qex::QuadMesh mesh = to_mesh(QV, QF);
-    qex::Error e;
-    std::string verdict;
+    qex::MeshCheck c;
     {
         py::gil_scoped_release unlocked;
-        // The map is the judge's reference: one that extraction would reject judges nothing.
-        e = qex::validate(in);
-        if (e.code == qex::ErrorCode::None) {
-            qex::VerifyOptions o;
-            o.uv_tolerance = uv_tolerance;
-            o.distance_tolerance = distance_tolerance;
-            o.locate = locate;
-            o.threads = threads;
-            verdict = qex::verify_json(qex::verify(in, mesh, o));
-        }
+        // The oracle's one entry (qex/check.h), as `qex check` and the C API judge.
+        qex::VerifyOptions o;
+        o.uv_tolerance = uv_tolerance;
+        o.distance_tolerance = distance_tolerance;
+        o.locate = locate;
+        o.position_digits = digits;
+        o.fold_regions = fold_regions;
+        o.threads = threads;
+        c = qex::check_mesh(in, mesh, grid_scale, o);
     }
-    if (e.code != qex::ErrorCode::None) reject(e);
-    return verdict;
+    if (!c.map_ok()) reject(c.error);
+    return qex::verify_json(c.verdict);
 }
 
 [[noreturn]] void raise(const std::string& path, const qex::IoError& e) {
@@ -453,6 +456,12 @@ distance_tolerance : float
     Largest distance of a vertex to the surface, a fraction of the bounding-box diagonal.
 locate : bool
     Locate the vertices on the map (False: the topology only).
+digits : int
+    The positions may be rounded to this many significant digits (0: exact doubles).
+grid_scale : int
+    Judge against the map's UVs times this power of two (1 to 64).
+fold_regions : bool
+    Judge vertices in the map's fold-over regions on the surface only.
 threads : int
     Threads of the checker (0: every core).
 
@@ -467,7 +476,8 @@ ValueError
     Arrays of the wrong shape or dtype, a tolerance out of range, or a map the library rejects.
 )doc",
           py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"), py::arg("uv_tolerance"),
-          py::arg("distance_tolerance"), py::arg("locate"), py::arg("threads"));
+          py::arg("distance_tolerance"), py::arg("locate"), py::arg("digits"), py::arg("grid_scale"),
+          py::arg("fold_regions"), py::arg("threads"));
     m.def("read_obj", &read_obj, R"doc(Read an OBJ map (the core of `qex.read_obj`).
 
 Parameters

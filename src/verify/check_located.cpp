@@ -186,6 +186,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     // lists their failures as undecided.
     count_surface_only_faces(mesh, loc, r);
     check_face_cells(map, mesh, loc, r, out);
+    check_singularities(map, mesh, loc, seam_tolerance, r, out);
     check_face_count(mesh, r, out);
     // And cell by cell, away from the fold-overs (as far as their regions reach, whether or not
     // the vertices there are judged on the surface only): every cell the map covers once is a

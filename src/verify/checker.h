@@ -83,6 +83,40 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
                    std::vector<Violation>& out, std::vector<std::int64_t>* located_triangle = nullptr,
                    std::vector<std::int64_t>* closest_triangle = nullptr, double noise_scale = 1.0);
 
+// ============================================================================ holes (holes.cpp)
+
+/// The mesh's boundary loops (sides without a twin: the reverse side, the edge's only other), each
+/// with the faces whose sides it follows. A vertex with several boundary sides continues along
+/// the first unused one.
+struct Boundary {
+    std::vector<std::vector<std::int64_t>> loops, faces;
+};
+Boundary boundary_loops(const QuadMesh& mesh);
+
+/// The input's boundary edges (edges of one triangle side).
+std::vector<std::array<int, 2>> input_boundary_edges(const Input& in);
+
+/// The squared distance from x to the segment ab.
+double segment_distance2(const std::array<double, 3>& x, const std::array<double, 3>& a,
+                         const std::array<double, 3>& b);
+
+/// Per input component (by triangles sharing vertices) with no located vertex: its first triangle.
+std::vector<std::int64_t> empty_input_components(const Input& in, const std::vector<std::int64_t>& located_triangle);
+
+/// The loops of `b` (the mesh's) that run along no boundary loop of the input: a loop runs along
+/// one when each of its vertices lies within `tol` plus a cell (twice its faces' diagonal) of
+/// it, and each input loop keeps the mesh loop whose farthest vertex is closest (holes.cpp).
+/// Every loop when the input has no boundary; none when too large to decide.
+std::vector<std::size_t> find_holes(const Input& in, const QuadMesh& mesh, const Boundary& b, double tol);
+
+/// Appends a Hole violation per loop find_holes names (its loop, its faces and, in located mode,
+/// the input triangles of its vertices' closest points), and in located mode (`located_triangle`
+/// not empty) a MissingComponent violation per input component no vertex lies on.
+/// `has_boundary`: the mesh has boundary loops (else no hole is looked for).
+void check_holes(const Input& in, const QuadMesh& mesh, bool has_boundary, double tol,
+                 const std::vector<std::int64_t>& closest_triangle, const std::vector<std::int64_t>& located_triangle,
+                 std::vector<Violation>& out);
+
 // ============================================================================ places (places.cpp)
 
 /// What place_violations needs besides the mesh and the input.
@@ -254,6 +288,14 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
 /// fold-over region (Located::surface_only), leave undecided to `r.undecided`.
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
                       std::vector<Violation>& out);
+
+/// The singularity match (singularities.cpp): every vertex of the mesh located on the map (in a
+/// fold-over region or not) has as many faces as the map's valence where it lies, and every
+/// singularity of the map (and corner of a boundary along iso-lines) carries a vertex. Input
+/// vertices joined by edges shorter than `tol` in UV are one cone. Appends ValenceMismatch and
+/// SingularityNotCarried violations to `out`; counts into r.map_cones and the like.
+void check_singularities(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, double tol,
+                         VerifyResult& r, std::vector<Violation>& out);
 
 /// A unit grid cell in the chart of an input triangle: (triangle, lower-left u, v).
 using FaceCell = std::array<std::int64_t, 3>;

@@ -100,7 +100,7 @@ private:
     /// Reports vertex v at `distance` from the surface, beyond the tolerance.
     void report_off_surface(std::size_t v, double distance, double round_v, std::vector<Violation>& out) const;
     /// A vertex in a fold-over region: counted there, judged on the surface only.
-    void judge_in_region(Located& L, const GridReading& g, double uv_tol, VerifyResult& r) const;
+    void judge_in_region(std::size_t v, Located& L, const GridReading& g, double uv_tol, VerifyResult& r) const;
     /// Reports vertex v off its grid point: undecided where the positions' precision cannot
     /// place it, else a violation.
     void report_off_grid(std::size_t v, Located& L, const GridReading& g, double uv_tol, VerifyResult& r,
@@ -144,7 +144,7 @@ void Locator::locate(std::size_t v, Located& L, VerifyResult& r, std::vector<Vio
     // nearest grid point of the raw map stands for it in the face checks, which list a
     // failure of a face with such a corner as undecided.
     if (map_.region_of[L.triangle] >= 0) {
-        judge_in_region(L, g, uv_tol, r);
+        judge_in_region(v, L, g, uv_tol, r);
         return;
     }
     r.max_grid_distance = std::max(r.max_grid_distance, g.off);
@@ -207,12 +207,23 @@ void Locator::report_off_surface(std::size_t v, double distance, double round_v,
                static_cast<std::int64_t>(v));
 }
 
-void Locator::judge_in_region(Located& L, const GridReading& g, double uv_tol, VerifyResult& r) const {
+void Locator::judge_in_region(std::size_t v, Located& L, const GridReading& g, double uv_tol, VerifyResult& r) const {
     FoldRegion& region = r.fold_regions[static_cast<std::size_t>(map_.region_of[L.triangle])];
     L.surface_only = true;
     ++r.surface_only_vertices;
     ++region.vertices;
-    if (!(g.off <= std::min(uv_tol, kMaxUvTolerance))) ++region.off_grid_vertices, ++r.off_grid_region_vertices;
+    if (!(g.off <= std::min(uv_tol, kMaxUvTolerance))) {
+        // Off the raw map's grid point: a repaired map may have its grid point here, or the
+        // vertex slid off its own. Not a violation: listed as undecided.
+        ++region.off_grid_vertices, ++r.off_grid_region_vertices;
+        add_capped(r.undecided, ViolationKind::NotOnGridPoint,
+                   "vertex " + std::to_string(v) + " maps to (" + num(g.uv[0]) + ", " + num(g.uv[1]) +
+                       ") in the chart of input triangle " + std::to_string(L.triangle) + ", " + num(g.off) +
+                       " from the nearest integer grid point, in fold-over region F" +
+                       std::to_string(map_.region_of[L.triangle] + 1) +
+                       " (judged on the surface only: a repaired map may have its grid point here)",
+                   static_cast<std::int64_t>(v));
+    }
     r.max_region_grid_distance = std::max(r.max_region_grid_distance, g.off);
     if (g.in_range()) {
         L.grid = g.grid();

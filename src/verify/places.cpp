@@ -33,118 +33,6 @@ bool element_place(const Violation& v, Place& p) {
     return true;
 }
 
-/// The mesh's boundary loops (sides without a twin: the reverse side, the edge's only other), each
-/// with the faces whose sides it follows. A vertex with several boundary sides continues along
-/// the first unused one.
-struct Boundary {
-    std::vector<std::vector<Index>> loops, faces;
-};
-
-Boundary boundary_loops(const QuadMesh& mesh) {
-    // The sides, keyed by their undirected edge: a side alone in its key is a boundary side.
-    struct Side {
-        std::uint64_t key;
-        int from, to;
-        Index face;
-    };
-    std::vector<Side> sides;
-    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-        const auto& face = mesh.faces[f];
-        for (std::size_t i = 0; i < face.size(); ++i) {
-            const auto a = static_cast<std::uint32_t>(face[i]),
-                       b = static_cast<std::uint32_t>(face[(i + 1) % face.size()]);
-            sides.push_back({static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), face[i],
-                             face[(i + 1) % face.size()], static_cast<Index>(f)});
-        }
-    }
-    std::sort(sides.begin(), sides.end(),
-              [](const Side& x, const Side& y) { return x.key != y.key ? x.key < y.key : x.face < y.face; });
-    std::vector<Side> open;
-    for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
-        j = i;
-        while (j < sides.size() && sides[j].key == sides[i].key) ++j;
-        // As the topology counts them: a side has a twin only when its edge has exactly two
-        // sides, in opposite directions.
-        const bool twins = j - i == 2 && sides[i].from == sides[i + 1].to && sides[i].to == sides[i + 1].from &&
-                           sides[i].from != sides[i].to;
-        if (!twins)
-            for (std::size_t k = i; k < j; ++k) open.push_back(sides[k]);
-    }
-    std::sort(open.begin(), open.end(),
-              [](const Side& x, const Side& y) { return x.from != y.from ? x.from < y.from : x.face < y.face; });
-    std::vector<char> used(open.size(), 0);
-    auto first_from = [&](int v) -> std::size_t {
-        auto it = std::lower_bound(open.begin(), open.end(), v, [](const Side& s, int x) { return s.from < x; });
-        for (; it != open.end() && it->from == v; ++it)
-            if (!used[static_cast<std::size_t>(it - open.begin())]) return static_cast<std::size_t>(it - open.begin());
-        return open.size();
-    };
-    Boundary b;
-    for (std::size_t s0 = 0; s0 < open.size(); ++s0) {
-        if (used[s0]) continue;
-        std::vector<Index> loop, faces;
-        for (std::size_t s = s0; s < open.size(); s = first_from(open[s].to)) {
-            used[s] = 1;
-            loop.push_back(open[s].from);
-            faces.push_back(open[s].face);
-            if (open[s].to == open[s0].from) break;
-        }
-        std::sort(faces.begin(), faces.end());
-        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-        b.loops.push_back(std::move(loop));
-        b.faces.push_back(std::move(faces));
-    }
-    return b;
-}
-
-/// The squared distance from x to the segment ab.
-double segment_distance2(const std::array<double, 3>& x, const std::array<double, 3>& a,
-                         const std::array<double, 3>& b) {
-    double ab[3], ax[3], len2 = 0, dot = 0;
-    for (int d = 0; d < 3; ++d) ab[d] = b[d] - a[d], ax[d] = x[d] - a[d], len2 += ab[d] * ab[d], dot += ab[d] * ax[d];
-    const double t = len2 > 0 ? std::clamp(dot / len2, 0.0, 1.0) : 0.0;
-    double d2 = 0;
-    for (int d = 0; d < 3; ++d) d2 += (ax[d] - t * ab[d]) * (ax[d] - t * ab[d]);
-    return d2;
-}
-
-/// Whether every vertex of the loop lies within `tol` of the input's boundary edges (decided by
-/// brute force; true, i.e. not a hole, when that would take too long).
-bool on_input_boundary(const Input& in, const std::vector<std::array<int, 2>>& input_boundary, const QuadMesh& mesh,
-                       const std::vector<Index>& loop, double tol) {
-    if (static_cast<double>(loop.size()) * static_cast<double>(input_boundary.size()) > 5e7) return true;
-    for (const Index v : loop) {
-        const auto& x = mesh.positions[static_cast<std::size_t>(v)];
-        bool near = false;
-        for (const auto& e : input_boundary) {
-            near = segment_distance2(x, in.positions[static_cast<std::size_t>(e[0])],
-                                     in.positions[static_cast<std::size_t>(e[1])]) <= tol * tol;
-            if (near) break;
-        }
-        if (!near) return false;
-    }
-    return true;
-}
-
-/// The input's boundary edges (edges of one triangle side).
-std::vector<std::array<int, 2>> input_boundary_edges(const Input& in) {
-    std::vector<std::pair<std::uint64_t, std::array<int, 2>>> sides;
-    for (const auto& t : in.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const auto a = static_cast<std::uint32_t>(t[k]), b = static_cast<std::uint32_t>(t[(k + 1) % 3]);
-            sides.push_back(
-                {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), {t[k], t[(k + 1) % 3]}});
-        }
-    std::sort(sides.begin(), sides.end());
-    std::vector<std::array<int, 2>> out;
-    for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
-        j = i;
-        while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-        if (j - i == 1) out.push_back(sides[i].second);
-    }
-    return out;
-}
-
 /// The mesh's components as lists of faces, smallest first (ties: by first face).
 std::vector<std::vector<Index>> components_by_size(const QuadMesh& mesh) {
     UnionFind uf(mesh.positions.size());
@@ -160,21 +48,6 @@ std::vector<std::vector<Index>> components_by_size(const QuadMesh& mesh) {
     }
     std::stable_sort(comps.begin(), comps.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
     return comps;
-}
-
-/// Per input component (by triangles sharing vertices) with no located vertex: its first triangle.
-std::vector<Index> empty_input_components(const Input& in, const std::vector<std::int64_t>& located_triangle) {
-    UnionFind uf(in.positions.size());
-    for (const auto& t : in.triangles) uf.unite(t[1], t[0]), uf.unite(t[2], t[0]);
-    std::vector<char> hosts(in.positions.size(), 0), listed(in.positions.size(), 0);
-    for (const std::int64_t t : located_triangle)
-        if (t >= 0) hosts[static_cast<std::size_t>(uf.find(in.triangles[static_cast<std::size_t>(t)][0]))] = 1;
-    std::vector<Index> out;
-    for (std::size_t t = 0; t < in.triangles.size(); ++t) {
-        const auto root = static_cast<std::size_t>(uf.find(in.triangles[t][0]));
-        if (!hosts[root] && !listed[root]) listed[root] = 1, out.push_back(static_cast<Index>(t));
-    }
-    return out;
 }
 
 /// Located mode: the input triangle of the closest surface point of the violation's output vertex,
@@ -228,15 +101,10 @@ void place_elements(const QuadMesh& mesh, const PlaceContext& ctx, VerifyResult&
         }
 }
 
-/// Holes: the mesh's boundary loops that leave the input's boundary (all of them when the
-/// input has none).
+/// Holes: the mesh's boundary loops that do not run along the input's boundary (find_holes);
+/// all of them when every loop runs along it, yet they are too many or too few.
 std::vector<std::size_t> hole_loops(const Input& in, const QuadMesh& mesh, const PlaceContext& ctx, const Boundary& b) {
-    std::vector<std::size_t> holes;
-    const auto input_boundary = input_boundary_edges(in);
-    for (std::size_t l = 0; l < b.loops.size(); ++l)
-        if (input_boundary.empty() || !on_input_boundary(in, input_boundary, mesh, b.loops[l], ctx.boundary_tolerance))
-            holes.push_back(l);
-    // Every loop lies on the input's boundary, yet they are too many (or too few): name them all.
+    std::vector<std::size_t> holes = find_holes(in, mesh, b, ctx.boundary_tolerance);
     if (holes.empty())
         for (std::size_t l = 0; l < b.loops.size(); ++l) holes.push_back(l);
     return holes;

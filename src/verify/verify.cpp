@@ -242,11 +242,13 @@ VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOpt
     places.indices_ok = indices_ok;
     if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
         check_located(input, mesh, options, r, out, &places.located_triangle, &places.closest_triangle, noise_scale);
+    if (it.ok) places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
+    // Holes (a mesh without boundary loops has none), and in located mode missing components.
+    if (it.ok && indices_ok && !mesh.faces.empty() && (r.boundary_loops > 0 || !places.located_triangle.empty()))
+        check_holes(input, mesh, r.boundary_loops > 0, places.boundary_tolerance, places.closest_triangle,
+                    places.located_triangle, out);
     r.valid = out.empty();
-    if (it.ok) {
-        places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
-        place_violations(input, mesh, places, r);
-    }
+    if (it.ok) place_violations(input, mesh, places, r);
     return r;
 }
 

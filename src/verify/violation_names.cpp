@@ -29,6 +29,10 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::CoverageMismatch: return "CoverageMismatch";
         case ViolationKind::GridPointNotCovered: return "GridPointNotCovered";
         case ViolationKind::GridCellNotCovered: return "GridCellNotCovered";
+        case ViolationKind::ValenceMismatch: return "ValenceMismatch";
+        case ViolationKind::SingularityNotCarried: return "SingularityNotCarried";
+        case ViolationKind::Hole: return "Hole";
+        case ViolationKind::MissingComponent: return "MissingComponent";
     }
     return "Unknown";
 }
@@ -60,8 +64,12 @@ ViolationElement element_kind(ViolationKind k) {
         case ViolationKind::UnreferencedVertex:
         case ViolationKind::NonFinitePosition:
         case ViolationKind::NotOnGridPoint:
+        case ViolationKind::ValenceMismatch:
+        case ViolationKind::Hole:
         case ViolationKind::OffSurface: return ViolationElement::OutputVertex;
-        case ViolationKind::SingularityOffGrid: return ViolationElement::InputVertex;
+        case ViolationKind::SingularityOffGrid:
+        case ViolationKind::SingularityNotCarried: return ViolationElement::InputVertex;
+        case ViolationKind::MissingComponent:
         case ViolationKind::MapNotIntegerGrid:
         case ViolationKind::RepairNotCertified:
         case ViolationKind::GridPointNotCovered:

@@ -125,6 +125,13 @@ def _threads(threads: int) -> int:
     return int(threads)
 
 
+def _small_int(name: str, x: int, lo: int, hi: int) -> int:
+    """An integer from lo to hi (bools refused, as for threads)."""
+    if isinstance(x, bool) or not isinstance(x, (int, _np.integer)) or not lo <= x <= hi:
+        raise ValueError("%s must be an integer from %d to %d, not %r" % (name, lo, hi, x))
+    return int(x)
+
+
 def _tolerance(name: str, x: float, most: Optional[float] = None) -> float:
     """A tolerance: a finite number from 0 (to `most`, if given); NaN and infinities refused."""
     x = float(x)
@@ -285,9 +292,15 @@ def check(
     uv_tolerance: float = 1e-3,
     distance_tolerance: float = 1e-6,
     locate: bool = True,
+    digits: int = 6,
+    grid_scale: int = 1,
+    fold_regions: bool = True,
     threads: int = 0,
 ) -> Dict[str, Any]:
     """Judge any quad mesh, given as arrays, against a map: the oracle for any extractor's output.
+
+    The same code path and defaults as ``qex check --param`` (and ``qex draw --quads``, the C
+    API's ``qex_check``): the same mesh gets the same verdict.
 
     Parameters
     ----------
@@ -305,6 +318,15 @@ def check(
         (default 1e-6).
     locate : bool, optional
         Locate the vertices on the map (default); False checks the topology only.
+    digits : int, optional
+        The positions may be rounded to this many significant digits (default 6: float
+        precision); 0 takes them as exact doubles (``qex check --strict``).
+    grid_scale : int, optional
+        Judge the mesh against the map with its UVs multiplied by this power of two (1 to 64; a
+        mesh qex extracted with refinement, ``report["fallback"]["grid_scale"]``).
+    fold_regions : bool, optional
+        Judge vertices in the map's fold-over regions on the surface only (default; False:
+        ``qex check --no-fold-regions``).
     threads : int, optional
         Threads of the checker (0: every core).
 
@@ -324,7 +346,11 @@ def check(
     QFm = _integer("QF", QF, (None, None))
     uv = _tolerance("uv_tolerance", uv_tolerance, 1.0)
     distance = _tolerance("distance_tolerance", distance_tolerance)
-    verdict: Dict[str, Any] = _json.loads(_qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), _threads(threads)))
+    digits_ = _small_int("digits", digits, 0, 17)
+    scale = _small_int("grid_scale", grid_scale, 1, 64)
+    verdict: Dict[str, Any] = _json.loads(
+        _qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), digits_, scale, bool(fold_regions),
+                   _threads(threads)))
     return verdict
 
 

@@ -44,6 +44,9 @@ def check(
     uv_tolerance: float,
     distance_tolerance: float,
     locate: bool,
+    digits: int,
+    grid_scale: int,
+    fold_regions: bool,
     threads: int,
 ) -> str: ...
 def read_obj(path: str, threads: int) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.float64]]: ...

@@ -1,0 +1,33 @@
+// The oracle's one entry for judging any extractor's quad mesh against a map: `qex check`,
+// `qex draw --quads`, the C API's qex_check and Python's qex.check all call check_mesh, so the
+// same mesh gets the same verdict everywhere, with the same defaults (VerifyOptions: fold-over
+// regions judged on the surface, positions read to 6 significant digits; grid scale 1).
+#pragma once
+
+#include "qex/extract.h"
+#include "qex/verify.h"
+
+namespace qex {
+
+/// The map's validation (Error: what extraction would reject it for) and, when it passes, the
+/// checker's verdict on the mesh.
+struct MeshCheck {
+    Error error;
+    VerifyResult verdict;
+    bool map_ok() const { return error.code == ErrorCode::None; }
+};
+
+/// Judges `mesh` (its positions and faces; provenance, local UVs and a map it carries are
+/// judged too) against `map` as `qex check --param` does: a map extraction would reject judges
+/// nothing (MeshCheck::error), otherwise verify() with `options` at `grid_scale` (a power of
+/// two: the mesh was extracted from the map with its UVs multiplied by it).
+inline MeshCheck check_mesh(const Input& map, QuadMesh mesh, int grid_scale = 1, const VerifyOptions& options = {}) {
+    MeshCheck c;
+    c.error = validate(map);
+    if (!c.map_ok()) return c;
+    mesh.grid_scale = grid_scale;
+    c.verdict = verify(map, mesh, options);
+    return c;
+}
+
+} // namespace qex

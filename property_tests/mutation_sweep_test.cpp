@@ -1,0 +1,247 @@
+// The mutation sweep (issue 31): on qex's output of every shared map, judged without provenance as
+// `qex check --param` judges another tool's mesh, edges rotated between two quads, quads dropped
+// and vertices slid along the surface off their grid points. Each mutant must be rejected naming
+// its place, or left undecided (named in VerifyResult::undecided); none may pass unnoticed. The
+// unmutated outputs must pass. The tallies print per map (property_tests/README.md lists them).
+// Mutants of one kind are applied together, each a face apart from the others, and judged at once.
+#include "mutations.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+namespace qex::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using Index = std::int64_t;
+
+/// Most mutants of each kind per map (every one on small meshes).
+constexpr std::size_t kRotations = 200, kDrops = 40, kSlides = 40;
+/// Rounds of rotations (each judged at once, its sites a face apart): on small meshes the 200
+/// edges sampled do not all fit in them; the rest are left out.
+constexpr int kRounds = 4;
+
+/// Per kind: rejected (a violation names its place), undecided (an undecided check does), missed.
+struct Tally {
+    std::size_t rejected = 0, undecided = 0, missed = 0;
+};
+
+/// Whether a violation in `list` names one of `vertices` or `faces` (its element or a place).
+bool named(const std::vector<Violation>& list, const std::set<Index>& vertices, const std::set<Index>& faces) {
+    for (const Violation& x : list) {
+        const ViolationElement e = element_kind(x.kind);
+        if ((e == ViolationElement::OutputVertex && vertices.count(x.element)) ||
+            (e == ViolationElement::OutputFace && faces.count(x.element)))
+            return true;
+        for (const Place& p : x.places) {
+            const auto& in = p.kind == PlaceKind::Face ? faces : vertices;
+            if (p.kind != PlaceKind::Vertex && p.kind != PlaceKind::Loop && p.kind != PlaceKind::Face) continue;
+            for (const Index i : p.indices)
+                if (in.count(i)) return true;
+        }
+    }
+    return false;
+}
+
+/// Mutation sites a face apart: each claims its faces and every face at their vertices.
+class Sites {
+public:
+    explicit Sites(const QuadMesh& m) : faces_of_(m.positions.size()), taken_(m.faces.size(), 0), m_(m) {
+        for (std::size_t f = 0; f < m.faces.size(); ++f)
+            for (int v : m.faces[f]) faces_of_[static_cast<std::size_t>(v)].push_back(f);
+    }
+    /// Claims the faces at `vertices` if none is claimed yet.
+    bool claim(const std::vector<int>& vertices) {
+        for (int v : vertices)
+            for (std::size_t f : faces_of_[static_cast<std::size_t>(v)])
+                if (taken_[f]) return false;
+        for (int v : vertices)
+            for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
+        return true;
+    }
+    /// Claims every face at v, claimed or not.
+    void block(int v) {
+        for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
+    }
+    const std::vector<std::size_t>& faces_at(int v) const { return faces_of_[static_cast<std::size_t>(v)]; }
+
+private:
+    std::vector<std::vector<std::size_t>> faces_of_;
+    std::vector<char> taken_;
+    const QuadMesh& m_;
+};
+
+/// Judges `m` and tallies each site (its vertices and faces) into `t`.
+void judge(const Input& in, const QuadMesh& m, const std::vector<std::pair<std::set<Index>, std::set<Index>>>& sites,
+           Tally& t) {
+    if (sites.empty()) return;
+    const VerifyResult v = verify(in, m);
+    for (const auto& [vertices, faces] : sites) {
+        if (named(v.violations, vertices, faces))
+            ++t.rejected;
+        else if (named(v.undecided, vertices, faces))
+            ++t.undecided;
+        else
+            ++t.missed;
+    }
+}
+
+/// The interior edges whose two quads have six distinct vertices, each once.
+std::vector<SharedEdge> rotatable_edges(const QuadMesh& m) {
+    std::map<std::pair<int, int>, std::size_t> side;
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+        for (std::size_t i = 0; i < 4; ++i) side[{m.faces[f][i], m.faces[f][(i + 1) % 4]}] = f;
+    std::vector<SharedEdge> edges;
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const int a = m.faces[f][i], b = m.faces[f][(i + 1) % 4];
+            const auto it = side.find({b, a});
+            if (it == side.end() || it->second <= f) continue;
+            std::set<int> six(m.faces[f].begin(), m.faces[f].end());
+            six.insert(m.faces[it->second].begin(), m.faces[it->second].end());
+            if (six.size() == 6) edges.push_back({f, it->second, a, b});
+        }
+    return edges;
+}
+
+/// Rotated edges (rotate_edge: a and b lose a face, the far corners x of f and z of g gain
+/// one), spread over the mesh (every k-th), in up to kRounds rounds.
+Tally rotate_edges(const Input& in, const QuadMesh& good) {
+    Tally t;
+    const std::vector<SharedEdge> edges = rotatable_edges(good);
+    const std::size_t stride = std::max<std::size_t>(1, edges.size() / kRotations);
+    std::vector<SharedEdge> todo;
+    for (std::size_t i = 0; i < edges.size() && todo.size() < kRotations; i += stride) todo.push_back(edges[i]);
+    for (int round = 0; round < kRounds && !todo.empty(); ++round) {
+        QuadMesh m = good;
+        Sites sites(good);
+        std::vector<SharedEdge> later;
+        std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
+        for (const SharedEdge& e : todo) {
+            const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
+            std::vector<int> all(f.begin(), f.end());
+            all.insert(all.end(), g.begin(), g.end());
+            if (!sites.claim(all)) {
+                later.push_back(e);
+                continue;
+            }
+            rotate_edge(m, e);
+            std::set<Index> vertices(all.begin(), all.end());
+            judged.push_back({vertices, {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
+        }
+        judge(in, m, judged, t);
+        if (later.size() == todo.size()) break;
+        todo = std::move(later);
+    }
+    return t;
+}
+
+/// Dropped quads off the boundary (a quad dropped at a boundary off the iso-lines is a dent in
+/// its staircase, which no check can tell from one), every k-th, a face apart: holes.
+Tally drop_faces(const Input& in, const QuadMesh& good) {
+    Tally t;
+    Sites sites(good);
+    std::set<std::pair<int, int>> sides;
+    for (const auto& f : good.faces)
+        for (std::size_t i = 0; i < 4; ++i) sides.insert({f[i], f[(i + 1) % 4]});
+    std::set<int> boundary;
+    for (const auto& s : sides)
+        if (!sides.count({s.second, s.first})) boundary.insert(s.first), boundary.insert(s.second);
+    for (int v : boundary) sites.block(v);
+    std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
+    std::vector<char> drop(good.faces.size(), 0);
+    const std::size_t stride = std::max<std::size_t>(1, good.faces.size() / (2 * kDrops));
+    for (std::size_t f = stride / 2; f < good.faces.size() && judged.size() < kDrops; f += stride) {
+        if (!sites.claim(good.faces[f])) continue;
+        drop[f] = 1;
+        judged.push_back({std::set<Index>(good.faces[f].begin(), good.faces[f].end()), {}});
+    }
+    QuadMesh m = good;
+    m.faces.clear();
+    for (std::size_t f = 0; f < good.faces.size(); ++f)
+        if (!drop[f]) m.faces.push_back(good.faces[f]);
+    judge(in, m, judged, t);
+    return t;
+}
+
+/// Vertices slid along the surface: onto the centroid of the input triangle their provenance
+/// names (off the grid: centroids within 0.05 of a grid point are left out), every k-th, a face
+/// apart.
+Tally slide_vertices(const Input& in, const QuadMesh& good, const std::vector<Provenance>& provenance) {
+    Tally t;
+    Sites sites(good);
+    QuadMesh m = good;
+    std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
+    const std::size_t stride = std::max<std::size_t>(1, good.positions.size() / (2 * kSlides));
+    for (std::size_t v = stride / 2; v < good.positions.size() && judged.size() < kSlides; v += stride) {
+        const Provenance& p = provenance[v];
+        const int tri = p.kind == QVertexKind::Vertex ? p.chart_triangle : p.element;
+        if (tri < 0) continue;
+        // The centroid's UV (at the mesh's grid scale): a centroid near a grid point may be a
+        // preimage of one, where a vertex may lie.
+        double uv[2] = {0, 0};
+        for (std::size_t k = 0; k < 3; ++k)
+            for (int d = 0; d < 2; ++d) uv[d] += in.uvs[3 * static_cast<std::size_t>(tri) + k][d] * good.grid_scale / 3;
+        if (std::abs(uv[0] - std::nearbyint(uv[0])) < 0.05 && std::abs(uv[1] - std::nearbyint(uv[1])) < 0.05) continue;
+        if (!sites.claim({static_cast<int>(v)})) continue;
+        std::array<double, 3> c{0, 0, 0};
+        for (int k : in.triangles[static_cast<std::size_t>(tri)])
+            for (int d = 0; d < 3; ++d) c[d] += in.positions[static_cast<std::size_t>(k)][d] / 3;
+        m.positions[v] = c;
+        std::set<Index> faces;
+        for (std::size_t f : sites.faces_at(static_cast<int>(v))) faces.insert(static_cast<Index>(f));
+        judged.push_back({{static_cast<Index>(v)}, faces});
+    }
+    judge(in, m, judged, t);
+    return t;
+}
+
+std::string line(const char* kind, const Tally& t) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " %s %zu/%zu/%zu", kind, t.rejected, t.undecided, t.missed);
+    return buf;
+}
+
+TEST(MutationSweep, EveryMutantOfEverySharedMapsOutputIsRejectedOrUndecided) {
+    std::size_t maps = 0;
+    Tally all[3];
+    for (const char* dir : {"paper", "miq", "miq-more", "quadcover"}) {
+        std::vector<fs::path> files;
+        std::error_code ec;
+        for (const auto& e : fs::directory_iterator(fs::path(QEX_SHARED_DIR) / "meshes" / dir, ec))
+            if (e.path().extension() == ".obj") files.push_back(e.path());
+        std::sort(files.begin(), files.end());
+        for (const fs::path& path : files) {
+            Input in;
+            if (!read_obj(path.string(), in).ok()) continue;
+            const Result r = extract(in);
+            if (!r.ok() || !r.check.valid) continue;
+            QuadMesh good = bare(r.mesh);
+            good.grid_scale = r.mesh.grid_scale;
+            const VerifyResult own = verify(in, good);
+            EXPECT_TRUE(own.valid) << path << ": " << first_message(own);
+            const Tally t[3] = {rotate_edges(in, good), drop_faces(in, good),
+                                slide_vertices(in, good, r.mesh.provenance)};
+            std::printf("%-34s rotated%s dropped%s slid%s (rejected/undecided/missed)\n", path.stem().c_str(),
+                        line("", t[0]).c_str(), line("", t[1]).c_str(), line("", t[2]).c_str());
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(t[k].missed, 0u) << path << " kind " << k;
+                all[k].rejected += t[k].rejected, all[k].undecided += t[k].undecided, all[k].missed += t[k].missed;
+            }
+            EXPECT_EQ(t[1].undecided, 0u) << path << ": a dropped quad is a hole, decided everywhere";
+            ++maps;
+        }
+    }
+    if (maps == 0) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes";
+    std::printf("all %zu maps: rotated%s dropped%s slid%s (rejected/undecided/missed)\n", maps,
+                line("", all[0]).c_str(), line("", all[1]).c_str(), line("", all[2]).c_str());
+}
+
+} // namespace
+} // namespace qex::testing
