@@ -51,7 +51,7 @@ CLI::Validator finite_number();
 // The subcommands, each in its own file: its options (add_*), then its run (run_*).
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
-    bool poly = false, quiet = false, snap_boundary = false, round_seams = false;
+    bool poly = false, quiet = false, snap_boundary = false, round_seams = false, best_effort = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
     int max_coarsening = Options{}.max_coarsening;

@@ -3,8 +3,26 @@
 #include "ladder/ladder.h"
 
 #include <cmath>
+#include <optional>
+#include <vector>
 
 namespace qex {
+namespace {
+
+/// An invalid result's report names the handles the map collapses first among its defects,
+/// before the symptoms that follow from them (found here unless `handles` holds them).
+void name_collapsed_handles(const Input& input, const Options& options,
+                            std::optional<std::vector<CollapsedHandle>> handles, Result& result) {
+    if (result.check.valid) return;
+    if (!handles) handles = detail::find_collapsed_handles(input, options.max_refinement);
+    std::vector<Defect> named;
+    for (const CollapsedHandle& h : *handles)
+        named.push_back(detail::collapsed_handle_defect(input, h, options.max_refinement));
+    result.report.defects.insert(result.report.defects.begin(), named.begin(), named.end());
+    result.report.collapsed_handles = std::move(*handles);
+}
+
+} // namespace
 
 Result extract(const Input& input, const Options& options) {
     using namespace detail;
@@ -20,7 +38,11 @@ Result extract(const Input& input, const Options& options) {
     RepairMemo memo;
     const bool may_refine = options.fallback_ladder && options.max_refinement >= 2;
     Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr});
-    if (!result.ok() || !options.fallback_ladder) return result;
+    if (!result.ok()) return result;
+    if (!options.fallback_ladder) {
+        name_collapsed_handles(input, options, std::nullopt, result);
+        return result;
+    }
     if (result.check.valid) {
         // More quads than the signed area: faces on two sheets of a fold-over cover some cells
         // twice (a pleat the checker, judging fold-over regions on the surface, lets pass). The
@@ -34,8 +56,12 @@ Result extract(const Input& input, const Options& options) {
     }
     // No rung's mesh is valid: the map coarsened (coarsen.cpp), then refined (refine.cpp).
     if (options.max_coarsening >= 2 && extract_coarsened(input, options, result)) return result;
-    if (options.max_refinement < 2) return result;
-    extract_refined(input, options, memo, result);
+    // A handle the map collapses is lost at every scale: then refinement is not tried (fail
+    // fast), unless Options::best_effort looks for the mesh that loses only that handle.
+    std::vector<CollapsedHandle> handles = find_collapsed_handles(input, options.max_refinement);
+    if (refinement_can_help(options, !handles.empty(), result))
+        extract_refined(input, options, memo, !handles.empty(), result);
+    name_collapsed_handles(input, options, std::move(handles), result);
     return result;
 }
 

@@ -149,7 +149,9 @@ def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options
     **options
         Any field of ``qex::Options``: ``max_qvertices``, ``max_trace_steps``,
         ``recover_lost_edges``, ``merge_vertices``, ``canonical_order``, ``snap_boundary``,
-        ``repair_fold_overs``, ``fallback_ladder``.
+        ``repair_fold_overs``, ``fallback_ladder``, ``best_effort`` (when no attempt gives a valid
+        mesh, return the one closest to valid: the fewest checker violations, ties to the
+        smallest grid scale; ``valid`` stays False and ``report["defects"]`` locates each).
 
     Returns
     -------
