@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <regex>
 #include <string>
 
@@ -89,8 +90,10 @@ TEST(CollapsedHandles, NoBandThatCoversCellsNoDiskAndNotTheWholeSurface) {
     EXPECT_TRUE(detail::find_collapsed_handles(make_torus(4, 6, 4, 1e-4, true).input, 16).empty());
     EXPECT_TRUE(detail::find_collapsed_handles(make_torus(4, 6, 8, 0.05, true).input, 16).empty());
     EXPECT_TRUE(detail::find_collapsed_handles(make_torus(0, 16, 8, 1e-4, true).input, 16).empty());
-    // Thin at x1 but not at x16: the proof covers the refinements it spares.
-    EXPECT_FALSE(detail::find_collapsed_handles(make_torus(4, 6, 8, 0.05, true).input, 1).empty());
+    // Thin at x16 but not at x64: the proof covers the refinements it spares, x16 at least.
+    EXPECT_FALSE(detail::find_collapsed_handles(make_torus(4, 6, 8, 0.005, true).input, 16).empty());
+    EXPECT_FALSE(detail::find_collapsed_handles(make_torus(4, 6, 8, 0.005, true).input, 1).empty());
+    EXPECT_TRUE(detail::find_collapsed_handles(make_torus(4, 6, 8, 0.005, true).input, 64).empty());
 }
 
 // ============================================================================ shared maps
@@ -154,12 +157,13 @@ std::vector<std::pair<int, std::size_t>> refinements(const Result& r) {
     return out;
 }
 
-// On every shared map that ends with exit code 5 and collapses no handle, best_effort returns
-// the attempt with the fewest violations among the map's own scale and every refinement, the
-// smaller scale on a tie; every violation located; and nothing changes without it.
+// On a shared map that ends with exit code 5 and collapses no handle (decimated-knight_miq_18;
+// bunny_geo_20 too, but it takes 20 s), best_effort returns the attempt with the fewest
+// violations among the map's own scale and every refinement, the smaller scale on a tie; every
+// violation located; and nothing changes without it.
 TEST(BestEffort, TheAttemptWithTheFewestViolationsTiesToTheSmallestScale) {
     int failing = 0;
-    for (const char* name : {"miq-more/decimated-knight_miq_18_param.obj", "quadcover/bunny_geo_20_param.obj"}) {
+    for (const char* name : {"miq-more/decimated-knight_miq_18_param.obj"}) {
         const Input in = shared_map(name);
         if (in.triangles.empty()) continue;
         const Result plain = extract(in);
@@ -182,7 +186,9 @@ TEST(BestEffort, TheAttemptWithTheFewestViolationsTiesToTheSmallestScale) {
                       [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; })),
                   b.check.violations.size())
             << name;
-        if (scale == 1) EXPECT_EQ(b.mesh.faces, plain.mesh.faces) << name;
+        if (scale == 1) {
+            EXPECT_EQ(b.mesh.faces, plain.mesh.faces) << name;
+        }
         EXPECT_EQ(plain.mesh.grid_scale, 1) << name;
     }
     if (failing == 0) GTEST_SKIP() << "no shared map ends with exit code 5 without a collapsed handle";
