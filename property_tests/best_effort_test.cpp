@@ -3,6 +3,7 @@
 // (fertility_miq_5), which then fails fast; and Options::best_effort, the attempt closest to
 // valid, on the shared maps that end so.
 #include "pipeline.h"
+#include "result_checks.h"
 #include "test_support.h"
 
 #include <algorithm>
@@ -141,6 +142,8 @@ TEST(BestEffort, ACollapsedHandleIsNamedFirstAndTheMeshLosesOnlyIt) {
     EXPECT_EQ(std::count_if(b.report.defects.begin(), b.report.defects.end(),
                             [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
               1);
+    EXPECT_EQ(result_inconsistency(in, r), "");
+    EXPECT_EQ(result_inconsistency(in, b), "");
     // The checker, run again on the mesh (at its grid scale, which it carries), says the same.
     EXPECT_EQ(verify(in, b.mesh).violations.size(), 1u);
 }
@@ -186,6 +189,7 @@ TEST(BestEffort, TheAttemptWithTheFewestViolationsTiesToTheSmallestScale) {
                       [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; })),
                   b.check.violations.size())
             << name;
+        EXPECT_EQ(result_inconsistency(in, b), "") << name;
         if (scale == 1) {
             EXPECT_EQ(b.mesh.faces, plain.mesh.faces) << name;
         }

@@ -32,6 +32,7 @@ def extract(
     snap_boundary: bool = ...,
     repair_fold_overs: bool = ...,
     fallback_ladder: bool = ...,
+    best_effort: bool = ...,
 ) -> Result: ...
 def verify(V: npt.ArrayLike, F: npt.ArrayLike, UV: npt.ArrayLike, result: Result, *, threads: int = ...) -> Dict[str, Any]: ...
 def check(
