@@ -52,8 +52,8 @@ Torus make_torus(int from, int to, int j_end, double eps, bool folded) {
             const bool squeezed = i >= from && i < to && j < j_end;
             const int c[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
             for (const auto& tri : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
-                in.triangles.push_back({id(c[tri[0]][0], c[tri[0]][1]), id(c[tri[1]][0], c[tri[1]][1]),
-                                        id(c[tri[2]][0], c[tri[2]][1])});
+                in.triangles.push_back(
+                    {id(c[tri[0]][0], c[tri[0]][1]), id(c[tri[1]][0], c[tri[1]][1]), id(c[tri[2]][0], c[tri[2]][1])});
                 for (const int k : tri) in.uvs.push_back(uv(c[k][0], c[k][1], squeezed));
             }
         }
@@ -184,15 +184,13 @@ TEST(BestEffort, TheAttemptWithTheFewestViolationsTiesToTheSmallestScale) {
         EXPECT_EQ(b.check.violations.size(), fewest) << name;
         EXPECT_EQ(b.mesh.grid_scale, scale) << name;
         EXPECT_EQ(b.report.explanations.front().kind, DefectKind::BestEffortMesh) << name;
-        EXPECT_EQ(static_cast<std::size_t>(std::count_if(
-                      b.report.defects.begin(), b.report.defects.end(),
-                      [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; })),
+        EXPECT_EQ(static_cast<std::size_t>(
+                      std::count_if(b.report.defects.begin(), b.report.defects.end(),
+                                    [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; })),
                   b.check.violations.size())
             << name;
         EXPECT_EQ(result_inconsistency(in, b), "") << name;
-        if (scale == 1) {
-            EXPECT_EQ(b.mesh.faces, plain.mesh.faces) << name;
-        }
+        if (scale == 1) { EXPECT_EQ(b.mesh.faces, plain.mesh.faces) << name; }
         EXPECT_EQ(plain.mesh.grid_scale, 1) << name;
     }
     if (failing == 0) GTEST_SKIP() << "no shared map ends with exit code 5 without a collapsed handle";

@@ -19,7 +19,9 @@ namespace qex::detail {
 class ChartSearch {
 public:
     explicit ChartSearch(const TriMesh& g)
-        : g_(g), stamp_(static_cast<std::size_t>(g.num_faces()), 0), to_(static_cast<std::size_t>(g.num_faces())),
+        : g_(g),
+          stamp_(static_cast<std::size_t>(g.num_faces()), 0),
+          to_(static_cast<std::size_t>(g.num_faces())),
           order_(static_cast<std::size_t>(g.num_faces()), {-1, -1, -1}) {}
 
     /// A triangle that holds `grid` (in the chart of triangle `start`): the first positive one
