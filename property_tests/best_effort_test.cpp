@@ -144,6 +144,14 @@ TEST(BestEffort, ACollapsedHandleIsNamedFirstAndTheMeshLosesOnlyIt) {
               1);
     EXPECT_EQ(result_inconsistency(in, r), "");
     EXPECT_EQ(result_inconsistency(in, b), "");
+    // Without refinement the map's own scale is all there is: its mesh, said to be the best effort.
+    Options own_scale = best;
+    own_scale.max_refinement = 1;
+    const Result o = extract(in, own_scale);
+    EXPECT_EQ(o.mesh.grid_scale, 1);
+    EXPECT_EQ(o.mesh.faces, r.mesh.faces);
+    ASSERT_FALSE(o.report.explanations.empty());
+    EXPECT_EQ(o.report.explanations.front().kind, DefectKind::BestEffortMesh);
     // The checker, run again on the mesh (at its grid scale, which it carries), says the same.
     EXPECT_EQ(verify(in, b.mesh).violations.size(), 1u);
 }

@@ -13,6 +13,7 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <utility>
 
 namespace qex::detail {
 namespace {
@@ -28,8 +29,18 @@ constexpr double kThinPart = 1.0 / 64;
 // ============================================================================ the surface
 
 /// The input's triangles as the search needs them: who lies across each side, and UV areas.
+/// Per input triangle, its UV area in the map as given.
+std::vector<double> uv_areas(const Input& in) {
+    std::vector<double> area(in.triangles.size());
+    for (std::size_t t = 0; t < area.size(); ++t) {
+        const auto &p = in.uvs[3 * t], &q = in.uvs[3 * t + 1], &r = in.uvs[3 * t + 2];
+        area[t] = 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+    }
+    return area;
+}
+
 struct Surface {
-    explicit Surface(const Input& in);
+    Surface(const Input& in, std::vector<double> areas);
     /// The corner of triangle t at input vertex v.
     int corner_of(int t, int v) const {
         const auto& f = input.triangles[static_cast<std::size_t>(t)];
@@ -43,18 +54,15 @@ struct Surface {
     std::vector<double> area; ///< per triangle, its UV area in the map as given
 };
 
-Surface::Surface(const Input& in) : input(in), across(3 * in.triangles.size(), -1), area(in.triangles.size()) {
+Surface::Surface(const Input& in, std::vector<double> areas)
+    : input(in), across(3 * in.triangles.size(), -1), area(std::move(areas)) {
     std::vector<std::tuple<int, int, int>> sides; // (smaller vertex, larger vertex, side)
     sides.reserve(across.size());
-    for (int t = 0; t < size(); ++t) {
+    for (int t = 0; t < size(); ++t)
         for (int k = 0; k < 3; ++k) {
             const int a = vertex(t, k), b = vertex(t, (k + 1) % 3);
             sides.emplace_back(std::min(a, b), std::max(a, b), 3 * t + k);
         }
-        const auto &p = in.uvs[3 * static_cast<std::size_t>(t)], &q = in.uvs[3 * static_cast<std::size_t>(t) + 1],
-                   &r = in.uvs[3 * static_cast<std::size_t>(t) + 2];
-        area[static_cast<std::size_t>(t)] = 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
-    }
     std::sort(sides.begin(), sides.end());
     for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
         const auto [a, b, h] = sides[i];
@@ -243,8 +251,12 @@ std::int64_t centre(const Surface& s, const std::vector<int>& region) {
 } // namespace
 
 std::vector<CollapsedHandle> find_collapsed_handles(const Input& input, int max_refinement) {
-    const Surface s(input);
     const double k2 = std::pow(static_cast<double>(bound(max_refinement)), 2);
+    std::vector<double> areas = uv_areas(input);
+    // A region folded onto itself holds flipped triangles: without a thin one, there is none
+    // (and the adjacency is not built).
+    if (std::none_of(areas.begin(), areas.end(), [&](double a) { return a < 0.0 && -a * k2 <= kThinPart; })) return {};
+    const Surface s(input, std::move(areas));
     std::vector<int> label, local(static_cast<std::size_t>(s.size()), -1);
     const auto thin = regions(
         s, [&](int t) { return std::abs(s.area[static_cast<std::size_t>(t)]) * k2 <= kThinPart; }, label);

@@ -2,7 +2,9 @@
 // no rung's mesh is valid, the ladder on the map coarsened, then refined.
 #include "ladder/ladder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <optional>
 #include <vector>
 
@@ -10,7 +12,8 @@ namespace qex {
 namespace {
 
 /// An invalid result's report names the handles the map collapses first among its defects,
-/// before the symptoms that follow from them (found here unless `handles` holds them).
+/// before the symptoms that follow from them (found here unless `handles` holds them), and a
+/// best-effort one which attempt it is.
 void name_collapsed_handles(const Input& input, const Options& options,
                             std::optional<std::vector<CollapsedHandle>> handles, Result& result) {
     if (result.check.valid) return;
@@ -20,6 +23,14 @@ void name_collapsed_handles(const Input& input, const Options& options,
         named.push_back(detail::collapsed_handle_defect(input, h, options.max_refinement));
     result.report.defects.insert(result.report.defects.begin(), named.begin(), named.end());
     result.report.collapsed_handles = std::move(*handles);
+    // A best-effort result says which attempt it is, also where no refinement was tried.
+    auto& explanations = result.report.explanations;
+    if (options.best_effort && std::none_of(explanations.begin(), explanations.end(),
+                                            [](const Defect& d) { return d.kind == DefectKind::BestEffortMesh; })) {
+        const std::size_t n = result.check.violations.size();
+        explanations.insert(explanations.begin(),
+                            detail::best_effort_explanation(1, "the map's own scale: " + std::to_string(n), n));
+    }
 }
 
 } // namespace

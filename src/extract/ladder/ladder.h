@@ -191,6 +191,10 @@ bool refinement_can_help(const Options& options, bool handle_collapsed, const Re
 void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
                      Result& result);
 
+/// The explanation of a best-effort mesh (Options::best_effort): which attempt it is (`scale`,
+/// 1 for the map's own), its violations, and `tried`, the violations of each attempt.
+Defect best_effort_explanation(int scale, const std::string& tried, std::size_t violations);
+
 /// The explanation of a mesh extracted at another scale: what failed at the map's own scale,
 /// and where, then `how`.
 Defect scale_explanation(DefectKind kind, const Result& at_scale_one, const std::string& how);

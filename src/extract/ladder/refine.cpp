@@ -171,7 +171,8 @@ bool only_lost_topology(const Result& r) {
     });
 }
 
-/// The explanation of a best-effort mesh: which attempt it is, and the violations of each tried.
+} // namespace
+
 Defect best_effort_explanation(int scale, const std::string& tried, std::size_t violations) {
     const std::string which = scale == 1 ? std::string("the map at its own scale")
                                          : "the map with its UVs multiplied by " + std::to_string(scale);
@@ -183,6 +184,8 @@ Defect best_effort_explanation(int scale, const std::string& tried, std::size_t 
             {0, 0},
             std::nullopt};
 }
+
+namespace {
 
 /// `closest`, refined `scale` times, in place of `result` (the map's own scale), with what
 /// `result` says of the refinements (`failed`: one RefinementFailed per factor tried).
