@@ -13,6 +13,7 @@ PKGS="build-essential cmake ninja-build python3 \
   clang libclang-rt-dev \
   libeigen3-dev python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
   python3-dask python3-distributed \
+  python3-venv python3-pip python3-setuptools python3-wheel python3-build python3-mypy \
   librsvg2-bin"
 missing=""
 for p in $PKGS; do

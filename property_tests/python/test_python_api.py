@@ -302,12 +302,20 @@ def test_files(tmp_path):
 
 
 def test_docstrings_and_stubs():
-    assert "Parameters\n    ----------" in qex.extract.__doc__
-    for f in (qex.extract, qex.verify, qex.check, qex.read_obj, qex.write_obj):
-        assert "Returns" in f.__doc__ or "Raises" in f.__doc__
+    import qex.batch
+
+    # Every public function documents its parameters numpy-style, and what it returns or raises.
+    for f in (qex.extract, qex.verify, qex.check, qex.read_obj, qex.write_obj, qex.batch.run_one,
+              qex.batch.find_maps, qex.batch.run_batch, qex.batch.main):
+        assert "Parameters\n    ----------" in f.__doc__, f.__name__
+        assert "Returns\n    -------" in f.__doc__ or "Raises\n    ------" in f.__doc__, f.__name__
     import pathlib
 
-    assert (pathlib.Path(qex.__file__).parent / "__init__.pyi").exists()
+    package = pathlib.Path(qex.__file__).parent
+    assert (package / "py.typed").exists() and (package / "_qex.pyi").exists()
+    # The compiled functions' docstrings, numpy-style too (after pybind11's signature line).
+    for f in (qex._qex.extract, qex._qex.verify, qex._qex.check, qex._qex.read_obj, qex._qex.write_obj):
+        assert "Parameters\n----------" in f.__doc__, f.__name__
 
 
 def test_threads_run_in_parallel_and_agree():

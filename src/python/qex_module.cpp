@@ -346,15 +346,130 @@ void write_obj(const std::string& path, const qex::QuadMesh& mesh) {
 } // namespace
 
 PYBIND11_MODULE(_qex, m) {
-    m.doc() = "The compiled core of the qex package; use the functions of `qex` itself.";
+    m.doc() = "The compiled core of the qex package; use the functions of `qex` itself, which check the "
+              "arguments and document them (qex/_qex.pyi holds this module's types).";
     py::class_<qex::QuadMesh>(m, "QuadMesh", "The extracted mesh as the library holds it (for verify and write_obj).")
-        .def_property_readonly("num_faces", [](const qex::QuadMesh& q) { return q.faces.size(); })
-        .def_property_readonly("num_vertices", [](const qex::QuadMesh& q) { return q.positions.size(); });
-    m.def("extract", &extract, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("valences"), py::arg("feature_edges"),
-          py::arg("threads"), py::arg("options"));
-    m.def("verify", &verify, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("mesh"), py::arg("threads"));
-    m.def("check", &check, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"),
-          py::arg("uv_tolerance"), py::arg("distance_tolerance"), py::arg("locate"), py::arg("threads"));
-    m.def("read_obj", &read_obj, py::arg("path"), py::arg("threads"));
-    m.def("write_obj", &write_obj, py::arg("path"), py::arg("mesh"));
+        .def_property_readonly(
+            "num_faces", [](const qex::QuadMesh& q) { return q.faces.size(); }, "The number of faces.")
+        .def_property_readonly(
+            "num_vertices", [](const qex::QuadMesh& q) { return q.positions.size(); }, "The number of vertices.");
+    m.def("extract", &extract, R"doc(Extract the quad mesh of a map (the core of `qex.extract`).
+
+Parameters
+----------
+V : ndarray of float64, shape (n, 3)
+    Vertex positions.
+F : ndarray of int64, shape (m, 3)
+    Triangles, indices into `V`.
+UV : ndarray of float64, shape (3m, 2)
+    The UV of each triangle corner, ``UV[3f + k]`` for corner k of triangle f.
+valences : ndarray of int64, shape (n,), or None
+    The valence per vertex, or None to count them from the map.
+feature_edges : ndarray of int64, shape (e, 2), or None
+    Vertex pairs of the feature edges.
+threads : int
+    Threads of the parallel loops (0: every core).
+options : dict
+    Fields of ``qex::Options`` by name (``max_qvertices``, ``snap_boundary``, ...).
+
+Returns
+-------
+dict
+    ``quads``, ``positions``, ``face_uvs``, ``provenance`` (a dict of arrays), ``valid``,
+    ``report_json`` (the report as JSON text) and ``mesh`` (a `QuadMesh`).
+
+Raises
+------
+ValueError
+    Arrays of the wrong shape or dtype, or input the library rejects.
+TypeError
+    An unknown option, or an option of the wrong type.
+)doc",
+          py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("valences"), py::arg("feature_edges"), py::arg("threads"),
+          py::arg("options"));
+    m.def("verify", &verify, R"doc(Judge an extracted mesh against its map (the core of `qex.verify`).
+
+Parameters
+----------
+V, F, UV : ndarray
+    The map, as for `extract`.
+mesh : QuadMesh
+    The ``mesh`` that `extract` returned.
+threads : int
+    Threads of the checker (0: every core).
+
+Returns
+-------
+str
+    The verdict as JSON text (``qex check --json``).
+)doc",
+          py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("mesh"), py::arg("threads"));
+    m.def("check", &check, R"doc(Judge any quad mesh against a map (the core of `qex.check`).
+
+Parameters
+----------
+V, F, UV : ndarray
+    The map, as for `extract`.
+QV : ndarray of float64, shape (p, 3)
+    The mesh's vertices.
+QF : ndarray of int64, shape (k, c)
+    Its faces, indices into `QV`.
+uv_tolerance : float
+    Largest UV distance of a vertex to its grid point, from 0 to 1.
+distance_tolerance : float
+    Largest distance of a vertex to the surface, a fraction of the bounding-box diagonal.
+locate : bool
+    Locate the vertices on the map (False: the topology only).
+threads : int
+    Threads of the checker (0: every core).
+
+Returns
+-------
+str
+    The verdict as JSON text (``qex check --json``).
+
+Raises
+------
+ValueError
+    Arrays of the wrong shape or dtype, a tolerance out of range, or a map the library rejects.
+)doc",
+          py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"), py::arg("uv_tolerance"),
+          py::arg("distance_tolerance"), py::arg("locate"), py::arg("threads"));
+    m.def("read_obj", &read_obj, R"doc(Read an OBJ map (the core of `qex.read_obj`).
+
+Parameters
+----------
+path : str
+    The OBJ file.
+threads : int
+    Threads of the reader (0: every core).
+
+Returns
+-------
+tuple of ndarray
+    ``V`` (n, 3) float64, ``F`` (m, 3) int32 and ``UV`` (m, 3, 2) float64.
+
+Raises
+------
+OSError
+    The file cannot be read.
+ValueError
+    A malformed file (the message names the line).
+)doc",
+          py::arg("path"), py::arg("threads"));
+    m.def("write_obj", &write_obj, R"doc(Write an extracted mesh as OBJ (the core of `qex.write_obj`).
+
+Parameters
+----------
+path : str
+    The file to write (through ``path + ".tmp"``, renamed).
+mesh : QuadMesh
+    The ``mesh`` that `extract` returned.
+
+Raises
+------
+OSError
+    The file cannot be written.
+)doc",
+          py::arg("path"), py::arg("mesh"));
 }

@@ -21,12 +21,19 @@ Bad input raises ValueError with the library's message, which names the element 
 library releases the GIL while it works, so extractions in several Python threads run in parallel.
 """
 
+from __future__ import annotations  # qex._qex's types are in its stub (_qex.pyi) only
+
 import json as _json
 import os as _os
+from typing import Any, Dict, List, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as _np
+import numpy.typing as npt
 
 from . import _qex
+
+_Path = Union[str, "_os.PathLike[str]"]
+_Array = TypeVar("_Array", bound=npt.NDArray[Any])
 
 __all__ = ["Result", "extract", "verify", "check", "read_obj", "write_obj"]
 
@@ -57,9 +64,18 @@ class Result:
         ``report["defects"]``: what failed, near which input triangle and grid point.
     """
 
+    quads: npt.NDArray[_np.int32]
+    positions: npt.NDArray[_np.float64]
+    face_uvs: npt.NDArray[_np.int64]
+    provenance: Dict[str, npt.NDArray[Any]]
+    valid: bool
+    report: Dict[str, Any]
+    defects: List[Dict[str, Any]]
+    _mesh: _qex.QuadMesh
     __slots__ = ("quads", "positions", "face_uvs", "provenance", "valid", "report", "defects", "_mesh")
 
-    def __init__(self, raw):
+    def __init__(self, raw: _qex._Extracted) -> None:
+        """Wraps what the compiled `qex._qex.extract` returns; `extract` makes Results."""
         self.quads = raw["quads"]
         self.positions = raw["positions"]
         self.face_uvs = raw["face_uvs"]
@@ -69,45 +85,46 @@ class Result:
         self.defects = self.report["defects"]
         self._mesh = raw["mesh"]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "qex.Result(%d quads, %d vertices, valid=%s)" % (len(self.quads), len(self.positions), self.valid)
 
 
-def _real(name, a, shape):
+def _real(name: str, a: npt.ArrayLike, shape: Sequence[Optional[int]]) -> npt.NDArray[_np.float64]:
     """`a` as a C-contiguous float64 array of the given shape (None: any length)."""
-    a = _np.asarray(a)
-    if a.dtype.kind not in "biuf":
-        raise ValueError("%s must hold real numbers, not %s" % (name, a.dtype))
-    return _shaped(name, _np.ascontiguousarray(a, dtype=_np.float64), shape)
+    x = _np.asarray(a)
+    if x.dtype.kind not in "biuf":
+        raise ValueError("%s must hold real numbers, not %s" % (name, x.dtype))
+    return _shaped(name, _np.ascontiguousarray(x, dtype=_np.float64), shape)
 
 
-def _integer(name, a, shape):
+def _integer(name: str, a: npt.ArrayLike, shape: Sequence[Optional[int]]) -> npt.NDArray[_np.int64]:
     """`a` as a C-contiguous int64 array of the given shape; integer dtypes only."""
-    a = _np.asarray(a)
-    if a.size == 0 and a.dtype.kind == "f":
-        a = a.astype(_np.int64)  # np.zeros((0, 3)) is float64: an empty array has no wrong values
-    if a.dtype.kind not in "biu":
-        raise ValueError("%s must hold integers, not %s" % (name, a.dtype))
-    if a.dtype.kind == "u" and a.size and a.max() > _np.iinfo(_np.int64).max:
-        raise ValueError("%s: index %d is out of range" % (name, a.max()))
-    return _shaped(name, _np.ascontiguousarray(a, dtype=_np.int64), shape)
+    x = _np.asarray(a)
+    if x.size == 0 and x.dtype.kind == "f":
+        x = x.astype(_np.int64)  # np.zeros((0, 3)) is float64: an empty array has no wrong values
+    if x.dtype.kind not in "biu":
+        raise ValueError("%s must hold integers, not %s" % (name, x.dtype))
+    if x.dtype.kind == "u" and x.size and x.max() > _np.iinfo(_np.int64).max:
+        raise ValueError("%s: index %d is out of range" % (name, x.max()))
+    return _shaped(name, _np.ascontiguousarray(x, dtype=_np.int64), shape)
 
 
-def _shaped(name, a, shape):
+def _shaped(name: str, a: _Array, shape: Sequence[Optional[int]]) -> _Array:
+    """`a` itself when its shape is `shape` (None: any length); ValueError otherwise."""
     if a.ndim != len(shape) or any(s is not None and s != n for s, n in zip(shape, a.shape)):
         want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
         raise ValueError("%s must have shape %s, got %s" % (name, want, a.shape))
     return a
 
 
-def _threads(threads):
+def _threads(threads: int) -> int:
     """The thread count as the CLI takes it (0: every core)."""
     if isinstance(threads, bool) or not isinstance(threads, (int, _np.integer)) or not 0 <= threads <= 1024:
         raise ValueError("threads must be an integer from 0 (every core) to 1024, not %r" % (threads,))
     return int(threads)
 
 
-def _tolerance(name, x, most=None):
+def _tolerance(name: str, x: float, most: Optional[float] = None) -> float:
     """A tolerance: a finite number from 0 (to `most`, if given); NaN and infinities refused."""
     x = float(x)
     if not (0 <= x < _np.inf and (most is None or x <= most)):  # NaN fails the comparisons
@@ -116,18 +133,38 @@ def _tolerance(name, x, most=None):
     return x
 
 
-def _map(V, F, UV):
-    V = _real("V", V, (None, 3))
-    F = _integer("F", F, (None, 3))
-    UV = _np.asarray(UV)
-    if UV.ndim == 3:
-        UV = _real("UV", UV, (F.shape[0], 3, 2)).reshape(-1, 2)
+def _map(
+    V: npt.ArrayLike, F: npt.ArrayLike, UV: npt.ArrayLike
+) -> Tuple[npt.NDArray[_np.float64], npt.NDArray[_np.int64], npt.NDArray[_np.float64]]:
+    """The map's arrays as the compiled module takes them: V (n, 3), F (m, 3) and UV (3m, 2)."""
+    positions = _real("V", V, (None, 3))
+    triangles = _integer("F", F, (None, 3))
+    m = triangles.shape[0]
+    if _np.ndim(UV) == 3:
+        corners = _real("UV", UV, (m, 3, 2)).reshape(-1, 2)
     else:
-        UV = _real("UV", UV, (3 * F.shape[0], 2))
-    return V, F, UV
+        corners = _real("UV", UV, (3 * m, 2))
+    return positions, triangles, corners
 
 
-def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options):
+def extract(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    UV: npt.ArrayLike,
+    *,
+    valences: Optional[npt.ArrayLike] = None,
+    feature_edges: Optional[npt.ArrayLike] = None,
+    threads: int = 0,
+    max_qvertices: Optional[int] = None,
+    max_trace_steps: Optional[int] = None,
+    recover_lost_edges: Optional[bool] = None,
+    merge_vertices: Optional[bool] = None,
+    canonical_order: Optional[bool] = None,
+    snap_boundary: Optional[bool] = None,
+    repair_fold_overs: Optional[bool] = None,
+    fallback_ladder: Optional[bool] = None,
+    best_effort: Optional[bool] = None,
+) -> Result:
     """Extract the quad mesh of a triangle mesh carrying an integer-grid map.
 
     Parameters
@@ -146,12 +183,31 @@ def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options
     threads : int, optional
         Threads of the library's parallel loops: 0 (default) every core, 1 serial. The output is
         the same for every value.
-    **options
-        Any field of ``qex::Options``: ``max_qvertices``, ``max_trace_steps``,
-        ``recover_lost_edges``, ``merge_vertices``, ``canonical_order``, ``snap_boundary``,
-        ``repair_fold_overs``, ``fallback_ladder``, ``best_effort`` (when no attempt gives a valid
-        mesh, return the one closest to valid: the fewest checker violations, ties to the
-        smallest grid scale; ``valid`` stays False and ``report["defects"]`` locates each).
+    max_qvertices : int, optional
+        Most grid points the map may hold (default 10,000,000, about the output's vertex count):
+        a map beyond it is refused (``MapTooLarge``).
+    max_trace_steps : int, optional
+        Most triangles one trace may cross before it fails (default 100,000).
+    recover_lost_edges : bool, optional
+        Recover the q-edges lost at singularities inside fold-overs (default True).
+    merge_vertices : bool, optional
+        Merge the q-vertex clones that fold-overs create (default True).
+    canonical_order : bool, optional
+        Sort the output's vertices and faces canonically, so any input order gives the same mesh
+        (default True).
+    snap_boundary : bool, optional
+        Treat every boundary edge as a feature edge (default False), as ``--snap-boundary``.
+    repair_fold_overs : bool, optional
+        Re-embed the regions of flipped and degenerate triangles before extracting (default True).
+    fallback_ladder : bool, optional
+        When the checker rejects the mesh, retry on the rungs of the fallback ladder (default True).
+    best_effort : bool, optional
+        When no attempt gives a valid mesh, return the one closest to valid (default False): the
+        fewest checker violations, ties to the smallest grid scale; ``valid`` stays False and
+        ``report["defects"]`` locates each violation, a collapsed handle first.
+
+    The options are the fields of ``qex::Options`` (``include/qex/extract.h``); None, or leaving
+    one out, keeps the library's default.
 
     Returns
     -------
@@ -166,7 +222,7 @@ def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options
         of range, NaN or Inf, non-manifold or inconsistently oriented mesh, isolated vertex,
         inconsistent map, ...): the message names the vertex or triangle.
     TypeError
-        An unknown option.
+        An unknown option, or an option of the wrong type.
 
     Notes
     -----
@@ -182,15 +238,25 @@ def extract(V, F, UV, *, valences=None, feature_edges=None, threads=0, **options
     >>> r.quads.shape, r.valid
     ((4, 4), True)
     """
+    given = {
+        "max_qvertices": max_qvertices,
+        "max_trace_steps": max_trace_steps,
+        "recover_lost_edges": recover_lost_edges,
+        "merge_vertices": merge_vertices,
+        "canonical_order": canonical_order,
+        "snap_boundary": snap_boundary,
+        "repair_fold_overs": repair_fold_overs,
+        "fallback_ladder": fallback_ladder,
+        "best_effort": best_effort,
+    }
+    options = {k: v for k, v in given.items() if v is not None}
     V, F, UV = _map(V, F, UV)
-    if valences is not None:
-        valences = _integer("valences", valences, (None,))
-    if feature_edges is not None:
-        feature_edges = _integer("feature_edges", feature_edges, (None, 2))
-    return Result(_qex.extract(V, F, UV, valences, feature_edges, _threads(threads), options))
+    valences_ = None if valences is None else _integer("valences", valences, (None,))
+    features = None if feature_edges is None else _integer("feature_edges", feature_edges, (None, 2))
+    return Result(_qex.extract(V, F, UV, valences_, features, _threads(threads), options))
 
 
-def verify(V, F, UV, result, *, threads=0):
+def verify(V: npt.ArrayLike, F: npt.ArrayLike, UV: npt.ArrayLike, result: Result, *, threads: int = 0) -> Dict[str, Any]:
     """Judge an extracted mesh against its map again, with the exact checker.
 
     Parameters
@@ -210,11 +276,22 @@ def verify(V, F, UV, result, *, threads=0):
     """
     if not isinstance(result, Result):
         raise ValueError("result must be a qex.Result (what qex.extract returns)")
-    V, F, UV = _map(V, F, UV)
-    return _json.loads(_qex.verify(V, F, UV, result._mesh, _threads(threads)))
+    verdict: Dict[str, Any] = _json.loads(_qex.verify(*_map(V, F, UV), result._mesh, _threads(threads)))
+    return verdict
 
 
-def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locate=True, threads=0):
+def check(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    UV: npt.ArrayLike,
+    QV: npt.ArrayLike,
+    QF: npt.ArrayLike,
+    *,
+    uv_tolerance: float = 1e-3,
+    distance_tolerance: float = 1e-6,
+    locate: bool = True,
+    threads: int = 0,
+) -> Dict[str, Any]:
     """Judge any quad mesh, given as arrays, against a map: the oracle for any extractor's output.
 
     Parameters
@@ -247,16 +324,26 @@ def check(V, F, UV, QV, QF, *, uv_tolerance=1e-3, distance_tolerance=1e-6, locat
     ValueError
         Arrays of the wrong shape or dtype, or a map that `extract` would reject.
     """
-    V, F, UV = _map(V, F, UV)
-    QV = _real("QV", QV, (None, 3))
-    QF = _integer("QF", QF, (None, None))
-    uv_tolerance = _tolerance("uv_tolerance", uv_tolerance, 1.0)
-    distance_tolerance = _tolerance("distance_tolerance", distance_tolerance)
-    return _json.loads(_qex.check(V, F, UV, QV, QF, uv_tolerance, distance_tolerance, bool(locate), _threads(threads)))
+    Vm, Fm, UVm = _map(V, F, UV)
+    QVm = _real("QV", QV, (None, 3))
+    QFm = _integer("QF", QF, (None, None))
+    uv = _tolerance("uv_tolerance", uv_tolerance, 1.0)
+    distance = _tolerance("distance_tolerance", distance_tolerance)
+    verdict: Dict[str, Any] = _json.loads(_qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), _threads(threads)))
+    return verdict
 
 
-def read_obj(path, *, threads=0):
+def read_obj(
+    path: _Path, *, threads: int = 0
+) -> Tuple[npt.NDArray[_np.float64], npt.NDArray[_np.int32], npt.NDArray[_np.float64]]:
     """Read an OBJ map (``v``, ``vt`` and ``f a/ta b/tb c/tc`` records).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The OBJ file.
+    threads : int, optional
+        Threads of the reader (0, the default: every core); the arrays do not depend on it.
 
     Returns
     -------
@@ -275,15 +362,24 @@ def read_obj(path, *, threads=0):
     return _qex.read_obj(_os.fspath(path), _threads(threads))
 
 
-def write_obj(path, result):
+def write_obj(path: _Path, result: Result) -> None:
     """Write an extracted mesh as OBJ (quads, with their integer local UVs as ``vt``).
 
     The file is written to ``path + ".tmp"`` and renamed, so no partial file is ever left.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The OBJ file to write.
+    result : Result
+        What `extract` returned (a mesh the checker rejected too, as it is).
 
     Raises
     ------
     OSError
         The file cannot be written.
+    ValueError
+        `result` is not a `Result`.
     """
     if not isinstance(result, Result):
         raise ValueError("result must be a qex.Result (what qex.extract returns)")

@@ -19,22 +19,46 @@ A batch is resumable: rows are appended as maps finish, and a second run skips e
 row (but ``error``) whose output, if any, is in place; at the end the summary keeps one row per map.
 """
 
+from __future__ import annotations
+
 import argparse
+import importlib
 import json
 import os
 import sys
 import time
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 __all__ = ["run_one", "find_maps", "run_batch", "main"]
 
 
-def _row(status, error=None):
+Row = Dict[str, Any]  # a row of summary.jsonl
+
+
+def _row(status: str, error: Optional[str] = None) -> Row:
     return {"status": status, "quads": 0, "faces": 0, "vertices": 0, "signed_area": None, "defects": 0,
             "violations": 0, "rung": None, "seconds": 0.0, "output": None, "error": error}
 
 
-def run_one(path, out_path, threads=1):
-    """Extracts one map and writes its mesh; returns the summary row (never raises)."""
+def run_one(path: str, out_path: str, threads: int = 1) -> Row:
+    """Extract one map and write its mesh (a Dask task).
+
+    Parameters
+    ----------
+    path : str
+        The map (OBJ); a ``.vval`` file beside it gives the valences.
+    out_path : str
+        Where the mesh goes when the checker accepts it (its folders are made).
+    threads : int, optional
+        Threads of the extraction (default 1: the batch runs one map per worker).
+
+    Returns
+    -------
+    dict
+        The map's row of the summary, without ``map`` and ``input``: ``status``, ``quads``,
+        ``faces``, ``vertices``, ``signed_area``, ``defects``, ``violations``, ``rung``,
+        ``seconds``, ``output`` and ``error``. It never raises: a failure is a row saying why.
+    """
     row = _row("error")
     start = time.perf_counter()
     try:
@@ -66,15 +90,33 @@ def run_one(path, out_path, threads=1):
     return row
 
 
-def _read_vval(path):
+def _read_vval(path: str) -> List[int]:
     with open(path) as f:
         f.readline()  # {"file_format":"VVAL","version":1}
         values = f.read().split()
     return [int(x) for x in values[1:]]
 
 
-def find_maps(source):
-    """(name, path) of every map: *.obj under a folder (sorted), or the lines of a manifest."""
+def find_maps(source: str) -> List[Tuple[str, str]]:
+    """List the maps of a folder or a manifest.
+
+    Parameters
+    ----------
+    source : str
+        A folder, searched recursively for ``*.obj``, or a manifest: one path per line, relative
+        to its folder (blank lines and ``#`` comments skipped).
+
+    Returns
+    -------
+    list of (str, str)
+        ``(name, path)`` per map, sorted for a folder, in the manifest's order otherwise; the
+        name is the path relative to the folder (or the manifest's folder, else the file name).
+
+    Raises
+    ------
+    SystemExit
+        The manifest lists two maps under the same name.
+    """
     source = os.path.abspath(source)
     if os.path.isdir(source):
         maps = []
@@ -87,8 +129,8 @@ def find_maps(source):
         return maps
     base = os.path.dirname(source)
     maps = []
-    with open(source) as f:
-        for line in f:
+    with open(source) as manifest:
+        for line in manifest:
             line = line.strip()
             if not line or line.startswith("#"):
                 continue
@@ -103,7 +145,7 @@ def find_maps(source):
     return maps
 
 
-def _read_summary(path):
+def _read_summary(path: str) -> Dict[str, Row]:
     rows = {}
     if os.path.exists(path):
         with open(path) as f:
@@ -116,7 +158,7 @@ def _read_summary(path):
     return rows
 
 
-def _finished(row, out_dir):
+def _finished(row: Optional[Row], out_dir: str) -> bool:
     if row is None or row.get("status") == "error":
         return False
     return row.get("output") is None or os.path.exists(os.path.join(out_dir, row["output"]))
@@ -125,12 +167,12 @@ def _finished(row, out_dir):
 class _Progress:
     """A progress bar on stderr (a line per map when stderr is not a terminal)."""
 
-    def __init__(self, total, enabled):
+    def __init__(self, total: int, enabled: bool) -> None:
         self.total, self.done, self.failed, self.enabled = total, 0, 0, enabled
         self.tty = sys.stderr.isatty()
         self.start = time.perf_counter()
 
-    def update(self, row):
+    def update(self, row: Row) -> None:
         self.done += 1
         self.failed += row["status"] != "valid"
         if not self.enabled:
@@ -149,8 +191,40 @@ class _Progress:
         sys.stderr.flush()
 
 
-def run_batch(source, out_dir, scheduler=None, workers=None, threads=1, memory_limit="auto", progress=True):
-    """Runs the batch; returns the summary rows, one per map, in the maps' order."""
+def run_batch(
+    source: str,
+    out_dir: str,
+    scheduler: Optional[str] = None,
+    workers: Optional[int] = None,
+    threads: int = 1,
+    memory_limit: str = "auto",
+    progress: bool = True,
+) -> List[Row]:
+    """Extract every map of a folder or manifest on a Dask cluster, skipping the maps done before.
+
+    Parameters
+    ----------
+    source : str
+        A folder of OBJ maps or a manifest, as `find_maps` takes it.
+    out_dir : str
+        Where the valid meshes and ``summary.jsonl`` go (made if absent).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://HOST:PORT``). Default: a LocalCluster.
+    workers : int, optional
+        The LocalCluster's worker processes (default: one per core).
+    threads : int, optional
+        Threads of each extraction (default 1).
+    memory_limit : str, optional
+        The LocalCluster's memory limit per worker (default ``"auto"``).
+    progress : bool, optional
+        Show a progress bar on stderr (default True).
+
+    Returns
+    -------
+    list of dict
+        The summary's rows, one per map in the maps' order (then rows of maps no longer listed),
+        as ``summary.jsonl`` holds them.
+    """
     maps = find_maps(source)
     os.makedirs(out_dir, exist_ok=True)
     summary = os.path.join(out_dir, "summary.jsonl")
@@ -160,8 +234,9 @@ def run_batch(source, out_dir, scheduler=None, workers=None, threads=1, memory_l
         sys.stderr.write("qex.batch: %d maps, %d done before, %d to run\n" % (len(maps), len(maps) - len(todo),
                                                                              len(todo)))
     if todo:
-        from dask.distributed import Client, LocalCluster, as_completed
-
+        # Dask is optional (python3-distributed) and partly annotated: its module is typed Any.
+        distributed: Any = importlib.import_module("dask.distributed")
+        Client, LocalCluster, as_completed = distributed.Client, distributed.LocalCluster, distributed.as_completed
         cluster = None
         if scheduler:
             client = Client(scheduler)
@@ -206,7 +281,19 @@ def run_batch(source, out_dir, scheduler=None, workers=None, threads=1, memory_l
     return ordered
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """The command line ``python3 -m qex.batch IN_DIR|MANIFEST -o OUT_DIR [options]``.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``); ``--help`` lists them.
+
+    Returns
+    -------
+    int
+        The exit code: 0 when the batch ran, whatever the maps' statuses (the summary has them).
+    """
     ap = argparse.ArgumentParser(prog="python3 -m qex.batch",
                                  description="Extract the quad meshes of many maps on a Dask cluster.")
     ap.add_argument("source", help="a folder of OBJ maps (searched recursively) or a manifest (one path per line)")
@@ -222,7 +309,7 @@ def main(argv=None):
         ap.error("%s does not exist" % args.source)
     rows = run_batch(args.source, args.output, scheduler=args.scheduler, workers=args.workers,
                      threads=args.threads, memory_limit=args.memory_limit, progress=not args.no_progress)
-    counts = {}
+    counts: Dict[str, int] = {}
     for r in rows:
         counts[r["status"]] = counts.get(r["status"], 0) + 1
     print("qex.batch: %d maps: %s; summary in %s" % (

@@ -1,0 +1,50 @@
+# Type stubs of the compiled module qex._qex (src/python/qex_module.cpp). Its functions take the
+# arrays the Python half (qex/__init__.py) has already checked and shaped; users call qex itself.
+# `python3 -m mypy.stubtest qex._qex` compares this file with the module (ctest python_types).
+from typing import Any, Dict, Optional, Tuple, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+class QuadMesh:
+    """The extracted mesh as the library holds it (for verify and write_obj)."""
+
+    @property
+    def num_faces(self) -> int: ...
+    @property
+    def num_vertices(self) -> int: ...
+
+class _Extracted(TypedDict):
+    """What `extract` returns (a dict at run time)."""
+
+    quads: npt.NDArray[np.int32]
+    positions: npt.NDArray[np.float64]
+    face_uvs: npt.NDArray[np.int64]
+    provenance: Dict[str, npt.NDArray[Any]]
+    valid: bool
+    report_json: str
+    mesh: QuadMesh
+
+def extract(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    UV: npt.ArrayLike,
+    valences: Optional[npt.ArrayLike],
+    feature_edges: Optional[npt.ArrayLike],
+    threads: int,
+    options: Dict[str, Any],
+) -> _Extracted: ...
+def verify(V: npt.ArrayLike, F: npt.ArrayLike, UV: npt.ArrayLike, mesh: QuadMesh, threads: int) -> str: ...
+def check(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    UV: npt.ArrayLike,
+    QV: npt.ArrayLike,
+    QF: npt.ArrayLike,
+    uv_tolerance: float,
+    distance_tolerance: float,
+    locate: bool,
+    threads: int,
+) -> str: ...
+def read_obj(path: str, threads: int) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.float64]]: ...
+def write_obj(path: str, mesh: QuadMesh) -> None: ...
