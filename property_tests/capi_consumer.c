@@ -154,6 +154,16 @@ int main(int argc, char** argv) {
     qex_options_init(&options);
     options.max_qvertices = 1;
     expect_refused("max_qvertices 1", qex_extract(square, 4, two, 2, square_uv, &options), "MapTooLarge");
+    /* best_effort (off by default) changes nothing for a map with a valid mesh; a caller whose
+     * struct ends before it gets the default. */
+    qex_options_init(&options);
+    CHECK(options.best_effort == 0);
+    options.best_effort = 1;
+    expect_valid("square, best effort", qex_extract(square, 4, two, 2, square_uv, &options), 4);
+    options.best_effort = 7; /* past the caller's struct: not read */
+    qex_options_init_size(&options, offsetof(qex_options, best_effort));
+    CHECK(options.best_effort == 7);
+    expect_valid("square, options without best_effort", qex_extract(square, 4, two, 2, square_uv, &options), 4);
 
     if (argc >= 2) {
         double *pos, *uv;

@@ -28,7 +28,7 @@ inline bool is_explanation_kind(DefectKind k) {
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
            k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
            k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed || k == DefectKind::SheetsSeparated ||
-           k == DefectKind::RefinementFailed;
+           k == DefectKind::RefinementFailed || k == DefectKind::BestEffortMesh;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
@@ -112,9 +112,9 @@ inline std::string misplaced(const Input& in, const Result& r, const Defect& d, 
         (d.output_face < 0 || r.mesh.faces[static_cast<std::size_t>(d.output_face)].size() == 4))
         return what + ": does not name a face with other than 4 vertices";
     // A refinement or coarsening names the first failure at scale 1, and a failed refinement its
-    // own first, either of which may be one of the whole mesh.
+    // own first, either of which may be one of the whole mesh; a best-effort mesh names no place.
     const bool rescaled = d.kind == DefectKind::MapRefined || d.kind == DefectKind::MapCoarsened ||
-                          d.kind == DefectKind::RefinementFailed;
+                          d.kind == DefectKind::RefinementFailed || d.kind == DefectKind::BestEffortMesh;
     if (d.kind != DefectKind::CheckerViolation)
         return d.input_element < 0 && !rescaled ? what + ": names no input triangle" : std::string();
     const ViolationElement element = element_kind(*d.violation);

@@ -100,6 +100,15 @@ struct Options {
     /// (Report::coarsening, and an explanation naming what failed at scale 1). Tried before
     /// refinement. Needs fallback_ladder.
     int max_coarsening = 16;
+    /// When no attempt gives a valid mesh (the map would end with exit code 5), return the
+    /// attempt closest to valid instead of the one at the map's own scale: the one with the
+    /// fewest checker violations among the map's own scale and its refinements (ties to the
+    /// smallest grid scale), every violation located in the report (Report::defects), and a
+    /// BestEffortMesh explanation naming the choice. The result stays invalid (Result::check).
+    /// Refinement then runs even where a collapsed handle (DefectKind::MapCollapsesHandle) proves
+    /// that none can give a valid mesh, and stops at the first attempt whose only violations are
+    /// the topology that handle loses. Without it, nothing changes.
+    bool best_effort = false;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own
     /// scale). For progress display; it must not throw. Empty: not called.
@@ -154,6 +163,18 @@ enum class DefectKind {
     /// `grid` is left (0, 0); `input_element` is -1 for a violation of the whole mesh that names
     /// no place). Only in a report whose mesh is invalid.
     RefinementFailed,
+    /// The map collapses a handle of the surface: a region of triangles whose UV areas are far
+    /// below a cell (each at most 1/64 of one, with the map multiplied by the largest refinement,
+    /// 16), folded onto itself (at most half its absolute UV area is left signed) and net below
+    /// one cell at that refinement, and that holds a cycle no disk of the surface bounds. No
+    /// mesh that follows the map keeps that handle, at any scale up to that refinement, so
+    /// refinement is not tried (unless Options::best_effort). First among the defects of an
+    /// invalid result, before the symptoms that follow from it; names the input vertex its
+    /// region is round, its triangles and UV areas (Report::collapsed_handles has them all).
+    MapCollapsesHandle,
+    /// Options::best_effort: the mesh returned is the attempt closest to valid (the fewest
+    /// checker violations, ties to the smallest grid scale); names it and its violation count.
+    BestEffortMesh,
 };
 const char* to_string(DefectKind kind);
 
@@ -171,6 +192,20 @@ struct Defect {
     std::array<std::int64_t, 2> grid{0, 0};
     /// For CheckerViolation: the kind of the checker's violation.
     std::optional<ViolationKind> violation;
+};
+
+/// A handle of the surface that the map collapses (DefectKind::MapCollapsesHandle).
+struct CollapsedHandle {
+    /// The input vertex the region is round: the one with the most of its triangles.
+    std::int64_t vertex = -1;
+    /// The region's input triangles, in increasing order: each has a UV area far below a cell.
+    std::vector<std::int64_t> triangles;
+    /// Their UV area, signed (what they cover net) and absolute, in cells of the map as given.
+    double signed_uv_area = 0.0, absolute_uv_area = 0.0;
+    /// The region with the disks of the surface it encloses: its genus and its rims (boundary
+    /// loops across which the rest of the surface lies; the input's own boundary loops are
+    /// not counted). Not a disk: genus > 0 or more than one rim.
+    int genus = 0, rims = 0;
 };
 
 struct Report {
@@ -229,6 +264,9 @@ struct Report {
     /// extraction at that scale, but for signed_uv_area (the given map's, as the mesh's quads
     /// are); `explanations` names what failed at scale 1.
     int coarsening = 1;
+    /// Handles of the surface the map collapses (DefectKind::MapCollapsesHandle), looked for
+    /// when no attempt at the map's own scale gives a valid mesh.
+    std::vector<CollapsedHandle> collapsed_handles;
     /// Wall time per pipeline stage, under the stage's name (its file, function and benchmark
     /// name; see the README's pipeline table), summed over every run of the stage in this
     /// extraction (sanitize rounds, and every rung tried), in first-run order.

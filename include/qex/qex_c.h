@@ -45,6 +45,7 @@ typedef struct qex_options {
     int canonical_order;     /* sort output vertices and faces canonically (default 1) */
     int64_t max_qvertices;   /* refuse maps that need more output vertices (default 10,000,000) */
     const int32_t* valences; /* optional: num_vertices cross-field valences (4 regular), or NULL */
+    int best_effort;         /* no valid mesh: return the attempt closest to valid (default 0); still invalid */
 } qex_options;
 
 typedef struct qex_result qex_result; /* opaque */

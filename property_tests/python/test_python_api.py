@@ -190,6 +190,26 @@ def test_bad_options_and_extras():
     assert qex.extract(V, F, UV, feature_edges=[[0, 1]], valences=[4, 4, 4, 4]).valid
 
 
+def test_best_effort_returns_the_mesh_closest_to_valid(shared_dir):
+    """fertility_miq_5 collapses a handle: named first, no refinement tried; with best_effort the
+    refined mesh that loses only that handle comes back, still invalid."""
+    V, F, UV = qex.read_obj(shared_dir / "miq" / "fertility_miq_5_param.obj")
+    plain = qex.extract(V, F, UV)
+    assert not plain.valid
+    assert plain.report["defects"][0]["kind"] == "MapCollapsesHandle"
+    assert plain.report["fallback"]["refinements_tried"] == 0
+    handle = plain.report["collapsed_handles"][0]
+    assert handle["vertex"] >= 0 and len(handle["triangles"]) > 200 and abs(handle["signed_uv_area"]) < 0.002
+    r = qex.extract(V, F, UV, best_effort=True)
+    assert not r.valid
+    assert r.report["fallback"]["grid_scale"] in (4, 8)
+    assert [v["kind"] for v in r.report["check"]["violations"]] == ["EulerMismatch"]
+    assert r.report["explanations"][0]["kind"] == "BestEffortMesh"
+    assert r.quads.shape[0] > 0
+    with pytest.raises(TypeError, match="best_effort"):
+        qex.extract(V, F, UV, best_effort="yes please")
+
+
 def test_hostile_numbers_are_refused_cleanly():
     """Indices, sizes and options at the edges: ValueError (or TypeError for a wrong type), never a
     silent truncation, wrap or crash, from the package and from its compiled half called directly."""

@@ -61,6 +61,7 @@ qex::Options to_options(const qex_options* o, int64_t num_vertices, std::vector<
     options.max_qvertices = c.max_qvertices;
     if (o->struct_size >= offsetof(qex_options, valences) + sizeof c.valences && c.valences)
         valences.assign(c.valences, c.valences + num_vertices);
+    options.best_effort = c.best_effort != 0; // the default where the caller's struct ends before it
     return options;
 }
 
@@ -197,6 +198,7 @@ void qex_options_init_size(qex_options* options, size_t struct_size) {
     o.canonical_order = d.canonical_order;
     o.max_qvertices = d.max_qvertices;
     o.valences = nullptr;
+    o.best_effort = d.best_effort;
     std::memcpy(options, &o, o.struct_size);
     options->struct_size = struct_size;
 }

@@ -80,6 +80,7 @@ bool start(Job& job, const BatchArgs& a, int threads) {
         a.self, "extract", job.map, "-o", job.output, "--report", job.report, "--threads", std::to_string(threads),
         "-q"};
     if (a.snap_boundary) args.push_back("--snap-boundary");
+    if (a.best_effort) args.push_back("--best-effort");
     job.start = Clock::now();
     const pid_t pid = fork();
     if (pid < 0) return false;
@@ -239,6 +240,9 @@ CLI::App* add_batch(CLI::App& app, BatchArgs& a) {
     batch->add_option("--summary", a.summary_path, "JSON lines, one per map (default OUT_DIR/summary.jsonl)");
     batch->add_option("--format", a.format, "format of the meshes written")->check(CLI::IsMember({"obj", "ply"}));
     batch->add_flag("--snap-boundary", a.snap_boundary, "passed to every extraction");
+    batch->add_flag(
+        "--best-effort", a.best_effort,
+        "passed to every extraction: a map with no valid mesh gets the one closest to valid (still failed)");
     batch->add_flag("--force", a.force, "run every map, even those with a valid output already");
     batch->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
     return batch;

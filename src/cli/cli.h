@@ -53,7 +53,7 @@ CLI::Validator finite_number();
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
     std::string layout_path; ///< --layout: the mesh's quad layout as JSON
-    bool poly = false, quiet = false, snap_boundary = false, round_seams = false;
+    bool poly = false, quiet = false, snap_boundary = false, round_seams = false, best_effort = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
     int max_coarsening = Options{}.max_coarsening;
@@ -93,7 +93,7 @@ int run_draw(const DrawArgs& a);
 struct BatchArgs {
     std::string input, out_dir, summary_path, format = "obj";
     int jobs = 0;
-    bool quiet = false, force = false, snap_boundary = false;
+    bool quiet = false, force = false, snap_boundary = false, best_effort = false;
     std::string self; ///< this program, run once per map
 };
 CLI::App* add_batch(CLI::App& app, BatchArgs& a);

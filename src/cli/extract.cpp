@@ -1,6 +1,6 @@
 // `qex extract MAP -o OUT`: the quad mesh of a map (OBJ or PLY, by extension), checked by the
 // independent checker inside extract(); the mesh is written only if the checker accepts it
-// (or with --poly), the report with --report.
+// (or with --poly, or --best-effort: the attempt closest to valid), the report with --report.
 #include "cli.h"
 #include "progress.h"
 #include "violations.h"
@@ -47,12 +47,16 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
     print_violations(check);
     for (const qex::Defect& d : result.report.explanations)
         if (d.kind == qex::DefectKind::RefinementFailed) std::cerr << "  RefinementFailed: " << d.message << "\n";
-    if (a.poly) {
+    for (const qex::Defect& d : result.report.explanations)
+        if (d.kind == qex::DefectKind::BestEffortMesh) std::cerr << "  BestEffortMesh: " << d.message << "\n";
+    if (a.poly || a.best_effort) {
         if (const auto e = write_quads(a.out_path, result.mesh, a.threads); !e.ok()) {
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
-        std::cerr << "qex: wrote the invalid mesh to " << a.out_path << " (--poly)\n";
+        const int k = result.mesh.grid_scale;
+        std::cerr << "qex: wrote the invalid mesh to " << a.out_path << (a.best_effort ? " (--best-effort" : " (--poly")
+                  << (k != 1 ? "; judge it with `qex check --grid-scale " + std::to_string(k) + "`)" : ")") << "\n";
     }
     return kInvalidOutput;
 }
@@ -72,6 +76,7 @@ int run_extract(const ExtractArgs& a) {
     options.round_inconsistent_seams = a.round_seams;
     options.max_refinement = a.max_refinement;
     options.max_coarsening = a.max_coarsening;
+    options.best_effort = a.best_effort;
     options.on_stage = [&progress](const char* stage, int grid_scale) {
         progress.detail(std::string("stage ") + stage + " done" +
                         (grid_scale > 1 ? " (map refined x" + std::to_string(grid_scale) + ")" : ""));
@@ -143,6 +148,9 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract->add_flag("--round-seams", a.round_seams,
                       "round seams no grid transition relates to the nearest one and report each (default: exit 4)");
     extract->add_flag("--poly", a.poly, "write the mesh even if faces are not quads (exit code stays 5)");
+    extract->add_flag("--best-effort", a.best_effort,
+                      "when no attempt gives a valid mesh, write the one closest to valid (fewest checker violations, "
+                      "ties to the smallest grid scale), every violation located in the report (exit code stays 5)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));

@@ -46,16 +46,21 @@ public:
         return {c(p[0], dx), c(p[1], dy), c(p[2], dz)};
     }
     /// The distance from p to the nearest point within `rings` cubes of p's cube (HUGE_VAL if none).
+    /// The cubes are searched shell by shell (the cubes r from p's): a point in shell r or beyond
+    /// lies more than r - 1 cube widths from p, so once a point nearer than that is found (with
+    /// a margin for the rounding of the cube keys), the shells left cannot hold a nearer one.
     double nearest(const std::array<double, 3>& p, int rings) const {
         double best = HUGE_VAL;
-        for (int dx = -rings; dx <= rings; ++dx)
-            for (int dy = -rings; dy <= rings; ++dy)
-                for (int dz = -rings; dz <= rings; ++dz) {
-                    const Key k = key(p, dx, dy, dz);
-                    auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(k, -1));
-                    for (; it != entries_.end() && it->first == k; ++it)
-                        best = std::min(best, distance(p, points_[static_cast<std::size_t>(it->second)]));
-                }
+        for (int r = 0; r <= rings && !(best < (r - 1) * cell_ * (1 - 1e-9)); ++r)
+            for (int dx = -r; dx <= r; ++dx)
+                for (int dy = -r; dy <= r; ++dy)
+                    for (int dz = -r; dz <= r; ++dz) {
+                        if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != r) continue; // an inner shell's
+                        const Key k = key(p, dx, dy, dz);
+                        auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(k, -1));
+                        for (; it != entries_.end() && it->first == k; ++it)
+                            best = std::min(best, distance(p, points_[static_cast<std::size_t>(it->second)]));
+                    }
         return best;
     }
 

@@ -42,6 +42,8 @@ const char* to_string(DefectKind k) {
         case DefectKind::HoleClosed: return "HoleClosed";
         case DefectKind::SheetsSeparated: return "SheetsSeparated";
         case DefectKind::RefinementFailed: return "RefinementFailed";
+        case DefectKind::MapCollapsesHandle: return "MapCollapsesHandle";
+        case DefectKind::BestEffortMesh: return "BestEffortMesh";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";

@@ -316,4 +316,17 @@ FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, con
 /// near (through the provenance).
 void locate_violations(const Input& input, Result& result);
 
+// ============================================================================ collapsed handles (collapsed_handles.cpp)
+
+/// The handles of the surface the map (as given) collapses: each a region of triangles whose UV
+/// areas are at most 1/64 of a cell with the map multiplied by max(16, max_refinement), folded
+/// onto itself (its signed UV area at most half its absolute one) and net below one cell at
+/// that factor, that with the disks of the surface it encloses is no disk (genus, or several
+/// rims) and not the whole surface. No mesh that follows the map keeps such a handle, at any
+/// scale up to that factor. The input must have passed validate().
+std::vector<CollapsedHandle> find_collapsed_handles(const Input& input, int max_refinement);
+
+/// The defect that names a collapsed handle: its vertex, triangles (the first few) and areas.
+Defect collapsed_handle_defect(const Input& input, const CollapsedHandle& handle, int max_refinement);
+
 } // namespace qex::detail

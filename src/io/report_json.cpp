@@ -139,6 +139,14 @@ nlohmann::json report_object(const Report& r) {
                                      {"input_element", d.input_element},
                                      {"grid", {d.grid[0], d.grid[1]}},
                                      {"message", d.message}});
+    j["collapsed_handles"] = nlohmann::json::array();
+    for (const auto& h : r.collapsed_handles)
+        j["collapsed_handles"].push_back({{"vertex", h.vertex},
+                                          {"triangles", h.triangles},
+                                          {"signed_uv_area", h.signed_uv_area},
+                                          {"absolute_uv_area", h.absolute_uv_area},
+                                          {"genus", h.genus},
+                                          {"rims", h.rims}});
     j["stage_seconds"] = nlohmann::json::object();
     for (const auto& [name, s] : r.stage_seconds) j["stage_seconds"][name] = s;
     return j;

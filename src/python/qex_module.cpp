@@ -149,6 +149,8 @@ void set_option(qex::Options& o, const std::string& k, const py::handle& value) 
         o.repair_fold_overs = value.cast<bool>();
     else if (k == "fallback_ladder")
         o.fallback_ladder = value.cast<bool>();
+    else if (k == "best_effort")
+        o.best_effort = value.cast<bool>();
     else
         throw py::type_error("extract() got an unexpected option '" + k + "'");
 }

@@ -141,7 +141,12 @@ void ChartSearch::enter(int t, const GridAutomorphism& to, const Box* box) {
 }
 
 void ChartSearch::expand(int t, const Box* box) {
-    for (const int k : edges_in_canonical_order(g_, t))
+    std::array<std::int8_t, 3>& order = order_[static_cast<std::size_t>(t)];
+    if (order[0] < 0) {
+        const std::array<int, 3> ks = edges_in_canonical_order(g_, t);
+        order = {static_cast<std::int8_t>(ks[0]), static_cast<std::int8_t>(ks[1]), static_cast<std::int8_t>(ks[2])};
+    }
+    for (const int k : order)
         if (const int o = g_.opp[3 * t + k]; o >= 0)
             enter(TriMesh::face(o), g_.map.transition[3 * t + k].after(to(t)), box);
 }

@@ -19,7 +19,10 @@ namespace qex::detail {
 class ChartSearch {
 public:
     explicit ChartSearch(const TriMesh& g)
-        : g_(g), stamp_(static_cast<std::size_t>(g.num_faces()), 0), to_(static_cast<std::size_t>(g.num_faces())) {}
+        : g_(g),
+          stamp_(static_cast<std::size_t>(g.num_faces()), 0),
+          to_(static_cast<std::size_t>(g.num_faces())),
+          order_(static_cast<std::size_t>(g.num_faces()), {-1, -1, -1}) {}
 
     /// A triangle that holds `grid` (in the chart of triangle `start`): the first positive one
     /// found, else the first flipped one; -1 if none is found or `start` is not a live triangle.
@@ -68,6 +71,9 @@ private:
     std::vector<std::uint32_t> stamp_; ///< per triangle: the search that listed it last
     std::vector<GridAutomorphism> to_; ///< per triangle: chart of the start -> its chart
     std::vector<int> queue_;           ///< the listed triangles, in the order listed
+    /// Per triangle, its edges in canonical order (-1: not computed yet). The order depends on
+    /// the triangle alone, and the searches expand each triangle many times.
+    std::vector<std::array<std::int8_t, 3>> order_;
     std::uint32_t generation_ = 0;
 };
 

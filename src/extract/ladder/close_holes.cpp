@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
-#include <unordered_set>
 
 namespace qex::detail {
 namespace {
@@ -120,23 +119,26 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
     std::vector<Defect> closed;
     if (mesh.provenance.size() != mesh.positions.size()) return closed;
     const auto nv = mesh.positions.size();
-    std::unordered_set<std::uint64_t> half;
+    std::vector<std::uint64_t> half; // the faces' half-edges, sorted
+    half.reserve(4 * mesh.faces.size());
     std::vector<int> corners(nv, 0);
     for (const auto& f : mesh.faces) {
         if (f.size() != 4) return closed; // only holes in an all-quad mesh
         for (std::size_t i = 0; i < 4; ++i) {
             if (f[i] < 0 || static_cast<std::size_t>(f[i]) >= nv) return closed;
-            if (!half.insert(edge_key(f[i], f[(i + 1) % 4])).second) return closed; // not manifold
+            half.push_back(edge_key(f[i], f[(i + 1) % 4]));
             ++corners[static_cast<std::size_t>(f[i])];
         }
     }
+    std::sort(half.begin(), half.end());
+    if (std::adjacent_find(half.begin(), half.end()) != half.end()) return closed; // not manifold
     // The hole's rim runs against the faces' boundary edges: b -> a for a face's a -> b.
     std::vector<int> rim_next(nv, -1);
     std::vector<char> pinched(nv, 0);
     for (const auto& f : mesh.faces)
         for (std::size_t i = 0; i < 4; ++i) {
             const int a = f[i], b = f[(i + 1) % 4];
-            if (half.count(edge_key(b, a))) continue;
+            if (std::binary_search(half.begin(), half.end(), edge_key(b, a))) continue;
             if (rim_next[static_cast<std::size_t>(b)] >= 0) pinched[static_cast<std::size_t>(b)] = 1;
             rim_next[static_cast<std::size_t>(b)] = a;
         }

@@ -176,10 +176,24 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
 RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
                               const AtScale& scale, Report& report);
 
+/// Whether refinement is worth trying after the map at its own scale (and coarsened) gave
+/// `result`, invalid: not when Options::max_refinement is below 2, nor once the map is proved to
+/// collapse a handle (`handle_collapsed`: no scale keeps it), unless Options::best_effort looks
+/// for a mesh that loses nothing else and `result` loses more.
+bool refinement_can_help(const Options& options, bool handle_collapsed, const Result& result);
+
 /// Refinement, after the map at its own scale (and coarsened) gave `result`, invalid: the ladder
 /// on the map times 2, 4, ... up to Options::max_refinement. Replaces `result` with the first
-/// valid mesh, or adds to it one explanation per factor tried.
-void extract_refined(const Input& input, const Options& options, RepairMemo& memo, Result& result);
+/// valid mesh, or adds to it one explanation per factor tried. With Options::best_effort, none
+/// valid: `result` becomes the attempt with the fewest violations (ties to the smaller scale),
+/// a BestEffortMesh explanation first; refinement stops, once `handle_collapsed`, at an attempt
+/// that loses only the surface's topology.
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
+                     Result& result);
+
+/// The explanation of a best-effort mesh (Options::best_effort): which attempt it is (`scale`,
+/// 1 for the map's own), its violations, and `tried`, the violations of each attempt.
+Defect best_effort_explanation(int scale, const std::string& tried, std::size_t violations);
 
 /// The explanation of a mesh extracted at another scale: what failed at the map's own scale,
 /// and where, then `how`.

@@ -158,14 +158,69 @@ Defect refinement_explanation(const Result& at_scale_one, int scale) {
 
 } // namespace
 
+// ============================================================================ best effort
+
+namespace {
+
+/// Whether every violation of r's mesh is of the whole mesh's topology (Euler characteristic,
+/// boundary loops, components): all a mesh can be left with once the map collapses a handle.
+bool only_lost_topology(const Result& r) {
+    return std::all_of(r.check.violations.begin(), r.check.violations.end(), [](const Violation& v) {
+        return v.kind == ViolationKind::EulerMismatch || v.kind == ViolationKind::BoundaryMismatch ||
+               v.kind == ViolationKind::ComponentMismatch;
+    });
+}
+
+} // namespace
+
+Defect best_effort_explanation(int scale, const std::string& tried, std::size_t violations) {
+    const std::string which = scale == 1 ? std::string("the map at its own scale")
+                                         : "the map with its UVs multiplied by " + std::to_string(scale);
+    return {DefectKind::BestEffortMesh,
+            "no attempt gives a valid mesh; the mesh is the one closest to valid (best effort): " + which + ", " +
+                std::to_string(violations) + " checker violations (" + tried + ")",
+            -1,
+            -1,
+            {0, 0},
+            std::nullopt};
+}
+
+namespace {
+
+/// `closest`, refined `scale` times, in place of `result` (the map's own scale), with what
+/// `result` says of the refinements (`failed`: one RefinementFailed per factor tried).
+void take_refined(Result& closest, int scale, std::vector<Defect> failed, const std::string& tried, Result& result) {
+    closest.mesh.grid_scale = scale;
+    closest.report.grid_scale = scale;
+    closest.report.refinements_tried = result.report.refinements_tried;
+    closest.report.stage_seconds = std::move(result.report.stage_seconds);
+    std::vector<Defect>& explanations = closest.report.explanations;
+    explanations.insert(explanations.begin(), best_effort_explanation(scale, tried, closest.check.violations.size()));
+    for (const Defect& d : result.report.explanations)
+        if (d.kind == DefectKind::SeamRounded) explanations.push_back(d);
+    explanations.insert(explanations.end(), failed.begin(), failed.end());
+    result = std::move(closest);
+}
+
+} // namespace
+
+bool refinement_can_help(const Options& options, bool handle_collapsed, const Result& result) {
+    if (options.max_refinement < 2) return false;
+    return !handle_collapsed || (options.best_effort && !only_lost_topology(result));
+}
+
 // ============================================================================ the map refined
 
-void extract_refined(const Input& input, const Options& options, RepairMemo& memo, Result& result) {
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
+                     Result& result) {
     // The map at twice, four times, ... its scale. Multiplying by two is exact; a map that would
     // leave the range integer transitions need comes back as an input error, and ends the
     // refinement with the scale-1 result.
     Input scaled = input;
     std::vector<Defect> failed; // per refinement tried
+    Result closest;             // best effort: the refined attempt closest to valid so far
+    int closest_scale = 1;
+    std::string tried = "the map's own scale: " + std::to_string(result.check.violations.size());
     for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
         if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
@@ -190,8 +245,21 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
             return;
         }
         failed.push_back(refinement_failure(refined, scale));
+        if (!options.best_effort) continue;
+        tried += "; x" + std::to_string(scale) + ": " + std::to_string(refined.check.violations.size());
+        // Ties go to the smaller scale, tried first. Once the map is proved to collapse a
+        // handle, an attempt that loses only that topology is as close as any can come.
+        const bool stop = handle_collapsed && only_lost_topology(refined);
+        const Result& best = closest_scale > 1 ? closest : result;
+        if (refined.check.violations.size() < best.check.violations.size())
+            closest = std::move(refined), closest_scale = scale;
+        if (stop) break;
     }
+    if (closest_scale > 1) return take_refined(closest, closest_scale, std::move(failed), tried, result);
     result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());
+    if (options.best_effort)
+        result.report.explanations.insert(result.report.explanations.begin(),
+                                          best_effort_explanation(1, tried, result.check.violations.size()));
 }
 
 } // namespace qex::detail

@@ -171,6 +171,7 @@ def extract(
     snap_boundary: Optional[bool] = None,
     repair_fold_overs: Optional[bool] = None,
     fallback_ladder: Optional[bool] = None,
+    best_effort: Optional[bool] = None,
 ) -> Result:
     """Extract the quad mesh of a triangle mesh carrying an integer-grid map.
 
@@ -208,6 +209,10 @@ def extract(
         Re-embed the regions of flipped and degenerate triangles before extracting (default True).
     fallback_ladder : bool, optional
         When the checker rejects the mesh, retry on the rungs of the fallback ladder (default True).
+    best_effort : bool, optional
+        When no attempt gives a valid mesh, return the one closest to valid (default False): the
+        fewest checker violations, ties to the smallest grid scale; ``valid`` stays False and
+        ``report["defects"]`` locates each violation, a collapsed handle first.
 
     The options are the fields of ``qex::Options`` (``include/qex/extract.h``); None, or leaving
     one out, keeps the library's default.
@@ -250,6 +255,7 @@ def extract(
         "snap_boundary": snap_boundary,
         "repair_fold_overs": repair_fold_overs,
         "fallback_ladder": fallback_ladder,
+        "best_effort": best_effort,
     }
     options = {k: v for k, v in given.items() if v is not None}
     V, F, UV = _map(V, F, UV)
