@@ -6,11 +6,11 @@
 // Looked for when no attempt at the map's own scale gives a valid mesh; the proof names the
 // region first in the report and spares the refinements (extract.cpp).
 #include "pipeline.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -109,18 +109,6 @@ struct Topology {
     int genus() const { return static_cast<int>((2 - euler - rims) / 2); }
 };
 
-/// Union-find over a region's corners.
-struct Corners {
-    explicit Corners(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int x) {
-        while (parent[static_cast<std::size_t>(x)] != x)
-            x = parent[static_cast<std::size_t>(x)] =
-                parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-        return x;
-    }
-    void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
-    std::vector<int> parent;
-};
 
 /// The topology of `region` (the triangles whose label is `id`), vertices counted once per fan
 /// of the region round them (a region pinched at a vertex counts it twice). `local`: scratch,
@@ -129,7 +117,7 @@ Topology topology(const Surface& s, const std::vector<int>& region, const std::v
                   std::vector<int>& local) {
     const auto inside = [&](int t) { return t >= 0 && label[static_cast<std::size_t>(t)] == id; };
     for (std::size_t i = 0; i < region.size(); ++i) local[static_cast<std::size_t>(region[i])] = static_cast<int>(i);
-    Corners corners(3 * region.size());
+    UnionFind corners(3 * region.size()); // the region's corners, joined round each vertex
     std::int64_t boundary_sides = 0, inner_sides = 0;
     for (std::size_t i = 0; i < region.size(); ++i)
         for (int k = 0; k < 3; ++k) {
@@ -140,8 +128,11 @@ Topology topology(const Surface& s, const std::vector<int>& region, const std::v
             }
             ++inner_sides;
             const int lj = 3 * local[static_cast<std::size_t>(j)], lt = 3 * static_cast<int>(i);
-            corners.join(lt + k, lj + s.corner_of(j, s.vertex(t, k)));
-            corners.join(lt + (k + 1) % 3, lj + s.corner_of(j, s.vertex(t, (k + 1) % 3)));
+            const auto join = [&](int a, int b) {
+                if ((a = corners.find(a)) != (b = corners.find(b))) corners.attach(a, b);
+            };
+            join(lt + k, lj + s.corner_of(j, s.vertex(t, k)));
+            join(lt + (k + 1) % 3, lj + s.corner_of(j, s.vertex(t, (k + 1) % 3)));
         }
     std::int64_t vertices = 0;
     for (int c = 0; c < static_cast<int>(3 * region.size()); ++c) vertices += corners.find(c) == c;

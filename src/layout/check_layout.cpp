@@ -115,9 +115,9 @@ std::string build_edges(Judge& j, const LayoutOptions& options) {
     return "";
 }
 
-/// Regular vertices: the face corners at a vertex joined across its uncut edges form one group of
-/// 4 (no cut at the vertex) or groups of 2 (a cut).
-void find_special(Judge& j) {
+/// The face corners joined across every interior mesh edge that `blocked` does not mark: a group
+/// per vertex and side of the blocked edges round it.
+Find corner_groups(const Judge& j, const std::vector<char>& blocked) {
     const auto& faces = j.mesh.faces;
     Find groups(static_cast<int>(4 * faces.size()));
     const auto corner = [&](int f, int v) {
@@ -127,9 +127,17 @@ void find_special(Judge& j) {
     };
     for (std::size_t e = 0; e < j.edge_faces.size(); ++e) {
         const auto [f, g] = j.edge_faces[e];
-        if (g < 0 || j.edge_cut[e]) continue;
+        if (g < 0 || blocked[e]) continue;
         for (const int v : j.edge_ends[e]) groups.join(corner(f, v), corner(g, v));
     }
+    return groups;
+}
+
+/// Regular vertices: the face corners at a vertex joined across its uncut edges form one group of
+/// 4 (no cut at the vertex) or groups of 2 (a cut).
+void find_special(Judge& j) {
+    const auto& faces = j.mesh.faces;
+    Find groups = corner_groups(j, j.edge_cut);
     std::vector<int> size(4 * faces.size(), 0), corners(j.mesh.positions.size(), 0);
     for (int c = 0; c < static_cast<int>(size.size()); ++c) ++size[groups.root(c)];
     j.special.assign(j.mesh.positions.size(), 0);
@@ -222,21 +230,7 @@ std::string check_cover(const Judge& j, const Layout& layout) {
 
 /// The face corners joined across the edges on no separatrix or cut: the vertices of the patches
 /// as surfaces (a vertex a patch's boundary passes twice is two of them).
-Find patch_vertices(const Judge& j) {
-    const auto& faces = j.mesh.faces;
-    Find groups(static_cast<int>(4 * faces.size()));
-    const auto corner = [&](int f, int v) {
-        for (int k = 0; k < 4; ++k)
-            if (faces[f][k] == v) return 4 * f + k;
-        return -1;
-    };
-    for (std::size_t e = 0; e < j.edge_faces.size(); ++e) {
-        const auto [f, g] = j.edge_faces[e];
-        if (g < 0 || j.edge_layout[e]) continue;
-        for (const int v : j.edge_ends[e]) groups.join(corner(f, v), corner(g, v));
-    }
-    return groups;
-}
+Find patch_vertices(const Judge& j) { return corner_groups(j, j.edge_layout); }
 
 /// Per face-corner group (its root): faces, its vertex, the next group along the patch's boundary
 /// (-1: none); reset after each patch.
