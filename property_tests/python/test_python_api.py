@@ -349,3 +349,20 @@ def test_threads_run_in_parallel_and_agree():
     for r in results:
         np.testing.assert_array_equal(r.quads, want.quads)
         np.testing.assert_array_equal(r.positions, want.positions)
+
+
+def test_read_vval_is_the_librarys_reader(tmp_path):
+    # The valences qex.batch takes beside a map: read by the library, so a hostile count or valence
+    # is refused with its line, as `qex extract --valences` refuses it.
+    good = tmp_path / "good.vval"
+    good.write_text('{"file_format":"VVAL","version":1}\n3\n4\n-0\n5\n')
+    val = qex.read_vval(good)
+    assert val.dtype == np.int32 and val.tolist() == [4, 0, 5]
+    for body, line in [("2\n4\n" + "6" * 96 + "\n", "line 4"), ("2\n4\nnan\n", "line 4"),
+                       ("9007199254740993\n4\n4\n", "line 2"), ("2\n4\n4.0\n", "line 4")]:
+        bad = tmp_path / "bad.vval"
+        bad.write_text('{"file_format":"VVAL","version":1}\n' + body)
+        with pytest.raises(ValueError, match=line):
+            qex.read_vval(bad)
+    with pytest.raises(OSError):
+        qex.read_vval(tmp_path / "absent.vval")

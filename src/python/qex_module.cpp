@@ -311,6 +311,20 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
     throw py::value_error(message);
 }
 
+py::array_t<std::int32_t> read_vval(const std::string& path) {
+    std::vector<int> valences;
+    qex::IoError e;
+    {
+        py::gil_scoped_release unlocked;
+        e = qex::read_vval(path, valences);
+    }
+    if (!e.ok()) raise(path, e);
+    py::array_t<std::int32_t> out(static_cast<py::ssize_t>(valences.size()));
+    auto o = out.mutable_unchecked<1>();
+    for (py::ssize_t i = 0; i < out.shape(0); ++i) o(i) = valences[static_cast<std::size_t>(i)];
+    return out;
+}
+
 py::tuple read_obj(const std::string& path, int threads) {
     qex::Input in;
     qex::IoError e;
@@ -502,6 +516,26 @@ ValueError
     A malformed file (the message names the line).
 )doc",
           py::arg("path"), py::arg("threads"));
+    m.def("read_vval", &read_vval, R"doc(Read a VVAL file of valences (the core of `qex.read_vval`).
+
+Parameters
+----------
+path : str
+    The VVAL file.
+
+Returns
+-------
+ndarray of int32, shape (n,)
+    A valence per input vertex.
+
+Raises
+------
+OSError
+    The file cannot be read.
+ValueError
+    A malformed file (the message names the line).
+)doc",
+          py::arg("path"));
     m.def("write_obj", &write_obj, R"doc(Write an extracted mesh as OBJ (the core of `qex.write_obj`).
 
 Parameters

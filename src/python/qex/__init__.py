@@ -16,6 +16,7 @@ verify     judge an extracted result again (exact checker)
 check      judge any quad mesh, given as arrays, against a map (the oracle of other extractors)
 layout     the patch layout of a quad mesh: separatrices, patches, their sizes and neighbours
 read_obj   read an OBJ map as (V, F, UV)
+read_vval  read a VVAL file of valences (one per input vertex)
 write_obj  write an extracted mesh as OBJ
 
 Bad input raises ValueError with the library's message, which names the element at fault. The
@@ -36,7 +37,7 @@ from . import _qex
 _Path = Union[str, "_os.PathLike[str]"]
 _Array = TypeVar("_Array", bound=npt.NDArray[Any])
 
-__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "write_obj"]
+__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "read_vval", "write_obj"]
 
 
 class Result:
@@ -416,6 +417,30 @@ def read_obj(
         A malformed file (the message names the line).
     """
     return _qex.read_obj(_os.fspath(path), _threads(threads))
+
+
+def read_vval(path: _Path) -> npt.NDArray[_np.int32]:
+    """Read a VVAL file: the valences of the input vertices, as ``qex extract --valences`` takes them.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The VVAL file (a JSON header line, the vertex count, then one valence per line).
+
+    Returns
+    -------
+    ndarray of int32, shape (n,)
+        A valence per input vertex, for `extract`'s ``valences``.
+
+    Raises
+    ------
+    OSError
+        The file cannot be read.
+    ValueError
+        A malformed file: a count or valence that is not a plausible integer (the message names
+        the line).
+    """
+    return _qex.read_vval(_os.fspath(path))
 
 
 def write_obj(path: _Path, result: Result) -> None:

@@ -68,7 +68,7 @@ def run_one(path: str, out_path: str, threads: int = 1) -> Row:
         valences = None
         vval = os.path.splitext(path)[0] + ".vval"
         if os.path.exists(vval):
-            valences = _read_vval(vval)
+            valences = qex.read_vval(vval)  # the library's reader: a bad count or valence names its line
         try:
             r = qex.extract(V, F, UV, valences=valences, threads=threads)
         except ValueError as e:
@@ -88,13 +88,6 @@ def run_one(path: str, out_path: str, threads: int = 1) -> Row:
     finally:
         row["seconds"] = round(time.perf_counter() - start, 6)
     return row
-
-
-def _read_vval(path: str) -> List[int]:
-    with open(path) as f:
-        f.readline()  # {"file_format":"VVAL","version":1}
-        values = f.read().split()
-    return [int(x) for x in values[1:]]
 
 
 def find_maps(source: str) -> List[Tuple[str, str]]:
