@@ -17,17 +17,7 @@ using Index = std::int64_t;
 
 /// The maps: a torus (no singularities: every face failure is decided), a cube (cones) and an
 /// annulus (boundary).
-struct Case {
-    const char* name;
-    Input in;
-    QuadMesh good;
-};
-
-Case make_case(const char* name, Input in) {
-    Case c{name, std::move(in), {}};
-    c.good = bare(extract(c.in).mesh);
-    return c;
-}
+using Case = MutationCase;
 
 TEST(CheckerMutations, CorrectMeshesPass) {
     for (const Case& c :

@@ -12,23 +12,7 @@ namespace {
 
 using Index = std::int64_t;
 
-struct Case {
-    const char* name;
-    Input in;
-    QuadMesh good;
-};
-
-Case make_case(const char* name, Input in) {
-    Case c{name, std::move(in), {}};
-    c.good = bare(extract(c.in).mesh);
-    return c;
-}
-
-std::size_t count(const VerifyResult& v, ViolationKind k) {
-    std::size_t n = 0;
-    for (const Violation& x : v.violations) n += x.kind == k;
-    return n;
-}
+using Case = MutationCase;
 
 TEST(CheckerSingularities, CorrectMeshesMatchTheMapsCones) {
     for (const Case& c :

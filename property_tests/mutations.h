@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace qex::testing {
@@ -19,6 +20,26 @@ inline QuadMesh bare(const QuadMesh& m) {
     b.positions = m.positions;
     b.faces = m.faces;
     return b;
+}
+
+/// How many violations of kind `k` the verdict holds.
+inline std::size_t count(const VerifyResult& v, ViolationKind k) {
+    std::size_t n = 0;
+    for (const Violation& x : v.violations) n += x.kind == k;
+    return n;
+}
+
+/// A generated map and qex's mesh of it, bare: the correct mesh the mutations start from.
+struct MutationCase {
+    const char* name;
+    Input in;
+    QuadMesh good;
+};
+
+inline MutationCase make_case(const char* name, Input in) {
+    MutationCase c{name, std::move(in), {}};
+    c.good = bare(extract(c.in).mesh);
+    return c;
 }
 
 /// Whether a violation of kind `k` has a place of kind `pk` whose indices include all of `want`.
