@@ -12,40 +12,44 @@ namespace {
 /// The energy's weight on area (det^2 + 1) against shape (|J|^2), both over the regularised det.
 constexpr double kAreaWeight = 0.5;
 
-/// The energy of one triangle with corner UVs u0, u1, u2 (corners base, next, prev, in the
-/// triangle's chart); with `grad`, adds its gradient with respect to the three corners.
-double triangle_energy(const Vec2& u0, const Vec2& u1, const Vec2& u2, const RestShape& s, double eps,
-                       std::array<Vec2, 3>* grad) {
-    const double a0 = u1[0] - u0[0], a1 = u1[1] - u0[1], b0 = u2[0] - u0[0], b1 = u2[1] - u0[1];
-    const double j00 = a0 * s.g00 + b0 * s.g10, j01 = a0 * s.g01 + b0 * s.g11;
-    const double j10 = a1 * s.g00 + b1 * s.g10, j11 = a1 * s.g01 + b1 * s.g11;
-    const double det = j00 * j11 - j01 * j10;
-    const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
-    const double r = std::sqrt(eps * eps + det * det);
-    const double c = chi_with(det, eps, r);
-    constexpr double theta = kAreaWeight;
-    const double num = (1 - theta) * frob + theta * (det * det + 1.0);
-    const double energy = s.area * num / c;
-    if (grad) {
+/// The energy of the region's n triangles from their edge vectors in the scratch (a = u1 - u0,
+/// b = u2 - u0, rest-shape corners base, next, prev), into the scratch: each triangle's energy and
+/// its gradient with respect to u1 (da) and u2 (db); that with respect to u0 is -(da + db). No
+/// branch and nothing shared between triangles, so the loop runs in vector lanes; both sides of
+/// chi are computed and one is picked (the other may divide by zero, which is harmless here).
+QEX_REPAIR_VECTOR_CLONES
+void triangle_energies(const double* __restrict in, double* __restrict out, std::size_t n) {
+    using In = Problem::In;
+    using Out = Problem::Out;
+    constexpr double theta = kAreaWeight, w = 1 - theta, q = theta;
+    for (std::size_t t = 0; t < n; ++t) {
+        const double a0 = in[In::a0 * n + t], a1 = in[In::a1 * n + t], b0 = in[In::b0 * n + t],
+                     b1 = in[In::b1 * n + t], eps = in[In::eps * n + t];
+        const double g00 = in[In::g00 * n + t], g01 = in[In::g01 * n + t], g10 = in[In::g10 * n + t],
+                     g11 = in[In::g11 * n + t], area = in[In::area * n + t];
+        const double j00 = a0 * g00 + b0 * g10, j01 = a0 * g01 + b0 * g11;
+        const double j10 = a1 * g00 + b1 * g10, j11 = a1 * g01 + b1 * g11;
+        const double det = j00 * j11 - j01 * j10;
+        const double frob = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
+        const double r = std::sqrt(eps * eps + det * det);
+        // chi_with(det, eps, r), both sides computed.
+        const double chi_up = 0.5 * (det + r), chi_down = 0.5 * eps * eps / (r - det);
+        const double c = det >= 0 ? chi_up : chi_down;
+        const double num = (1 - theta) * frob + theta * (det * det + 1.0);
+        out[Out::energy * n + t] = area * num / c;
         const double dchi = 0.5 * (1.0 + det / r);
         // dE/dJ = (2 J + 2 det cof J) / chi - num chi' / chi^2 cof J, cof J = [[j11, -j10], [-j01, j00]].
         const double k = num * dchi / (c * c);
-        const double w = 1 - theta, q = theta;
         const double d00 = (2 * w * j00 + 2 * q * det * j11) / c - k * j11,
                      d01 = (2 * w * j01 - 2 * q * det * j10) / c + k * j10;
         const double d10 = (2 * w * j10 - 2 * q * det * j01) / c + k * j01,
                      d11 = (2 * w * j11 + 2 * q * det * j00) / c - k * j00;
         // dE/d[a b] = area * dE/dJ * G^T.
-        const Vec2 da{s.area * (d00 * s.g00 + d01 * s.g01), s.area * (d10 * s.g00 + d11 * s.g01)};
-        const Vec2 db{s.area * (d00 * s.g10 + d01 * s.g11), s.area * (d10 * s.g10 + d11 * s.g11)};
-        (*grad)[0][0] -= da[0] + db[0];
-        (*grad)[0][1] -= da[1] + db[1];
-        (*grad)[1][0] += da[0];
-        (*grad)[1][1] += da[1];
-        (*grad)[2][0] += db[0];
-        (*grad)[2][1] += db[1];
+        out[Out::da0 * n + t] = area * (d00 * g00 + d01 * g01);
+        out[Out::da1 * n + t] = area * (d10 * g00 + d11 * g01);
+        out[Out::db0 * n + t] = area * (d00 * g10 + d01 * g11);
+        out[Out::db1 * n + t] = area * (d10 * g10 + d11 * g11);
     }
-    return energy;
 }
 
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
@@ -126,64 +130,113 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
             corner_slot[r.fans[i].corners[k]] = static_cast<int>(i);
             corner_to[r.fans[i].corners[k]] = r.fans[i].to_c[k];
         }
-    p.corners.resize(r.faces.size());
-    for (std::size_t t = 0; t < r.faces.size(); ++t) {
+    const std::size_t n = r.faces.size();
+    p.triangles = n;
+    p.unknowns = 2 * r.fans.size();
+    Problem::Corners& pc = p.corners;
+    for (auto* v : {&pc.ix, &pc.iy, &pc.gi}) v->resize(3 * n);
+    for (auto* v : {&pc.sx, &pc.sy, &pc.tx, &pc.ty, &pc.hx, &pc.hy}) v->resize(3 * n);
+    pc.swap.resize(3 * n);
+    std::vector<double> fixed;
+    for (std::size_t t = 0; t < n; ++t) {
         const int b = rest[static_cast<std::size_t>(r.faces[t])].base;
         const int order[3] = {b, TriMesh::next(b), TriMesh::prev(b)};
-        for (int k = 0; k < 3; ++k) {
-            Problem::Corner& c = p.corners[t][k];
-            c.slot = corner_slot[order[k]];
-            if (c.slot >= 0) c.to = corner_to[order[k]];
-            c.fixed = m.uv[order[k]];
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t c = 3 * t + k;
+            const int slot = corner_slot[order[k]];
+            if (slot < 0) { // read as is: (1 X + -0.0); its gradient goes to the slots nobody reads
+                pc.ix[c] = static_cast<std::int32_t>(p.unknowns + fixed.size());
+                pc.iy[c] = pc.ix[c] + 1;
+                fixed.push_back(m.uv[order[k]][0]), fixed.push_back(m.uv[order[k]][1]);
+                pc.sx[c] = pc.sy[c] = pc.hx[c] = pc.hy[c] = 1.0;
+                pc.tx[c] = pc.ty[c] = -0.0;
+                pc.gi[c] = static_cast<std::int32_t>(p.unknowns);
+                pc.swap[c] = 0;
+                continue;
+            }
+            // GridAutomorphism::rotate by r: (x, y), (-y, x), (-x, -y), (y, -x); then + t.
+            const GridAutomorphism& to = corner_to[order[k]];
+            const int rot = to.r & 3, odd = rot & 1;
+            pc.ix[c] = 2 * slot + odd, pc.iy[c] = 2 * slot + 1 - odd;
+            pc.sx[c] = rot == 1 || rot == 2 ? -1.0 : 1.0;
+            pc.sy[c] = rot == 2 || rot == 3 ? -1.0 : 1.0;
+            pc.tx[c] = static_cast<double>(to.tx), pc.ty[c] = static_cast<double>(to.ty);
+            // Back by (4 - r) & 3.
+            const int back = (4 - rot) & 3;
+            pc.gi[c] = 2 * slot;
+            pc.swap[c] = static_cast<std::uint8_t>(back & 1);
+            pc.hx[c] = back == 1 || back == 2 ? -1.0 : 1.0;
+            pc.hy[c] = back == 2 || back == 3 ? -1.0 : 1.0;
         }
     }
+    p.point.resize(p.unknowns + fixed.size());
+    std::copy(fixed.begin(), fixed.end(), p.point.begin() + static_cast<std::ptrdiff_t>(p.unknowns));
+    p.gradient.resize(p.unknowns + 2);
     for (const FreeFan& fan : r.fans)
         for (const int c : fan.corners) corner_slot[c] = -1;
-    p.unknowns = 2 * r.fans.size();
+    p.in.resize(Problem::in_rows * n);
+    p.out.resize(Problem::out_rows * n);
+    p.gdet.resize(n);
+    for (std::size_t t = 0; t < n; ++t) {
+        const RestShape& s = rest[static_cast<std::size_t>(r.faces[t])];
+        p.in[Problem::g00 * n + t] = s.g00, p.in[Problem::g01 * n + t] = s.g01;
+        p.in[Problem::g10 * n + t] = s.g10, p.in[Problem::g11 * n + t] = s.g11;
+        p.in[Problem::area * n + t] = s.area;
+        p.gdet[t] = s.g00 * s.g11 - s.g01 * s.g10;
+    }
     p.barrier.assign(r.faces.size(), 0);
     for (std::size_t t = 0; t < r.faces.size() && !barrier.empty(); ++t)
         p.barrier[t] = std::binary_search(barrier.begin(), barrier.end(), r.faces[t]);
     return p;
 }
 
-double region_energy(const Problem& p, const Region& r, const std::vector<RestShape>& rest,
-                     const std::vector<double>& x, double eps, std::vector<double>* grad, double* lowest) {
-    if (grad) grad->assign(p.unknowns, 0.0);
-    double energy = 0.0;
+double region_energy(const Problem& p, const std::vector<double>& x, double eps, std::vector<double>* grad,
+                     double* lowest) {
+    if (grad) grad->resize(p.unknowns);
     if (lowest) *lowest = std::numeric_limits<double>::infinity();
-    for (std::size_t t = 0; t < p.corners.size(); ++t) {
-        const RestShape& s = rest[static_cast<std::size_t>(r.faces[t])];
+    const std::size_t n = p.triangles;
+    double* in = p.in.data();
+    const double* out = p.out.data();
+    std::copy(x.begin(), x.end(), p.point.begin());
+    const double* X = p.point.data();
+    const Problem::Corners& pc = p.corners;
+    // The corners into the triangles' charts: edge vectors, the smallest determinant, barriers.
+    for (std::size_t t = 0; t < n; ++t) {
         std::array<Vec2, 3> u;
-        for (int k = 0; k < 3; ++k) {
-            const Problem::Corner& c = p.corners[t][k];
-            u[k] = c.slot < 0 ? c.fixed : c.to(Vec2{x[2 * c.slot], x[2 * c.slot + 1]});
-        }
-        if (lowest) {
-            const double d = ((u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0])) *
-                             (s.g00 * s.g11 - s.g01 * s.g10);
-            *lowest = std::min(*lowest, d);
-        }
-        double e = eps;
+        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c)
+            u[k] = {pc.sx[c] * X[pc.ix[c]] + pc.tx[c], pc.sy[c] * X[pc.iy[c]] + pc.ty[c]};
+        const double a0 = u[1][0] - u[0][0], a1 = u[1][1] - u[0][1], b0 = u[2][0] - u[0][0], b1 = u[2][1] - u[0][1];
+        in[Problem::a0 * n + t] = a0, in[Problem::a1 * n + t] = a1;
+        in[Problem::b0 * n + t] = b0, in[Problem::b1 * n + t] = b1;
+        in[Problem::eps * n + t] = eps;
+        const double twice = a0 * b1 - a1 * b0;
+        if (lowest) *lowest = std::min(*lowest, twice * p.gdet[t]);
         if (p.barrier[t]) {
             // Never inverted at a start (the caller's), and not to be inverted by a step.
-            const double twice = (u[1][0] - u[0][0]) * (u[2][1] - u[0][1]) - (u[1][1] - u[0][1]) * (u[2][0] - u[0][0]);
             if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
-            e = 0.0;
-        }
-        if (!grad) {
-            energy += triangle_energy(u[0], u[1], u[2], s, e, nullptr);
-            continue;
-        }
-        std::array<Vec2, 3> g{};
-        energy += triangle_energy(u[0], u[1], u[2], s, e, &g);
-        for (int k = 0; k < 3; ++k) {
-            const Problem::Corner& c = p.corners[t][k];
-            if (c.slot < 0) continue;
-            const Vec2 back = GridAutomorphism::rotate(g[k], (4 - c.to.r) & 3);
-            (*grad)[2 * c.slot] += back[0];
-            (*grad)[2 * c.slot + 1] += back[1];
+            in[Problem::eps * n + t] = 0.0;
         }
     }
+    triangle_energies(in, p.out.data(), n);
+    // Summed and scattered in the triangles' order, so the result depends on nothing else.
+    double energy = 0.0;
+    for (std::size_t t = 0; t < n; ++t) energy += out[Problem::energy * n + t];
+    if (!grad) return energy;
+    double* G = p.gradient.data();
+    std::fill(p.gradient.begin(), p.gradient.end(), 0.0);
+    for (std::size_t t = 0; t < n; ++t) {
+        const double da0 = out[Problem::da0 * n + t], da1 = out[Problem::da1 * n + t];
+        const double db0 = out[Problem::db0 * n + t], db1 = out[Problem::db1 * n + t];
+        // As the sums into a zero gradient were: 0 - (da + db), 0 + da, 0 + db.
+        const std::array<Vec2, 3> g{Vec2{0.0 - (da0 + db0), 0.0 - (da1 + db1)}, Vec2{0.0 + da0, 0.0 + da1},
+                                    Vec2{0.0 + db0, 0.0 + db1}};
+        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c) {
+            const double gx = g[k][pc.swap[c]], gy = g[k][1 - pc.swap[c]];
+            G[pc.gi[c]] += pc.hx[c] * gx;
+            G[pc.gi[c] + 1] += pc.hy[c] * gy;
+        }
+    }
+    std::copy(G, G + p.unknowns, grad->begin());
     return energy;
 }
 

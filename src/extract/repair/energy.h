@@ -7,7 +7,17 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
+
+/// On x86-64 with GCC, the repair's vector loops are built twice, for AVX2 and for the baseline,
+/// and the first call picks the one the processor runs. Not FMA: the values are the same bits
+/// either way, four lanes or two.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define QEX_REPAIR_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define QEX_REPAIR_VECTOR_CLONES
+#endif
 
 namespace qex::detail::repair_impl {
 
@@ -36,18 +46,38 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
 
 /// The region as an optimisation problem over its free vertices' UVs, each in the chart of its
 /// fan's first corner: per triangle and rest-shape corner, the free vertex (-1: fixed, with
-/// its UV) and the transition into the triangle's chart.
+/// its UV) and the transition into the triangle's chart; per triangle its rest shape, in the
+/// region's order and in separate arrays (structure of arrays), so that the energy's arithmetic,
+/// triangle by triangle independent, runs in vector lanes.
 struct Problem {
-    struct Corner {
-        int slot = -1;
-        GridAutomorphism to;
-        Vec2 fixed{0.0, 0.0};
+    /// Per corner (3 per triangle, from its rest shape's base on), how its UV is read from the
+    /// point X (the free vertices' UVs, then the fixed corners' UVs) and its gradient written to
+    /// G (the free vertices' gradient, then two slots nobody reads), with no branch: the rotation
+    /// as a pick and a sign (-1.0 * v is -v, 1.0 * v is v), the translation added (-0.0 for a
+    /// fixed corner: v + -0.0 is v, zeros' signs included).
+    struct Corners {
+        std::vector<std::int32_t> ix, iy; ///< u = (sx X[ix] + tx, sy X[iy] + ty)
+        std::vector<double> sx, sy, tx, ty;
+        /// Its gradient g back in its free vertex's chart: G[gi] += hx g[swap], G[gi + 1] += hy g[1 - swap].
+        std::vector<std::int32_t> gi;
+        std::vector<std::uint8_t> swap;
+        std::vector<double> hx, hy;
     };
-    std::vector<std::array<Corner, 3>> corners; ///< per triangle of the region, in its order
-    std::size_t unknowns = 0;                   ///< 2 per free vertex
+    Corners corners;
+    std::size_t triangles = 0;
+    std::size_t unknowns = 0; ///< 2 per free vertex
+    mutable std::vector<double> point, gradient; ///< X and G
     /// Per triangle: kept positive by a pure barrier (no regularisation), so the opened fan of a
     /// cone keeps its winding.
     std::vector<char> barrier;
+    /// The energy's rows, n = triangles long each: what goes in per triangle (its edge vectors
+    /// u1 - u0 and u2 - u0 in its chart, the regularisation, its rest shape's inverse edge matrix
+    /// and area), and what comes out (its energy and gradient with respect to u1 and u2; that
+    /// with respect to u0 is -(da + db)).
+    enum In : std::size_t { a0, a1, b0, b1, eps, g00, g01, g10, g11, area, in_rows };
+    enum Out : std::size_t { energy, da0, da1, db0, db1, out_rows };
+    mutable std::vector<double> in, out; ///< row by row (structure of arrays)
+    std::vector<double> gdet;            ///< per triangle: the inverse edge matrix's determinant
 };
 
 /// The region's problem (the corners of each triangle from its rest shape's base on);
@@ -59,7 +89,7 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
 
 /// The region's energy at x, and with `grad` its gradient; `lowest`: the smallest Jacobian
 /// determinant.
-double region_energy(const Problem& p, const Region& r, const std::vector<RestShape>& rest,
-                     const std::vector<double>& x, double eps, std::vector<double>* grad, double* lowest = nullptr);
+double region_energy(const Problem& p, const std::vector<double>& x, double eps, std::vector<double>* grad,
+                     double* lowest = nullptr);
 
 } // namespace qex::detail::repair_impl

@@ -42,13 +42,12 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 /// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
-void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& rest, std::vector<double>& x, double eps,
-              double length, int iterations, double stall = 1e-12) {
+void minimise(const Problem& p, std::vector<double>& x, double eps, double length, int iterations, double stall = 1e-12) {
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
     std::vector<double> g, g_new, d(x.size()), x_new(x.size());
-    double f = region_energy(p, r, rest, x, eps, &g);
+    double f = region_energy(p, x, eps, &g);
     for (int it = 0; it < iterations && std::isfinite(f); ++it) {
         // Two-loop recursion: d = -H g.
         for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
@@ -81,7 +80,7 @@ void minimise(const Problem& p, const Region& r, const std::vector<RestShape>& r
         bool accepted = false;
         for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
             for (std::size_t i = 0; i < x.size(); ++i) x_new[i] = x[i] + step * d[i];
-            f_new = region_energy(p, r, rest, x_new, eps, &g_new);
+            f_new = region_energy(p, x_new, eps, &g_new);
             if (std::isfinite(f_new) && f_new <= f + 1e-4 * step * slope) {
                 accepted = true;
                 break;
@@ -186,12 +185,12 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::ve
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
     double lowest = 0.0;
-    region_energy(p, r, rest, x, 1.0, nullptr, &lowest);
+    region_energy(p, x, 1.0, nullptr, &lowest);
     double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
     std::size_t best = SIZE_MAX;
     for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
-        const double before = region_energy(p, r, rest, x, eps, nullptr);
-        minimise(p, r, rest, x, eps, length, kInnerIterations);
+        const double before = region_energy(p, x, eps, nullptr);
+        minimise(p, x, eps, length, kInnerIterations);
         // Place (truncated, propagated exactly) and judge exactly.
         for (std::size_t i = 0; i < r.fans.size(); ++i) {
             place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
@@ -205,7 +204,7 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::ve
             best = inverted, since_best = 0;
         else
             ++since_best;
-        const double after = region_energy(p, r, rest, x, eps, nullptr, &lowest);
+        const double after = region_energy(p, x, eps, nullptr, &lowest);
         const double sigma = std::max(1.0 - after / before, 0.1);
         const double mu = (1.0 - sigma) * chi(lowest, eps);
         eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
@@ -220,7 +219,7 @@ void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMar
     const std::vector<Point2> before = region_uvs(m, r);
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
-    minimise(p, r, rest, x, 0.0, length, kPolishIterations, kPolishStall);
+    minimise(p, x, 0.0, length, kPolishIterations, kPolishStall);
     for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
     bool all = true;
     for (const int f : r.faces) all = all && positive(m, f);
