@@ -84,7 +84,7 @@ void BM_Repair(benchmark::State& state, const Input* in) {
             return;
         }
         const auto start = std::chrono::steady_clock::now();
-        const qex::detail::RepairOutcome out = qex::detail::repair(m, in->feature_edges, !in->valences.empty(), report);
+        const qex::detail::RepairOutcome out = qex::detail::repair(m, in->feature_edges, !in->valences.empty(), 1, report);
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         repaired = static_cast<std::int64_t>(out.repaired_faces.size());
         unrepaired = static_cast<std::int64_t>(out.unrepaired.size());

@@ -135,7 +135,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     report_map(m, report);
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        RepairOutcome outcome = repair_at_scale(m, features, !input.valences.empty(), scale, report);
+        RepairOutcome outcome = repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report);
         explain_unrepaired(m, outcome, report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());

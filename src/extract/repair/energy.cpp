@@ -77,11 +77,12 @@ std::vector<double> region_point(const TriMesh& m, const Region& r, double& leng
 
 bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest) {
     double uv_area = 0.0, area3 = 0.0;
+    rest.resize(r.faces.size());
     std::vector<std::array<double, 4>> shape(r.faces.size()); // r1x, r2x, r2y, 3D area
     for (std::size_t i = 0; i < r.faces.size(); ++i) {
         const int f = r.faces[i];
         const int base = canonical_base(m, f);
-        rest[static_cast<std::size_t>(f)].base = base;
+        rest[i].base = base;
         const auto &p0 = m.pos(base), &p1 = m.pos(TriMesh::next(base)), &p2 = m.pos(TriMesh::prev(base));
         const std::array<double, 3> e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
         const std::array<double, 3> e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
@@ -111,7 +112,7 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
             s = {side, 0.5 * side, 0.5 * std::sqrt(3.0) * side, mean_uv};
         }
         // Reference edge matrix [[r1x, r2x], [0, r2y]] and its inverse.
-        RestShape& rs = rest[static_cast<std::size_t>(r.faces[i])];
+        RestShape& rs = rest[i];
         rs.g00 = 1.0 / s[0];
         rs.g01 = -s[1] / (s[0] * s[2]);
         rs.g10 = 0.0;
@@ -122,13 +123,14 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
 }
 
 Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestShape>& rest,
-                     std::vector<int>& corner_slot, std::vector<GridAutomorphism>& corner_to,
-                     const std::vector<int>& barrier) {
+                     std::vector<int>& corner_slot, const std::vector<int>& barrier) {
     Problem p;
+    // corner_slot: the free corners' places in `owner` (fan, corner of the fan).
+    std::vector<std::array<int, 2>> owner;
     for (std::size_t i = 0; i < r.fans.size(); ++i)
         for (std::size_t k = 0; k < r.fans[i].corners.size(); ++k) {
-            corner_slot[r.fans[i].corners[k]] = static_cast<int>(i);
-            corner_to[r.fans[i].corners[k]] = r.fans[i].to_c[k];
+            corner_slot[r.fans[i].corners[k]] = static_cast<int>(owner.size());
+            owner.push_back({static_cast<int>(i), static_cast<int>(k)});
         }
     const std::size_t n = r.faces.size();
     p.triangles = n;
@@ -139,12 +141,12 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     pc.swap.resize(3 * n);
     std::vector<double> fixed;
     for (std::size_t t = 0; t < n; ++t) {
-        const int b = rest[static_cast<std::size_t>(r.faces[t])].base;
+        const int b = rest[t].base;
         const int order[3] = {b, TriMesh::next(b), TriMesh::prev(b)};
         for (std::size_t k = 0; k < 3; ++k) {
             const std::size_t c = 3 * t + k;
-            const int slot = corner_slot[order[k]];
-            if (slot < 0) { // read as is: (1 X + -0.0); its gradient goes to the slots nobody reads
+            const int e = corner_slot[order[k]];
+            if (e < 0) { // read as is: (1 X + -0.0); its gradient goes to the slots nobody reads
                 pc.ix[c] = static_cast<std::int32_t>(p.unknowns + fixed.size());
                 pc.iy[c] = pc.ix[c] + 1;
                 fixed.push_back(m.uv[order[k]][0]), fixed.push_back(m.uv[order[k]][1]);
@@ -155,7 +157,8 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
                 continue;
             }
             // GridAutomorphism::rotate by r: (x, y), (-y, x), (-x, -y), (y, -x); then + t.
-            const GridAutomorphism& to = corner_to[order[k]];
+            const int slot = owner[static_cast<std::size_t>(e)][0];
+            const GridAutomorphism& to = r.fans[static_cast<std::size_t>(slot)].to_c[static_cast<std::size_t>(owner[static_cast<std::size_t>(e)][1])];
             const int rot = to.r & 3, odd = rot & 1;
             pc.ix[c] = 2 * slot + odd, pc.iy[c] = 2 * slot + 1 - odd;
             pc.sx[c] = rot == 1 || rot == 2 ? -1.0 : 1.0;
@@ -178,7 +181,7 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     p.out.resize(Problem::out_rows * n);
     p.gdet.resize(n);
     for (std::size_t t = 0; t < n; ++t) {
-        const RestShape& s = rest[static_cast<std::size_t>(r.faces[t])];
+        const RestShape& s = rest[t];
         p.in[Problem::g00 * n + t] = s.g00, p.in[Problem::g01 * n + t] = s.g01;
         p.in[Problem::g10 * n + t] = s.g10, p.in[Problem::g11 * n + t] = s.g11;
         p.in[Problem::area * n + t] = s.area;

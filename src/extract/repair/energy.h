@@ -39,7 +39,7 @@ inline double chi(double d, double eps) { return chi_with(d, eps, std::sqrt(eps 
 /// The free vertices' UVs in their first charts (the unknowns), and their mean edge length.
 std::vector<double> region_point(const TriMesh& m, const Region& r, double& length);
 
-/// Rest shapes of the region's triangles, scaled so that their total area is the region's
+/// Rest shapes of the region's triangles (in its order), scaled so that their total area is the region's
 /// signed UV area (which the repair keeps). False when that area is not positive: no
 /// orientation-preserving embedding with this boundary exists.
 bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest);
@@ -80,12 +80,11 @@ struct Problem {
     std::vector<double> gdet;            ///< per triangle: the inverse edge matrix's determinant
 };
 
-/// The region's problem (the corners of each triangle from its rest shape's base on);
-/// `corner_slot` and `corner_to` are per-corner scratch (corner_slot is all -1 before and after),
-/// and `barrier` (sorted) names the triangles kept positive by a pure barrier.
+/// The region's problem (the corners of each triangle from its rest shape's base on; `rest` as
+/// rest_shapes left it); `corner_slot` is per-corner scratch (all -1 before and after), and
+/// `barrier` (sorted) names the triangles kept positive by a pure barrier.
 Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestShape>& rest,
-                     std::vector<int>& corner_slot, std::vector<GridAutomorphism>& corner_to,
-                     const std::vector<int>& barrier);
+                     std::vector<int>& corner_slot, const std::vector<int>& barrier);
 
 /// The region's energy at x, and with `grad` its gradient; `lowest`: the smallest Jacobian
 /// determinant.

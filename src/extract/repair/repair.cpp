@@ -32,9 +32,13 @@
 #include "extract/repair/open_cones.h"
 #include "extract/repair/regions.h"
 #include "extract/repair/solver.h"
+#include "extract/parallel.h"
+#include "extract/union_find.h"
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,25 +53,38 @@ namespace {
 constexpr int kRingRadii[] = {1, 2, 4, 8};
 /// Larger regions are not attempted (their repair would cost more than the extraction).
 constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
+/// The regions of a ring radius are attempted on several threads only past this many triangles
+/// in all (fewer cost less than waking the threads).
+constexpr std::size_t kParallelMinTriangles = 256;
 
 // ============================================================================ the attempts
 
-/// What the attempts at regions share, across regions and rings: the untangler's scratch, the
-/// marks the certificates read, the breadth-first scratch, and per vertex what happened so far.
+/// What one attempt at a region works in (one per thread): the untangler's scratch and the marks
+/// the certificates read.
+struct Scratch {
+    explicit Scratch(const TriMesh& m) : work(m) {
+        marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
+        marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
+    }
+    Workspace work;
+    RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
+};
+
+/// What the attempts at regions share, across regions and rings: the breadth-first scratch, the
+/// attempts' scratch (one per thread, made when needed), and per vertex what happened so far.
 struct Attempts {
-    explicit Attempts(const TriMesh& m)
-        : work(m),
+    Attempts(const TriMesh& m, int threads)
+        : threads(threads),
           distance(static_cast<std::size_t>(m.num_vertices), -1),
           label(distance.size(), -1),
           reembedded(static_cast<std::size_t>(m.num_vertices), 0),
           log(static_cast<std::size_t>(m.num_vertices)) {
-        marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
-        marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
+        scratch.emplace_back(m);
     }
 
-    Workspace work;
+    int threads;
     std::vector<int> distance, label;
-    RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
+    std::vector<Scratch> scratch;
     /// Per vertex: re-embedded by a certified region (a dipole merge stands only if its path was).
     std::vector<char> reembedded;
     FailureLog log;
@@ -96,16 +113,18 @@ std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& see
 
 /// One attempt at region r: admitted by the room certificate, untangled, and certified by the
 /// winding certificate (once more with cone fans opened where that is what failed); then
-/// relaxed. True when repaired; otherwise its UVs are restored and its failure recorded.
-bool attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given, Attempts& a) {
+/// relaxed. Nothing when repaired (its free vertices marked in `reembedded`); otherwise its UVs
+/// are restored and its failure returned. It reads and writes only r's triangles and the fans of
+/// their vertices.
+std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given,
+                                            Scratch& a, std::vector<char>& reembedded) {
     if (r.fans.size() > kMaxRegionVertices) {
         RegionFailure f;
         f.why = RegionFailure::Why::TooLarge;
         f.radius = radius;
         f.free_vertices = r.fans.size();
         f.triangles = r.faces.size();
-        a.log.record(r, f);
-        return false;
+        return f;
     }
     RegionMarks& marks = a.marks;
     const std::vector<Point2> before = region_uvs(m, r);
@@ -126,16 +145,89 @@ bool attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given
     }
     if (repaired) {
         polish_region(m, r, a.work, marks);
-        for (const FreeFan& fan : r.fans) a.reembedded[fan.vertex] = 1;
+        for (const FreeFan& fan : r.fans) reembedded[fan.vertex] = 1;
     }
     // A corrected singularity winds by the angle Gauss-Bonnet gave it: that is its valence.
     if (repaired && marks.cone >= 0)
         m.map.valence[marks.cone] = m.map.winding_valence[marks.cone] =
             static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
-    if (!repaired) a.log.record(r, failure);
     marks.clear(r);
-    if (!repaired) restore_region_uvs(m, r, before);
-    return repaired;
+    if (repaired) return std::nullopt;
+    restore_region_uvs(m, r, before);
+    return failure;
+}
+
+/// The regions in groups that share no vertex with each other (union-find over the vertices of
+/// their triangles): an attempt reads only its region's triangles and the fans of their
+/// vertices, so groups are independent, and within one the regions are taken in their order.
+/// Largest groups first (by triangles), to balance the threads; `owner` is per-vertex scratch
+/// (all -1 before and after).
+std::vector<std::vector<std::size_t>> independent_groups(const TriMesh& m, const std::vector<Region>& regions,
+                                                         std::vector<int>& owner) {
+    UnionFind sets(regions.size());
+    for (std::size_t i = 0; i < regions.size(); ++i)
+        for (const int f : regions[i].faces)
+            for (const int v : m.tri[f]) {
+                int& o = owner[static_cast<std::size_t>(v)];
+                if (o < 0) o = static_cast<int>(i);
+                const int x = sets.find(o), y = sets.find(static_cast<int>(i));
+                if (x != y) sets.attach(std::max(x, y), std::min(x, y));
+            }
+    for (const Region& r : regions)
+        for (const int f : r.faces)
+            for (const int v : m.tri[f]) owner[static_cast<std::size_t>(v)] = -1;
+    std::vector<std::vector<std::size_t>> groups(regions.size());
+    std::vector<std::size_t> size(regions.size(), 0);
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+        const auto g = static_cast<std::size_t>(sets.find(static_cast<int>(i)));
+        groups[g].push_back(i);
+        size[g] += regions[i].faces.size();
+    }
+    std::vector<std::size_t> order;
+    for (std::size_t g = 0; g < groups.size(); ++g)
+        if (!groups[g].empty()) order.push_back(g);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return size[x] > size[y]; });
+    std::vector<std::vector<std::size_t>> out;
+    for (const std::size_t g : order) out.push_back(std::move(groups[g]));
+    return out;
+}
+
+/// The attempts at every region of one ring radius: independent groups on the threads, each
+/// group's regions in their order, and the failures recorded in the regions' order, so the
+/// outcome is the serial one for any thread count.
+void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given, Attempts& a) {
+    std::vector<std::optional<RegionFailure>> failed(regions.size());
+    const std::vector<std::vector<std::size_t>> groups = independent_groups(m, regions, a.label);
+    std::size_t triangles = 0;
+    for (const Region& r : regions) triangles += r.faces.size();
+    const int threads = std::min(a.threads, static_cast<int>(groups.size()));
+    if (threads > 1 && triangles >= kParallelMinTriangles) {
+        while (a.scratch.size() < static_cast<std::size_t>(threads)) a.scratch.emplace_back(m);
+        std::vector<std::exception_ptr> thrown(groups.size());
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+        for (std::size_t g = 0; g < groups.size(); ++g) {
+#if defined(_OPENMP)
+            Scratch& s = a.scratch[static_cast<std::size_t>(omp_get_thread_num())];
+#else
+            Scratch& s = a.scratch[0];
+#endif
+            try {
+                for (const std::size_t i : groups[g])
+                    failed[i] = attempt_region(m, regions[i], radius, valences_given, s, a.reembedded);
+            } catch (...) {
+                thrown[g] = std::current_exception();
+            }
+        }
+        for (const std::exception_ptr& e : thrown)
+            if (e) std::rethrow_exception(e);
+    } else {
+        for (std::size_t i = 0; i < regions.size(); ++i)
+            failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded);
+    }
+    for (std::size_t i = 0; i < regions.size(); ++i)
+        if (failed[i]) a.log.record(regions[i], *failed[i]);
 }
 
 /// Attempts the regions round the fold-overs (`seeds_faces`) and the paths of the dipole merges
@@ -150,8 +242,8 @@ void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_giv
             if (!merge_reembedded(m, d, a.reembedded))
                 for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
         if (seeds_faces.empty()) break;
-        for (const Region& r : regions_within(m, seeds_faces, radius, pinned, a.distance, a.label))
-            attempt_region(m, r, radius, valences_given, a);
+        attempt_regions(m, regions_within(m, seeds_faces, radius, pinned, a.distance, a.label), radius,
+                        valences_given, a);
         bad_triangles(m, pinned, seeds_faces, stuck);
     }
 }
@@ -181,7 +273,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
 } // namespace repair_impl
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     Report& report) {
+                     int threads, Report& report) {
     using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
@@ -196,7 +288,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         bad_triangles(m, pinned, seeds_faces, stuck);
     }
     const std::vector<Point2> sanitized = m.uv;
-    Attempts attempts(m);
+    Attempts attempts(m, thread_count(threads));
     grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts);
     settle_merges(m, merges, attempts.reembedded, report);
     return outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);

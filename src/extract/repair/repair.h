@@ -38,8 +38,10 @@ void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& 
 /// report.explanations, and undone unless their region is re-embedded). A region that does not
 /// untangle grows and is tried again, up to a budget; past it, its UVs are restored and the
 /// paper's local handling takes over there (named in report.explanations). Updates
-/// MapState::face_sign, and the valences of singularities it corrects or merges.
+/// MapState::face_sign, and the valences of singularities it corrects or merges. Regions that
+/// share no vertex are attempted on up to `threads` threads (0: every core), with the same
+/// result for any count.
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     Report& report);
+                     int threads, Report& report);
 
 } // namespace qex::detail

@@ -173,15 +173,12 @@ bool kernel_sweeps(TriMesh& m, const Region& r) {
 
 } // namespace
 
-Workspace::Workspace(const TriMesh& m)
-    : rest(static_cast<std::size_t>(m.num_faces())),
-      corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1),
-      corner_to(corner_slot.size()) {}
+Workspace::Workspace(const TriMesh& m) : corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1) {}
 
 bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier) {
     if (!rest_shapes(m, r, work.rest)) return false;
     const std::vector<RestShape>& rest = work.rest;
-    const Problem p = make_problem(m, r, rest, work.corner_slot, work.corner_to, barrier);
+    const Problem p = make_problem(m, r, rest, work.corner_slot, barrier);
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
     double lowest = 0.0;
@@ -215,7 +212,7 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::ve
 void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMarks& marks) {
     if (!rest_shapes(m, r, work.rest)) return;
     const std::vector<RestShape>& rest = work.rest;
-    const Problem p = make_problem(m, r, rest, work.corner_slot, work.corner_to, {});
+    const Problem p = make_problem(m, r, rest, work.corner_slot, {});
     const std::vector<Point2> before = region_uvs(m, r);
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);

@@ -10,14 +10,12 @@
 
 namespace qex::detail::repair_impl {
 
-/// The untangler's scratch, sized to the mesh once per repair: per triangle its rest shape, and
-/// per corner the free vertex whose fan it is in (-1 between uses) and the transition into its
-/// chart.
+/// The untangler's scratch: per triangle of the region its rest shape, and per corner of the mesh
+/// (sized once) where it sits among the region's free corners (-1 between uses).
 struct Workspace {
     explicit Workspace(const TriMesh& m);
     std::vector<RestShape> rest;
     std::vector<int> corner_slot;
-    std::vector<GridAutomorphism> corner_to;
 };
 
 /// Untangles the region in place; true when every triangle of it is positively oriented.
