@@ -1,5 +1,6 @@
 // The parallel loops: any thread count gives the serial output, and the serial error.
 #include "test_support.h"
+#include "transform_checks.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -60,6 +61,35 @@ TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
             EXPECT_EQ(a.mesh.provenance[i].chart_triangle, b.mesh.provenance[i].chart_triangle);
         }
         EXPECT_EQ(a.report.singularities, b.report.singularities);
+    }
+}
+
+TEST(Extraction, RepairOnSeveralThreadsGivesTheSerialOutput) {
+    // The repair attempts the regions of a ring radius side by side, in groups that share no
+    // vertex. On real maps with many fold-over regions, some repaired and some not (several
+    // groups per ring), two and three threads must give the serial map, mesh and explanations.
+    for (const char* name : {"duck_qc_8", "duck_miq_16"}) {
+        Input in;
+        if (const std::string why = read_real_map("paper", name, in); !why.empty()) GTEST_SKIP() << why;
+        Options serial;
+        serial.threads = 1;
+        const Result a = extract(in, serial);
+        ASSERT_TRUE(a.ok()) << name;
+        ASSERT_GT(a.report.repaired_regions, 1) << name;
+        ASSERT_GT(a.report.unrepaired_regions, 0) << name;
+        for (const int threads : {2, 3}) {
+            Options parallel;
+            parallel.threads = threads;
+            const Result b = extract(in, parallel);
+            ASSERT_TRUE(b.ok()) << name;
+            EXPECT_EQ(a.mesh.map_uvs, b.mesh.map_uvs) << name << ", " << threads << " threads";
+            EXPECT_EQ(a.mesh.map_repaired, b.mesh.map_repaired) << name;
+            EXPECT_EQ(a.mesh.positions, b.mesh.positions) << name;
+            EXPECT_EQ(a.mesh.faces, b.mesh.faces) << name;
+            ASSERT_EQ(a.report.explanations.size(), b.report.explanations.size()) << name;
+            for (std::size_t i = 0; i < a.report.explanations.size(); ++i)
+                EXPECT_EQ(a.report.explanations[i].message, b.report.explanations[i].message) << name;
+        }
     }
 }
 
