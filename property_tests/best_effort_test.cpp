@@ -168,8 +168,8 @@ std::vector<std::pair<int, std::size_t>> refinements(const Result& r) {
     return out;
 }
 
-// On a shared map that ends with exit code 5 and collapses no handle (decimated-knight_miq_18;
-// bunny_geo_20 too, but it takes 20 s), best_effort returns the attempt with the fewest
+// On a shared map that ends with exit code 5 and collapses no handle (decimated-knight_miq_18,
+// the one left), best_effort returns the attempt with the fewest
 // violations among the map's own scale and every refinement, the smaller scale on a tie; every
 // violation located; and nothing changes without it.
 TEST(BestEffort, TheAttemptWithTheFewestViolationsTiesToTheSmallestScale) {

@@ -86,6 +86,29 @@ int ChartSearch::find(int start, const IPoint& grid) {
     return found >= 0 ? found : found_flipped;
 }
 
+int ChartSearch::find_round_singularities(const IPoint& grid, GridAutomorphism& to) const {
+    int flipped = -1;
+    GridAutomorphism flipped_to;
+    for (const int t : queue_) {
+        const std::array<std::int8_t, 3>& order = order_[static_cast<std::size_t>(t)];
+        for (const std::int8_t k : order) {
+            const int o = k < 0 ? -1 : g_.opp[3 * t + k];
+            if (o < 0 || !listed(TriMesh::face(o))) continue;
+            const int u = TriMesh::face(o);
+            const GridAutomorphism other = g_.map.transition[3 * t + k].after(this->to(t));
+            if (other == this->to(u)) continue;
+            const int s = holding_sign(g_, u, to_point(other(grid)));
+            if (s > 0) {
+                to = other;
+                return u;
+            }
+            if (s < 0 && flipped < 0) flipped = u, flipped_to = other;
+        }
+    }
+    to = flipped_to;
+    return flipped;
+}
+
 std::vector<std::pair<int, IPoint>> ChartSearch::find_all(int start, const IPoint& grid) {
     std::vector<std::pair<int, IPoint>> positive, flipped;
     if (start < 0 || start >= g_.num_faces() || !alive(start)) return positive;

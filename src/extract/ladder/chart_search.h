@@ -28,6 +28,13 @@ public:
     /// found, else the first flipped one; -1 if none is found or `start` is not a live triangle.
     int find(int start, const IPoint& grid);
 
+    /// After find() found nothing: a listed triangle that holds `grid` in the chart of another
+    /// listed neighbour than the one the search entered it from (a path round a singularity the
+    /// other way, which the search, listing each triangle once, did not take), positive before
+    /// flipped, in the order listed and its edges' canonical order; its transition in `to`. -1 if
+    /// none.
+    int find_round_singularities(const IPoint& grid, GridAutomorphism& to) const;
+
     /// Every triangle the search lists (up to its budget) that holds `grid` (in the chart of
     /// triangle `start`), each with `grid` in its own chart: the positive ones in the order
     /// listed, then the flipped ones.

@@ -21,12 +21,14 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
     for (std::size_t i = 0; i < mesh.positions.size() && i < mesh.provenance.size(); ++i) {
         Provenance& p = mesh.provenance[i];
         const IPoint grid{p.grid[0], p.grid[1]};
-        const int found = search.find(p.chart_triangle, grid);
+        int found = search.find(p.chart_triangle, grid);
+        GridAutomorphism to = found >= 0 ? search.to(found) : GridAutomorphism{};
+        if (found < 0) found = search.find_round_singularities(grid, to);
         if (found < 0) {
             ++unplaced;
             continue;
         }
-        p = located(input, g, found, search.to(found)(grid), p.merged);
+        p = located(input, g, found, to(grid), p.merged);
         mesh.positions[i] = position_of(input, p);
     }
     mesh.map_uvs = given;
