@@ -36,10 +36,13 @@
 #include "extract/union_find.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <optional>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -54,8 +57,8 @@ constexpr int kRingRadii[] = {1, 2, 4, 8};
 /// Larger regions are not attempted (their repair would cost more than the extraction).
 constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
 /// The regions of a ring radius are attempted on several threads only past this many triangles
-/// in all (fewer cost less than waking the threads).
-constexpr std::size_t kParallelMinTriangles = 256;
+/// in all (fewer cost less than starting a thread).
+constexpr std::size_t kParallelMinTriangles = 512;
 
 // ============================================================================ the attempts
 
@@ -202,24 +205,28 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
     for (const Region& r : regions) triangles += r.faces.size();
     const int threads = std::min(a.threads, static_cast<int>(groups.size()));
     if (threads > 1 && triangles >= kParallelMinTriangles) {
+        // Plain threads, not OpenMP: a few per repair, and none left spinning when the library
+        // runs inside its users' parallel jobs. Each takes the next group (largest first).
         while (a.scratch.size() < static_cast<std::size_t>(threads)) a.scratch.emplace_back(m);
-        std::vector<std::exception_ptr> thrown(groups.size());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-        for (std::size_t g = 0; g < groups.size(); ++g) {
-#if defined(_OPENMP)
-            Scratch& s = a.scratch[static_cast<std::size_t>(omp_get_thread_num())];
-#else
-            Scratch& s = a.scratch[0];
-#endif
+        std::atomic<std::size_t> next{0};
+        std::vector<std::exception_ptr> thrown(static_cast<std::size_t>(threads));
+        const auto work = [&](std::size_t t) {
             try {
-                for (const std::size_t i : groups[g])
-                    failed[i] = attempt_region(m, regions[i], radius, valences_given, s, a.reembedded);
+                for (std::size_t g = next++; g < groups.size(); g = next++)
+                    for (const std::size_t i : groups[g])
+                        failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[t], a.reembedded);
             } catch (...) {
-                thrown[g] = std::current_exception();
+                thrown[t] = std::current_exception();
+                next = groups.size();
             }
+        };
+        std::vector<std::thread> helpers;
+        try {
+            for (std::size_t t = 1; t < static_cast<std::size_t>(threads); ++t) helpers.emplace_back(work, t);
+        } catch (const std::system_error&) { // no thread to be had: the others take its share
         }
+        work(0);
+        for (std::thread& h : helpers) h.join();
         for (const std::exception_ptr& e : thrown)
             if (e) std::rethrow_exception(e);
     } else {
