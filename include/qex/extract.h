@@ -113,8 +113,8 @@ struct Options {
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own
     /// scale). For progress display; it must not throw. Empty: not called.
     std::function<void(const char* stage, int grid_scale)> on_stage;
-    /// Threads for the parallel loops (built with QEX_OPENMP): 0 uses every core, 1 runs
-    /// serially. The output is identical for every value.
+    /// Threads for the parallel loops and the repair's independent fold-over regions (built with
+    /// QEX_OPENMP): 0 uses every core, 1 runs serially. The output is identical for every value.
     int threads = 0;
 };
 
