@@ -17,8 +17,8 @@ constexpr double kAreaWeight = 0.5;
 /// its gradient with respect to u1 (da) and u2 (db); that with respect to u0 is -(da + db). No
 /// branch and nothing shared between triangles, so the loop runs in vector lanes; both sides of
 /// chi are computed and one is picked (the other may divide by zero, which is harmless here).
-QEX_REPAIR_VECTOR_CLONES
-void triangle_energies(const double* __restrict in, double* __restrict out, std::size_t n) {
+inline __attribute__((always_inline)) void triangle_energies_in_lanes(const double* __restrict in,
+                                                                     double* __restrict out, std::size_t n) {
     using In = Problem::In;
     using Out = Problem::Out;
     constexpr double theta = kAreaWeight, w = 1 - theta, q = theta;
@@ -50,6 +50,26 @@ void triangle_energies(const double* __restrict in, double* __restrict out, std:
         out[Out::db0 * n + t] = area * (d00 * g10 + d01 * g11);
         out[Out::db1 * n + t] = area * (d10 * g10 + d11 * g11);
     }
+}
+
+// On x86-64 the loop is built twice, for AVX2 (four lanes) and for the baseline (two), and the
+// first call picks the one the processor runs, at run time (a check, not an ifunc: an ifunc's
+// resolver runs before a sanitizer's runtime is up). Not FMA: the values are the same bits either
+// way.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define QEX_REPAIR_AVX2 1
+__attribute__((target("avx2"))) void triangle_energies_avx2(const double* __restrict in, double* __restrict out,
+                                                            std::size_t n) {
+    triangle_energies_in_lanes(in, out, n);
+}
+#endif
+
+void triangle_energies(const double* in, double* out, std::size_t n) {
+#if defined(QEX_REPAIR_AVX2)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) return triangle_energies_avx2(in, out, n);
+#endif
+    triangle_energies_in_lanes(in, out, n);
 }
 
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that

@@ -10,15 +10,6 @@
 #include <cstdint>
 #include <vector>
 
-/// On x86-64 with GCC, the repair's vector loops are built twice, for AVX2 and for the baseline,
-/// and the first call picks the one the processor runs. Not FMA: the values are the same bits
-/// either way, four lanes or two.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-#define QEX_REPAIR_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define QEX_REPAIR_VECTOR_CLONES
-#endif
-
 namespace qex::detail::repair_impl {
 
 /// A triangle's rest shape: the inverse of its reference edge matrix (columns r1 - r0, r2 - r0)
