@@ -9,6 +9,7 @@
 // orientation). Only then is the mesh located on it (check_located.cpp): its fold-over regions
 // and footprints are where the certificate still folds.
 #include "certificate.h"
+#include "cones.h"
 #include "grid.h"
 #include "parallel.h"
 
@@ -85,29 +86,52 @@ std::vector<char> listed_triangles(const Certificate& c, std::size_t nt, std::ve
     return listed;
 }
 
+/// Triangle t has an edge no longer than `tol` in UV (inf-norm): a sliver whose orientation a
+/// move within the tolerance may decide either way.
+bool has_short_edge(const UVs& U, std::size_t t, double tol) {
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto &a = U[3 * t + k], &b = U[3 * t + (k + 1) % 3];
+        if (std::max(std::abs(a[0] - b[0]), std::abs(a[1] - b[1])) <= tol) return true;
+    }
+    return false;
+}
+
+/// Per input vertex: its fan holds a triangle the given map has flipped or degenerate (exactly).
+std::vector<char> folded_vertices(const Input& given) {
+    std::vector<char> folded(given.positions.size(), 0);
+    for (std::size_t t = 0; t < given.triangles.size(); ++t)
+        if (orientation(given.uvs, t) != CGAL::LEFT_TURN)
+            for (int v : given.triangles[t]) folded[static_cast<std::size_t>(v)] = 1;
+    return folded;
+}
+
 /// Per triangle: collapsed, i.e. not listed, its UVs exactly the given map's, and one of its
-/// edges of zero length in UV (extraction collapses such edges; the triangle has no chart of
-/// its own, and its transitions are not judged).
-std::vector<char> collapsed_triangles(const UVs& given, const UVs& U, const std::vector<char>& listed) {
+/// edges no longer than `tol` in UV (inf-norm; extraction collapses edges of zero length once
+/// sanitized, and keeps no chart for the triangle: its transitions are not judged).
+std::vector<char> collapsed_triangles(const UVs& given, const UVs& U, const std::vector<char>& listed, double tol) {
     std::vector<char> collapsed(listed.size(), 0);
     for (std::size_t t = 0; t < listed.size(); ++t) {
         if (listed[t]) continue;
-        bool same = true, zero_edge = false;
-        for (std::size_t k = 0; k < 3; ++k) {
-            same = same && U[3 * t + k] == given[3 * t + k];
-            zero_edge = zero_edge || given[3 * t + k] == given[3 * t + (k + 1) % 3];
-        }
-        collapsed[t] = same && zero_edge;
+        bool same = true;
+        for (std::size_t k = 0; k < 3; ++k) same = same && U[3 * t + k] == given[3 * t + k];
+        collapsed[t] = same && has_short_edge(given, t, tol);
     }
     return collapsed;
 }
 
-/// Outside the listed triangles: every corner's UV within `tol` (inf-norm) of the given map's,
-/// and no triangle flipped (negative, exactly) that the given map has positive or degenerate.
-void check_unlisted(const UVs& given, const UVs& U, const std::vector<char>& listed, double tol,
-                    std::vector<Violation>& out) {
+/// Every listed triangle positively oriented (exactly); outside them every corner's UV within
+/// `tol` (inf-norm) of the given map's, and no triangle flipped (negative, exactly) that the
+/// given map has positive or degenerate, but a sliver (an edge within `tol`: sanitization's
+/// rounding may decide its orientation either way).
+void check_moves(const UVs& given, const UVs& U, const std::vector<char>& listed, double tol,
+                 std::vector<Violation>& out) {
     for (std::size_t t = 0; t < listed.size(); ++t) {
-        if (listed[t]) continue;
+        if (listed[t]) {
+            if (orientation(U, t) != CGAL::LEFT_TURN)
+                mismatch(out, "repaired triangle " + std::to_string(t) + " is not positively oriented",
+                         static_cast<std::int64_t>(t));
+            continue;
+        }
         const auto T = static_cast<std::int64_t>(t);
         double moved = 0;
         for (std::size_t c = 3 * t; c < 3 * t + 3; ++c)
@@ -119,7 +143,8 @@ void check_unlisted(const UVs& given, const UVs& U, const std::vector<char>& lis
                      T);
             continue;
         }
-        if (orientation(U, t) == CGAL::RIGHT_TURN && orientation(given, t) != CGAL::RIGHT_TURN)
+        if (orientation(U, t) == CGAL::RIGHT_TURN && orientation(given, t) != CGAL::RIGHT_TURN &&
+            !has_short_edge(given, t, tol))
             mismatch(out, "triangle " + std::to_string(t) + " is flipped, but not listed as repaired nor flipped in the map",
                      T);
     }
@@ -127,11 +152,16 @@ void check_unlisted(const UVs& given, const UVs& U, const std::vector<char>& lis
 
 /// At every vertex of a listed triangle whose fan in the given map holds no flipped or
 /// degenerate triangle (exactly), the certificate winds as the given map: the same number of
-/// quarter turns (its angle sum, rounded; the same valence, or boundary corner).
-void check_windings(const Input& given, const UVs& U, const std::vector<char>& listed, std::vector<Violation>& out) {
+/// quarter turns (its angle sum, rounded; the same valence, or boundary corner). Not judged: a
+/// singularity the certificate cancels (`cancelled`, check_charts), a vertex of a collapsed
+/// triangle (its cone holds the collapsed edge's other end), and where the given map's
+/// sum is no whole number of quarter turns (within kQuarterTurnSlack) or extreme (at most one
+/// quarter turn, or eight and more: known modulo a whole turn, as the located mode reads it).
+void check_windings(const Input& given, const UVs& U, const std::vector<char>& listed, const std::vector<char>& folded,
+                    const std::vector<char>& collapsed, const std::vector<char>& cancelled, std::vector<Violation>& out) {
     const std::size_t nv = given.positions.size();
     std::vector<double> sum_given(nv, 0.0), sum_cert(nv, 0.0);
-    std::vector<char> touched(nv, 0), folded(nv, 0);
+    std::vector<char> touched(nv, 0);
     std::vector<std::int64_t> first_listed(nv, -1);
     for (std::size_t c = 0; c < U.size(); ++c) {
         const std::size_t t = c / 3, base = c - c % 3;
@@ -139,14 +169,17 @@ void check_windings(const Input& given, const UVs& U, const std::vector<char>& l
         const std::size_t p = base + (c % 3 + 1) % 3, w = base + (c % 3 + 2) % 3;
         sum_given[v] += signed_angle(given.uvs[c], given.uvs[p], given.uvs[w]);
         sum_cert[v] += signed_angle(U[c], U[p], U[w]);
-        if (c % 3 == 0 && orientation(given.uvs, t) != CGAL::LEFT_TURN)
-            for (int x : given.triangles[t]) folded[static_cast<std::size_t>(x)] = 1;
         if (listed[t] && !touched[v]) touched[v] = 1, first_listed[v] = static_cast<std::int64_t>(t);
     }
+    for (std::size_t t = 0; t < collapsed.size(); ++t) // a collapsed edge's ends are one cone, their sums split
+        if (collapsed[t])
+            for (int v : given.triangles[t]) touched[static_cast<std::size_t>(v)] = 0;
     constexpr double kQuarter = M_PI / 2;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (!touched[v] || folded[v]) continue;
-        const long n_given = std::lround(sum_given[v] / kQuarter), n_cert = std::lround(sum_cert[v] / kQuarter);
+        if (!touched[v] || folded[v] || cancelled[v]) continue;
+        const double q = sum_given[v] / kQuarter;
+        const long n_given = std::lround(q), n_cert = std::lround(sum_cert[v] / kQuarter);
+        if (!(std::abs(q - static_cast<double>(n_given)) <= kQuarterTurnSlack) || n_given <= 1 || n_given >= 8) continue;
         if (n_given != n_cert || !std::isfinite(sum_cert[v]))
             mismatch(out,
                      "input vertex " + std::to_string(v) + " winds " + std::to_string(n_cert * 90) +
@@ -201,10 +234,11 @@ std::vector<Violation> check_certificate(const Input& given, const Certificate& 
     if (!same_surface(given, c.map, out)) return out;
     const UVs& U = c.map.uvs;
     const std::vector<char> listed = listed_triangles(c, given.triangles.size(), out);
-    const std::vector<char> collapsed = collapsed_triangles(given.uvs, U, listed);
-    check_unlisted(given.uvs, U, listed, tol, out);
-    check_charts(given, U, listed, collapsed, tol, out);
-    check_windings(given, U, listed, out);
+    const std::vector<char> collapsed = collapsed_triangles(given.uvs, U, listed, tol);
+    check_moves(given.uvs, U, listed, tol, out);
+    const std::vector<char> folded = folded_vertices(given);
+    const std::vector<char> cancelled = check_charts(given, U, listed, collapsed, folded, tol, out);
+    check_windings(given, U, listed, folded, collapsed, cancelled, out);
     if (out.empty()) check_as_map(given, U, c, collapsed, threads, out);
     return out;
 }

@@ -31,13 +31,20 @@ Transition inverse(const Transition& m) {
     return {(4 - m.r) & 3, back[0], back[1]};
 }
 
-/// Per listed triangle its region (listed triangles sharing edges), -1 for the others.
-std::vector<std::int32_t> listed_regions(const InputEdges& edges, const std::vector<char>& listed) {
+/// Per listed triangle its region (listed triangles sharing vertices: a singularity and the one
+/// it cancels may lie in repaired patches that touch at a vertex), -1 for the others.
+std::vector<std::int32_t> listed_regions(const Input& in, const std::vector<char>& listed) {
     const std::size_t nt = listed.size();
     UnionFind groups(nt);
-    for (std::size_t c = 0; c < edges.partner.size(); ++c)
-        if (edges.partner[c] >= 0 && listed[c / 3] && listed[static_cast<std::size_t>(edges.partner[c]) / 3])
-            groups.unite(static_cast<int>(c / 3), static_cast<int>(edges.partner[c] / 3));
+    std::vector<std::int32_t> first_at(in.positions.size(), -1);
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!listed[t]) continue;
+        for (int v : in.triangles[t]) {
+            std::int32_t& f = first_at[static_cast<std::size_t>(v)];
+            if (f < 0) f = static_cast<std::int32_t>(t);
+            else groups.unite(f, static_cast<int>(t));
+        }
+    }
     std::vector<std::int32_t> region(nt, -1);
     for (std::size_t t = 0; t < nt; ++t)
         if (listed[t]) region[t] = groups.find(static_cast<int>(t));
@@ -123,43 +130,54 @@ std::vector<int> fan_turns(const Input& in, Rotation rotation) {
 
 } // namespace
 
-void check_charts(const Input& given, const UVs& U, const std::vector<char>& listed, const std::vector<char>& collapsed,
-                  double tol, std::vector<Violation>& out) {
+std::vector<char> check_charts(const Input& given, const UVs& U, const std::vector<char>& listed,
+                               const std::vector<char>& collapsed, const std::vector<char>& folded, double tol,
+                               std::vector<Violation>& out) {
     const InputEdges edges = input_edges(given, tol);
     const CertificateEdges cert = certificate_edges(U, edges, collapsed);
-    const std::vector<std::int32_t> region = listed_regions(edges, listed);
+    const std::vector<std::int32_t> region = listed_regions(given, listed);
     std::vector<std::int64_t> defect(listed.size(), -1);
     compare_charts(edges, cert, listed, collapsed, region, defect, out);
     // The singularities: the same turns, but where the certificate cancels the given map's.
     const std::vector<int> was = fan_turns(given, [&](std::size_t c) { return edges.opposite[c] < 0 ? -1 : edges.across[c].r; });
     const std::vector<int> now = fan_turns(given, [&](std::size_t c) { return cert.found[c] ? cert.across[c].r : -1; });
+    // Per region: whether a vertex of it lies on a fold of the given map, the turns it cancels
+    // (fold-free regions), and a vertex it cancels.
     std::vector<std::int32_t> region_of_vertex(given.positions.size(), -1);
-    for (std::size_t c = 0; c < U.size(); ++c)
-        if (listed[c / 3]) region_of_vertex[static_cast<std::size_t>(given.triangles[c / 3][c % 3])] = region[c / 3];
+    std::vector<char> region_folded(listed.size(), 0);
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        if (!listed[c / 3]) continue;
+        const auto v = static_cast<std::size_t>(given.triangles[c / 3][c % 3]);
+        region_of_vertex[v] = region[c / 3];
+        if (folded[v]) region_folded[static_cast<std::size_t>(region[c / 3])] = 1;
+    }
+    std::vector<char> cancelled_vertex(now.size(), 0);
     std::vector<int> cancelled(listed.size(), 0);
     std::vector<std::int64_t> cancelled_at(listed.size(), -1);
     for (std::size_t v = 0; v < now.size(); ++v) {
         if (was[v] < 0 || now[v] < 0 || was[v] == now[v]) continue;
         const std::int32_t k = region_of_vertex[v];
         if (now[v] == 0 && k >= 0) { // a singularity cancelled inside the repair
+            cancelled_vertex[v] = 1;
             cancelled[static_cast<std::size_t>(k)] += was[v];
             cancelled_at[static_cast<std::size_t>(k)] = static_cast<std::int64_t>(v);
             continue;
         }
-        const auto V = static_cast<std::int64_t>(v);
         std::int64_t t = -1;
         for (std::size_t c = 0; c < U.size() && t < 0; ++c)
             if (given.triangles[c / 3][c % 3] == static_cast<int>(v)) t = static_cast<std::int64_t>(c / 3);
         mismatch(out,
-                 "input vertex " + std::to_string(v) + " turns " + std::to_string(now[v] * 90) + " degrees round its fan, in the map " +
-                     std::to_string(was[v] * 90) + " (a singularity added, moved or changed)",
-                 t, {Place{PlaceKind::InputVertex, {V}}});
+                 "input vertex " + std::to_string(v) + " turns " + std::to_string(now[v] * 90) +
+                     " degrees round its fan, in the map " + std::to_string(was[v] * 90) +
+                     " (a singularity added, moved or changed)",
+                 t, {Place{PlaceKind::InputVertex, {static_cast<std::int64_t>(v)}}});
     }
     for (std::size_t k = 0; k < listed.size(); ++k) {
-        if (cancelled_at[k] >= 0 && cancelled[k] % 4 != 0)
+        if (cancelled_at[k] >= 0 && !region_folded[k] && cancelled[k] % 4 != 0)
             mismatch(out,
                      "the singularities it makes regular in the repaired region of triangle " + std::to_string(k) +
-                         " do not cancel (their turns sum to " + std::to_string(cancelled[k] * 90) + " degrees)",
+                         ", which holds no fold of the map, do not cancel (their turns sum to " +
+                         std::to_string(cancelled[k] * 90) + " degrees)",
                      static_cast<std::int64_t>(k), {Place{PlaceKind::InputVertex, {cancelled_at[k]}}});
         if (cancelled_at[k] < 0 && defect[k] >= 0)
             mismatch(out,
@@ -168,6 +186,7 @@ void check_charts(const Input& given, const UVs& U, const std::vector<char>& lis
                          "triangle (at triangle " + std::to_string(defect[k]) + ")",
                      defect[k]);
     }
+    return cancelled_vertex;
 }
 
 } // namespace qex::verify_detail
