@@ -105,8 +105,8 @@ std::vector<std::size_t> faces_near_folds(const Input& in, const QuadMesh& mesh)
         const auto& x = mesh.positions[static_cast<std::size_t>(mesh.faces[f][0])];
         double best = HUGE_VAL;
         for (const auto& c : folds)
-            best = std::min(best, (x[0] - c[0]) * (x[0] - c[0]) + (x[1] - c[1]) * (x[1] - c[1]) +
-                                      (x[2] - c[2]) * (x[2] - c[2]));
+            best = std::min(
+                best, (x[0] - c[0]) * (x[0] - c[0]) + (x[1] - c[1]) * (x[1] - c[1]) + (x[2] - c[2]) * (x[2] - c[2]));
         by_distance.push_back({best, f});
     }
     std::sort(by_distance.begin(), by_distance.end());
@@ -116,7 +116,7 @@ std::vector<std::size_t> faces_near_folds(const Input& in, const QuadMesh& mesh)
 }
 
 TEST(CheckerCertificate, EdgeRotatedNearTheFoldsIsRejectedOnTheCertificate) {
-    constexpr std::size_t kTried = 8;  // per map, the faces nearest the folds
+    constexpr std::size_t kTried = 8; // per map, the faces nearest the folds
     std::size_t undecided_before = 0;
     for (const char* rel : kMaps) {
         const Own* o = own_output(rel);
@@ -227,7 +227,9 @@ TEST(CheckerCertificate, FileRoundTripsExactlyAndItsHeaderIsStrict) {
     EXPECT_EQ(back.map.triangles, o->cert.map.triangles);
     EXPECT_EQ(back.map.uvs, o->cert.map.uvs); // every digit
     const std::string map = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
-    const auto parse = [](const std::string& text, Certificate& c) { return parse_certificate(text.data(), text.size(), c); };
+    const auto parse = [](const std::string& text, Certificate& c) {
+        return parse_certificate(text.data(), text.size(), c);
+    };
     Certificate c;
     EXPECT_TRUE(parse("# qex certificate 1\n# grid_scale 2\n# repaired 1\n# r 0\n" + map, c).ok());
     EXPECT_EQ(c.grid_scale, 2);

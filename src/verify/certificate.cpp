@@ -35,8 +35,7 @@ CGAL::Orientation orientation(const UVs& U, std::size_t t) {
 /// and finite UVs, 3 per triangle. Returns whether the certificate's surface is the given one.
 bool same_surface(const Input& given, const Input& cert, std::vector<Violation>& out) {
     const std::size_t nt = given.triangles.size();
-    if (cert.positions.size() != given.positions.size() || cert.triangles.size() != nt ||
-        cert.uvs.size() != 3 * nt) {
+    if (cert.positions.size() != given.positions.size() || cert.triangles.size() != nt || cert.uvs.size() != 3 * nt) {
         mismatch(out,
                  std::to_string(cert.positions.size()) + " vertices and " + std::to_string(cert.triangles.size()) +
                      " triangles (" + std::to_string(cert.uvs.size()) + " corner UVs), the map has " +
@@ -145,7 +144,8 @@ void check_moves(const UVs& given, const UVs& U, const std::vector<char>& listed
         }
         if (orientation(U, t) == CGAL::RIGHT_TURN && orientation(given, t) != CGAL::RIGHT_TURN &&
             !has_short_edge(given, t, tol))
-            mismatch(out, "triangle " + std::to_string(t) + " is flipped, but not listed as repaired nor flipped in the map",
+            mismatch(out,
+                     "triangle " + std::to_string(t) + " is flipped, but not listed as repaired nor flipped in the map",
                      T);
     }
 }
@@ -158,7 +158,8 @@ void check_moves(const UVs& given, const UVs& U, const std::vector<char>& listed
 /// sum is no whole number of quarter turns (within kQuarterTurnSlack) or extreme (at most one
 /// quarter turn, or eight and more: known modulo a whole turn, as the located mode reads it).
 void check_windings(const Input& given, const UVs& U, const std::vector<char>& listed, const std::vector<char>& folded,
-                    const std::vector<char>& collapsed, const std::vector<char>& cancelled, std::vector<Violation>& out) {
+                    const std::vector<char>& collapsed, const std::vector<char>& cancelled,
+                    std::vector<Violation>& out) {
     const std::size_t nv = given.positions.size();
     std::vector<double> sum_given(nv, 0.0), sum_cert(nv, 0.0);
     std::vector<char> touched(nv, 0);
@@ -179,7 +180,8 @@ void check_windings(const Input& given, const UVs& U, const std::vector<char>& l
         if (!touched[v] || folded[v] || cancelled[v]) continue;
         const double q = sum_given[v] / kQuarter;
         const long n_given = std::lround(q), n_cert = std::lround(sum_cert[v] / kQuarter);
-        if (!(std::abs(q - static_cast<double>(n_given)) <= kQuarterTurnSlack) || n_given <= 1 || n_given >= 8) continue;
+        if (!(std::abs(q - static_cast<double>(n_given)) <= kQuarterTurnSlack) || n_given <= 1 || n_given >= 8)
+            continue;
         if (n_given != n_cert || !std::isfinite(sum_cert[v]))
             mismatch(out,
                      "input vertex " + std::to_string(v) + " winds " + std::to_string(n_cert * 90) +

@@ -41,8 +41,10 @@ std::vector<std::int32_t> listed_regions(const Input& in, const std::vector<char
         if (!listed[t]) continue;
         for (int v : in.triangles[t]) {
             std::int32_t& f = first_at[static_cast<std::size_t>(v)];
-            if (f < 0) f = static_cast<std::int32_t>(t);
-            else groups.unite(f, static_cast<int>(t));
+            if (f < 0)
+                f = static_cast<std::int32_t>(t);
+            else
+                groups.unite(f, static_cast<int>(t));
         }
     }
     std::vector<std::int32_t> region(nt, -1);
@@ -97,7 +99,8 @@ void compare_charts(const InputEdges& edges, const CertificateEdges& cert, const
                 if (compose(gauge[u], G, there) && same(here, there)) continue;
                 if (listed[t] || listed[u]) {
                     const std::int32_t k = listed[t] ? region[t] : region[u];
-                    if (defect[static_cast<std::size_t>(k)] < 0) defect[static_cast<std::size_t>(k)] = static_cast<std::int64_t>(t);
+                    if (defect[static_cast<std::size_t>(k)] < 0)
+                        defect[static_cast<std::size_t>(k)] = static_cast<std::int64_t>(t);
                 } else if (c < o) {
                     mismatch(out,
                              "across the edge of triangles " + std::to_string(t) + " and " + std::to_string(u) +
@@ -139,7 +142,8 @@ std::vector<char> check_charts(const Input& given, const UVs& U, const std::vect
     std::vector<std::int64_t> defect(listed.size(), -1);
     compare_charts(edges, cert, listed, collapsed, region, defect, out);
     // The singularities: the same turns, but where the certificate cancels the given map's.
-    const std::vector<int> was = fan_turns(given, [&](std::size_t c) { return edges.opposite[c] < 0 ? -1 : edges.across[c].r; });
+    const std::vector<int> was =
+        fan_turns(given, [&](std::size_t c) { return edges.opposite[c] < 0 ? -1 : edges.across[c].r; });
     const std::vector<int> now = fan_turns(given, [&](std::size_t c) { return cert.found[c] ? cert.across[c].r : -1; });
     // Per region: whether a vertex of it lies on a fold of the given map, the turns it cancels
     // (fold-free regions), and a vertex it cancels.
@@ -183,7 +187,8 @@ std::vector<char> check_charts(const Input& given, const UVs& U, const std::vect
             mismatch(out,
                      "in the repaired region of triangle " + std::to_string(k) +
                          ", which cancels no singularity, the charts do not differ from the map's by a chart per "
-                         "triangle (at triangle " + std::to_string(defect[k]) + ")",
+                         "triangle (at triangle " +
+                         std::to_string(defect[k]) + ")",
                      defect[k]);
     }
     return cancelled_vertex;
