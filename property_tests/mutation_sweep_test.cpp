@@ -81,16 +81,16 @@ private:
 
 using SiteList = std::vector<std::pair<std::set<Index>, std::set<Index>>>;
 
-/// Tallies each site (its vertices and faces) of the verdict `v` into `t`; returns the sites
-/// left undecided.
-SiteList tally(const VerifyResult& v, const SiteList& sites, Tally& t) {
-    SiteList undecided;
-    for (const auto& site : sites) {
-        if (named(v.violations, site.first, site.second)) {
+/// Tallies each site (its vertices and faces) of the verdict `v` into `t`; returns the indices
+/// of the sites left undecided.
+std::vector<std::size_t> tally(const VerifyResult& v, const SiteList& sites, Tally& t) {
+    std::vector<std::size_t> undecided;
+    for (std::size_t i = 0; i < sites.size(); ++i) {
+        if (named(v.violations, sites[i].first, sites[i].second)) {
             ++t.rejected;
-        } else if (named(v.undecided, site.first, site.second)) {
+        } else if (named(v.undecided, sites[i].first, sites[i].second)) {
             ++t.undecided;
-            undecided.push_back(site);
+            undecided.push_back(i);
         } else {
             ++t.missed;
         }
@@ -98,8 +98,9 @@ SiteList tally(const VerifyResult& v, const SiteList& sites, Tally& t) {
     return undecided;
 }
 
-/// Judges `m` on the given map and tallies each site into `t`; returns the sites left undecided.
-SiteList judge(const Input& in, const QuadMesh& m, const SiteList& sites, Tally& t) {
+/// Judges `m` on the given map and tallies each site into `t`; returns the indices of the sites
+/// left undecided.
+std::vector<std::size_t> judge(const Input& in, const QuadMesh& m, const SiteList& sites, Tally& t) {
     if (sites.empty()) return {};
     return tally(verify(in, m), sites, t);
 }
@@ -122,37 +123,51 @@ std::vector<SharedEdge> rotatable_edges(const QuadMesh& m) {
     return edges;
 }
 
+/// Rotates in `m` (a copy of `good`) the edges of `todo` that lie a face apart, in order: their
+/// sites into `judged`, the edges into `placed`, the others into `later`.
+void place_rotations(const QuadMesh& good, const std::vector<SharedEdge>& todo, QuadMesh& m, SiteList& judged,
+                     std::vector<SharedEdge>& placed, std::vector<SharedEdge>& later) {
+    Sites sites(good);
+    for (const SharedEdge& e : todo) {
+        const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
+        std::vector<int> all(f.begin(), f.end());
+        all.insert(all.end(), g.begin(), g.end());
+        if (!sites.claim(all)) {
+            later.push_back(e);
+            continue;
+        }
+        rotate_edge(m, e);
+        placed.push_back(e);
+        judged.push_back({std::set<Index>(all.begin(), all.end()), {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
+    }
+}
+
 /// Rotated edges (rotate_edge: a and b lose a face, the far corners x of f and z of g gain
 /// one), spread over the mesh (every k-th), in up to kRounds rounds. Those the given map leaves
-/// undecided are judged again on the output's certificate, into `on_certificate`.
+/// undecided are judged again on the output's certificate where it lists repaired triangles (a
+/// certificate without is the sanitized map), in one round: those a face apart, into
+/// `on_certificate` (the others are not judged again).
 Tally rotate_edges(const Input& in, const QuadMesh& good, const Certificate& certificate, Tally& on_certificate) {
     Tally t;
     const std::vector<SharedEdge> edges = rotatable_edges(good);
     const std::size_t stride = std::max<std::size_t>(1, edges.size() / kRotations);
-    std::vector<SharedEdge> todo;
+    std::vector<SharedEdge> todo, undecided;
     for (std::size_t i = 0; i < edges.size() && todo.size() < kRotations; i += stride) todo.push_back(edges[i]);
     for (int round = 0; round < kRounds && !todo.empty(); ++round) {
         QuadMesh m = good;
-        Sites sites(good);
-        std::vector<SharedEdge> later;
         SiteList judged;
-        for (const SharedEdge& e : todo) {
-            const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
-            std::vector<int> all(f.begin(), f.end());
-            all.insert(all.end(), g.begin(), g.end());
-            if (!sites.claim(all)) {
-                later.push_back(e);
-                continue;
-            }
-            rotate_edge(m, e);
-            std::set<Index> vertices(all.begin(), all.end());
-            judged.push_back({vertices, {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
-        }
-        const SiteList undecided = judge(in, m, judged, t);
-        if (!undecided.empty()) tally(verify(in, m, certificate), undecided, on_certificate);
+        std::vector<SharedEdge> placed, later;
+        place_rotations(good, todo, m, judged, placed, later);
+        for (std::size_t i : judge(in, m, judged, t)) undecided.push_back(placed[i]);
         if (later.size() == todo.size()) break;
         todo = std::move(later);
     }
+    if (undecided.empty() || certificate.repaired.empty()) return t;
+    QuadMesh m = good;
+    SiteList judged;
+    std::vector<SharedEdge> placed, later;
+    place_rotations(good, undecided, m, judged, placed, later);
+    tally(verify(in, m, certificate), judged, on_certificate);
     return t;
 }
 

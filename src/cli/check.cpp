@@ -134,7 +134,9 @@ int run_check(const CheckArgs& a) {
     if (!a.svg_path.empty()) {
         const std::string title = std::filesystem::path(a.mesh_path).filename().string() + " on " +
                                   std::filesystem::path(a.param_path).filename().string();
-        if (!write_text(a.svg_path, verdict_svg(input, mesh, v, a.grid_scale, title))) {
+        if (!write_text(a.svg_path,
+                        verdict_svg(input, mesh, v, a.certificate_path.empty() ? a.grid_scale : certificate.grid_scale,
+                                    title))) {
             std::cerr << "qex: cannot write '" << a.svg_path << "'\n";
             return kIo;
         }

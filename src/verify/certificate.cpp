@@ -2,12 +2,11 @@
 // repaired map it was extracted from (qex::Certificate, written by `qex extract --certificate`).
 // The certificate is checked first against the given map, with the checker's own code and
 // exact decisions: the same surface; outside its listed triangles the given UVs (up to the
-// located mode's UV tolerance, the noise sanitization removes); across every edge the given
-// map's transition, exactly; an exact integer-grid map with its singularities on grid points
-// (map_check.cpp's check, as on QuadMesh::map_uvs); the same windings where the given map's
-// fans hold no fold; its listed triangles positive and no other newly flipped (CGAL's exact
-// orientation). Only then is the mesh located on it (check_located.cpp): its fold-over regions
-// and footprints are where the certificate still folds.
+// located mode's UV tolerance, the noise sanitization removes) and orientations; its listed
+// triangles positive (CGAL's exact orientation); the given map's transitions and singularities
+// (certificate_charts.cpp) and windings; an exact integer-grid map with its singularities on
+// grid points (map_check.cpp's check, as on QuadMesh::map_uvs). Only then is the mesh located
+// on it (check_located.cpp): its fold-over regions and footprints are where it still folds.
 #include "certificate.h"
 #include "cones.h"
 #include "grid.h"
@@ -270,7 +269,12 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const Certificate&
     judged.map_repaired.clear();
     const int k = certificate.grid_scale;
     std::vector<Violation> bad;
-    if (k < 1 || k > (1 << 20) || (k & (k - 1)) != 0) {
+    bool map_ok = input.uvs.size() == 3 * input.triangles.size();
+    for (const auto& tri : input.triangles)
+        for (int v : tri) map_ok = map_ok && v >= 0 && static_cast<std::size_t>(v) < input.positions.size();
+    if (!map_ok) {
+        verify_detail::mismatch(bad, "the map has no valid triangles with 3 UVs each to check it against", -1);
+    } else if (k < 1 || k > (1 << 20) || (k & (k - 1)) != 0) {
         verify_detail::mismatch(bad, "grid scale " + std::to_string(k) + " is not a power of two up to 2^20", -1);
     } else {
         Input given = input;
