@@ -283,7 +283,10 @@ struct Certificate {
 };
 
 /// The certificate of qex's own result `mesh` (which carries its map) extracted from `input`;
-/// an empty map when the mesh carries none.
+/// an empty map when the mesh carries none. Not for a result split from the map divided by k
+/// (Report::coarsening > 1): its mesh was extracted and checked at the coarse scale, and fails
+/// the located mode on this map times k where the coarse extraction lost quads near its folds
+/// (`qex extract --certificate` writes none then).
 Certificate make_certificate(const Input& input, const QuadMesh& mesh);
 
 /// Judges `mesh` on a certificate (located mode; its provenance and map, if any, are ignored).

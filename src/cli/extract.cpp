@@ -36,10 +36,17 @@ bool write_report(const std::string& path, const qex::Result& result, double rea
 
 /// The certificate (the repaired map the mesh was extracted from) beside the mesh, with
 /// --certificate: written whenever the mesh is, also when the repair changed nothing (then it
-/// lists no triangle and holds the sanitized map). Returns kOk or kIo.
-int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, const qex::QuadMesh& mesh) {
+/// lists no triangle and holds the sanitized map); not for a mesh split from the map divided by
+/// k (coarsened: extracted and checked at the coarse scale, which no map at this scale
+/// describes), which is said on stderr. Returns kOk or kIo.
+int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, const qex::Result& result) {
     if (a.certificate_path.empty()) return kOk;
-    const qex::Certificate c = qex::make_certificate(input, mesh);
+    if (result.report.coarsening != 1) {
+        std::cerr << "qex: no certificate written: the mesh was split from the map divided by "
+                  << result.report.coarsening << " (judge it with `qex check --param` alone)\n";
+        return kOk;
+    }
+    const qex::Certificate c = qex::make_certificate(input, result.mesh);
     if (const auto e = qex::write_certificate(a.certificate_path, c); !e.ok()) {
         std::cerr << "qex: " << e.message << "\n";
         return kIo;
@@ -71,7 +78,7 @@ int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& res
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
-        if (write_certificate_beside(a, input, result.mesh) != kOk) return kIo;
+        if (write_certificate_beside(a, input, result) != kOk) return kIo;
         const int k = result.mesh.grid_scale;
         std::cerr << "qex: wrote the invalid mesh to " << a.out_path << (a.best_effort ? " (--best-effort" : " (--poly")
                   << (k != 1 ? "; judge it with `qex check --grid-scale " + std::to_string(k) + "`)" : ")") << "\n";
@@ -145,7 +152,7 @@ int run_extract(const ExtractArgs& a) {
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
             static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
             r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
-    if (write_certificate_beside(a, input, result.mesh) != kOk) return kIo;
+    if (write_certificate_beside(a, input, result) != kOk) return kIo;
     if (!a.layout_path.empty()) { // cut along the mesh's edges on the map's feature edges
         LayoutOptions layout;
         layout.feature_edges = quad_feature_edges(input, result.mesh);
