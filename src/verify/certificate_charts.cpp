@@ -70,9 +70,10 @@ CertificateEdges certificate_edges(const UVs& U, const InputEdges& edges, const 
 }
 
 /// Charts breadth first from the unlisted triangles (identity) into the listed ones, across
-/// the edges whose transition both maps determine. An edge of two unlisted triangles whose
-/// transitions differ is a mismatch; an edge with a listed side whose transitions differ in
-/// the charts found marks its region (`defect`: per region a triangle at such an edge, or -1).
+/// the edges whose transition both maps determine. An edge with an unlisted side whose
+/// transitions differ in the charts found is a mismatch (outside the repaired triangles or at
+/// their rim); an edge of two listed triangles marks its region (`defect`: per region a
+/// triangle at such an edge, or -1).
 void compare_charts(const InputEdges& edges, const CertificateEdges& cert, const std::vector<char>& listed,
                     const std::vector<char>& collapsed, const std::vector<std::int32_t>& region,
                     std::vector<std::int64_t>& defect, std::vector<Violation>& out) {
@@ -97,16 +98,19 @@ void compare_charts(const InputEdges& edges, const CertificateEdges& cert, const
                     continue;
                 }
                 if (compose(gauge[u], G, there) && same(here, there)) continue;
-                if (listed[t] || listed[u]) {
-                    const std::int32_t k = listed[t] ? region[t] : region[u];
+                if (listed[t] && listed[u]) {
+                    const std::int32_t k = region[t];
                     if (defect[static_cast<std::size_t>(k)] < 0)
                         defect[static_cast<std::size_t>(k)] = static_cast<std::int64_t>(t);
-                } else if (c < o) {
+                } else if (c < o || listed[t] != listed[u]) {
+                    const bool rim = listed[t] || listed[u];
+                    if (rim && listed[u]) continue; // named once, from its listed side
                     mismatch(out,
                              "across the edge of triangles " + std::to_string(t) + " and " + std::to_string(u) +
-                                 ", neither listed as repaired, the charts do not differ by the map's transition (" +
-                                 std::to_string(G.r * 90) + " degrees, (" + std::to_string(G.tx) + ", " +
-                                 std::to_string(G.ty) + "))",
+                                 (rim ? ", at the rim of the repaired triangles" : ", neither listed as repaired") +
+                                 ", the charts do not differ by the map's transition (" + std::to_string(G.r * 90) +
+                                 " degrees, (" + std::to_string(G.tx) + ", " + std::to_string(G.ty) + "))" +
+                                 (rim ? " in any chart of the repaired triangle" : ""),
                              static_cast<std::int64_t>(t));
                 }
             }
