@@ -2,7 +2,8 @@
 # (MAP: fandisk): the certificate is written beside the mesh, the mesh is valid on it with fewer
 # undecided triangles than on the given map, a certificate of another grid scale is rejected
 # (exit code 6, CertificateMismatch), a malformed one refused with its line (exit code 3), and
-# --grid-scale with --certificate is a bad command line (exit code 1). Prints "skipped:" (the
+# --grid-scale with --certificate, or a certificate in the mesh's file, is a bad command line
+# (exit code 1). Prints "skipped:" (the
 # test's SKIP_REGULAR_EXPRESSION) without the shared maps.
 if(NOT EXISTS "${MAP}")
   message("skipped: ${MAP} is absent")
@@ -46,4 +47,9 @@ execute_process(COMMAND ${QEX} check --param ${MAP} ${WORK}.obj --certificate ${
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
 if(NOT rc EQUAL 1)
   message(FATAL_ERROR "--grid-scale with --certificate: exit code ${rc} (expected 1)")
+endif()
+execute_process(COMMAND ${QEX} extract ${MAP} -o ${WORK}.same.obj --certificate ${WORK}.same.obj -q
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+if(NOT rc EQUAL 1 OR EXISTS ${WORK}.same.obj)
+  message(FATAL_ERROR "--certificate naming the mesh's file: exit code ${rc} (expected 1, nothing written)")
 endif()

@@ -89,6 +89,10 @@ int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& res
 } // namespace
 
 int run_extract(const ExtractArgs& a) {
+    if (!a.certificate_path.empty() && a.certificate_path == a.out_path) {
+        std::cerr << "qex: --certificate must name another file than the mesh (-o)\n";
+        return kUsage;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress(!a.quiet, 3);
     progress.step("reading " + a.in_path);
