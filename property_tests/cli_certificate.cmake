@@ -3,8 +3,7 @@
 # undecided triangles than on the given map, a certificate of another grid scale is rejected
 # (exit code 6, CertificateMismatch), a malformed one refused with its line (exit code 3), and
 # --grid-scale with --certificate, or a certificate in the mesh's file, is a bad command line
-# (exit code 1). Prints "skipped:" (the
-# test's SKIP_REGULAR_EXPRESSION) without the shared maps.
+# (exit code 1). Prints "skipped:" (the test's SKIP_REGULAR_EXPRESSION) without the shared maps.
 if(NOT EXISTS "${MAP}")
   message("skipped: ${MAP} is absent")
   return()
