@@ -38,8 +38,8 @@ bool whole_number(std::string_view s, std::int64_t most, std::int64_t& out) {
     return ec == std::errc() && end == s.data() + s.size() && out <= most;
 }
 
-/// Reads the header lines of `text` into `c` (grid scale, repaired list); on success `line` is
-/// the number of header lines read.
+/// Reads the header lines of `text` into `c` (grid scale, repaired list): exactly as many
+/// repaired triangles as announced, in `# r` lines of at least one each, and no `# r` line after.
 IoError parse_header(std::string_view text, Certificate& c) {
     std::int64_t line = 0, count = -1;
     std::size_t at = 0;
@@ -64,7 +64,7 @@ IoError parse_header(std::string_view text, Certificate& c) {
             if (s.rfind("# repaired ", 0) != 0 || !whole_number(s.substr(11), INT32_MAX, count))
                 return fail("expected '# repaired N' with N a whole number below 2^31");
         } else {
-            if (s.rfind("# r ", 0) != 0) return fail("expected '# r' and repaired triangles");
+            if (s.rfind("# r ", 0) != 0 || s.size() == 4) return fail("expected '# r' and repaired triangles");
             s.remove_prefix(4);
             while (!s.empty()) {
                 const std::size_t sp = std::min(s.find(' '), s.size());
@@ -77,6 +77,8 @@ IoError parse_header(std::string_view text, Certificate& c) {
             }
         }
     }
+    if (text.substr(std::min(at, text.size())).rfind("# r ", 0) == 0)
+        return ++line, fail("more repaired triangles than the " + std::to_string(count) + " announced");
     return {};
 }
 
