@@ -1,5 +1,5 @@
 // Readers and hostile numbers, as properties (RapidCheck): every reader (OBJ, PLY, VVAL, the polygon OBJ
-// of `qex check`) is given a file with one number at the edges in one of its fields: 2^31 +- 1, 2^53 + 1,
+// of `qex check`, the certificate's header) is given a file with one number at the edges in one of its fields: 2^31 +- 1, 2^53 + 1,
 // 2^63, 2^64, 1e308 and past it, -0, denormals, NaN and infinities spelled every way, hexadecimal,
 // fractions, and integers of up to 10^6 digits. A field that holds an index or a count refuses every one
 // of them, naming its place, unless the spelling is of an integer in range (-0, +1, 2e0 where a float
@@ -161,6 +161,37 @@ RC_GTEST_PROP(HostileNumberProperties, VvalCountsAndValencesAreRefusedWithTheirL
     if (!(count && spells_integer_in(h, 0, 1e6))) RC_ASSERT(e.line == (count ? 2 : 4));
     RC_ASSERT(!e.message.empty());
     RC_ASSERT(val.empty());
+}
+
+RC_GTEST_PROP(HostileNumberProperties, CertificateHeaderNumbersAreRefusedWithTheirLine, ()) {
+    // The certificate's header (qex check --certificate) takes plain digits only, in range: the
+    // grid scale (line 2, 1 to 2^20), the count of repaired triangles (line 3; one follows) and
+    // a repaired triangle (line 4, below 2^31).
+    const std::string h = *gen_hostile();
+    const int field = *rc::gen::inRange(0, 3);
+    const std::string text = "# qex certificate 1\n# grid_scale " + std::string(field == 0 ? h : "1") +
+                             "\n# repaired " + (field == 1 ? h : "1") + "\n# r " + (field == 2 ? h : "0") + "\n" +
+                             kObjHead + "vt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    Certificate c;
+    const IoError e = parse_certificate(text.data(), text.size(), c);
+    const bool digits = h.size() <= 19 && h.find_first_not_of("0123456789") == std::string::npos;
+    const double x = digits ? strtod_whole(h) : -1;
+    const bool in_range = field == 0 ? x >= 1 && x <= 1 << 20 : field == 1 ? x == 1 : x >= 0 && x <= 2147483647.0;
+    if (e.ok()) {
+        RC_ASSERT(digits && in_range);
+        RC_ASSERT(c.grid_scale == (field == 0 ? static_cast<int>(x) : 1));
+        RC_ASSERT(c.repaired.size() == 1u);
+        RC_ASSERT(static_cast<double>(c.repaired[0]) == (field == 2 ? x : 0.0));
+        RC_ASSERT(c.map.triangles.size() == 1u);
+        return;
+    }
+    RC_ASSERT(!(digits && in_range));
+    // A count in range other than 1 is refused where the triangles do not match it: at line 4
+    // (none announced) or 5 (more announced).
+    const bool count_in_range = field == 1 && digits && x <= 2147483647.0;
+    RC_ASSERT(e.line == (count_in_range ? (x == 0 ? 4 : 5) : field + 2));
+    RC_ASSERT(!e.message.empty());
+    RC_ASSERT(c.repaired.empty() && c.map.triangles.empty());
 }
 
 RC_GTEST_PROP(HostileNumberProperties, PolygonObjIndicesAreRefusedWithTheirLine, ()) {

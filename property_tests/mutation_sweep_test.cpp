@@ -4,6 +4,8 @@
 // its place, or left undecided (named in VerifyResult::undecided); none may pass unnoticed. The
 // unmutated outputs must pass. The tallies print per map (property_tests/README.md lists them).
 // Mutants of one kind are applied together, each a face apart from the others, and judged at once.
+// Rotated edges the given map leaves undecided are judged again on the output's certificate
+// (qex::Certificate, the repaired map), where they must not pass unnoticed either.
 #include "mutations.h"
 #include "test_support.h"
 
@@ -77,19 +79,30 @@ private:
     const QuadMesh& m_;
 };
 
-/// Judges `m` and tallies each site (its vertices and faces) into `t`.
-void judge(const Input& in, const QuadMesh& m, const std::vector<std::pair<std::set<Index>, std::set<Index>>>& sites,
-           Tally& t) {
-    if (sites.empty()) return;
-    const VerifyResult v = verify(in, m);
-    for (const auto& [vertices, faces] : sites) {
-        if (named(v.violations, vertices, faces))
+using SiteList = std::vector<std::pair<std::set<Index>, std::set<Index>>>;
+
+/// Tallies each site (its vertices and faces) of the verdict `v` into `t`; returns the indices
+/// of the sites left undecided.
+std::vector<std::size_t> tally(const VerifyResult& v, const SiteList& sites, Tally& t) {
+    std::vector<std::size_t> undecided;
+    for (std::size_t i = 0; i < sites.size(); ++i) {
+        if (named(v.violations, sites[i].first, sites[i].second)) {
             ++t.rejected;
-        else if (named(v.undecided, vertices, faces))
+        } else if (named(v.undecided, sites[i].first, sites[i].second)) {
             ++t.undecided;
-        else
+            undecided.push_back(i);
+        } else {
             ++t.missed;
+        }
     }
+    return undecided;
+}
+
+/// Judges `m` on the given map and tallies each site into `t`; returns the indices of the sites
+/// left undecided.
+std::vector<std::size_t> judge(const Input& in, const QuadMesh& m, const SiteList& sites, Tally& t) {
+    if (sites.empty()) return {};
+    return tally(verify(in, m), sites, t);
 }
 
 /// The interior edges whose two quads have six distinct vertices, each once.
@@ -110,35 +123,51 @@ std::vector<SharedEdge> rotatable_edges(const QuadMesh& m) {
     return edges;
 }
 
+/// Rotates in `m` (a copy of `good`) the edges of `todo` that lie a face apart, in order: their
+/// sites into `judged`, the edges into `placed`, the others into `later`.
+void place_rotations(const QuadMesh& good, const std::vector<SharedEdge>& todo, QuadMesh& m, SiteList& judged,
+                     std::vector<SharedEdge>& placed, std::vector<SharedEdge>& later) {
+    Sites sites(good);
+    for (const SharedEdge& e : todo) {
+        const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
+        std::vector<int> all(f.begin(), f.end());
+        all.insert(all.end(), g.begin(), g.end());
+        if (!sites.claim(all)) {
+            later.push_back(e);
+            continue;
+        }
+        rotate_edge(m, e);
+        placed.push_back(e);
+        judged.push_back({std::set<Index>(all.begin(), all.end()), {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
+    }
+}
+
 /// Rotated edges (rotate_edge: a and b lose a face, the far corners x of f and z of g gain
-/// one), spread over the mesh (every k-th), in up to kRounds rounds.
-Tally rotate_edges(const Input& in, const QuadMesh& good) {
+/// one), spread over the mesh (every k-th), in up to kRounds rounds. Those the given map leaves
+/// undecided are judged again on the output's certificate where it lists repaired triangles (a
+/// certificate without is the sanitized map), in one round: those a face apart, into
+/// `on_certificate` (the others are not judged again).
+Tally rotate_edges(const Input& in, const QuadMesh& good, const Certificate& certificate, Tally& on_certificate) {
     Tally t;
     const std::vector<SharedEdge> edges = rotatable_edges(good);
     const std::size_t stride = std::max<std::size_t>(1, edges.size() / kRotations);
-    std::vector<SharedEdge> todo;
+    std::vector<SharedEdge> todo, undecided;
     for (std::size_t i = 0; i < edges.size() && todo.size() < kRotations; i += stride) todo.push_back(edges[i]);
     for (int round = 0; round < kRounds && !todo.empty(); ++round) {
         QuadMesh m = good;
-        Sites sites(good);
-        std::vector<SharedEdge> later;
-        std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
-        for (const SharedEdge& e : todo) {
-            const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
-            std::vector<int> all(f.begin(), f.end());
-            all.insert(all.end(), g.begin(), g.end());
-            if (!sites.claim(all)) {
-                later.push_back(e);
-                continue;
-            }
-            rotate_edge(m, e);
-            std::set<Index> vertices(all.begin(), all.end());
-            judged.push_back({vertices, {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
-        }
-        judge(in, m, judged, t);
+        SiteList judged;
+        std::vector<SharedEdge> placed, later;
+        place_rotations(good, todo, m, judged, placed, later);
+        for (std::size_t i : judge(in, m, judged, t)) undecided.push_back(placed[i]);
         if (later.size() == todo.size()) break;
         todo = std::move(later);
     }
+    if (undecided.empty() || certificate.repaired.empty()) return t;
+    QuadMesh m = good;
+    SiteList judged;
+    std::vector<SharedEdge> placed, later;
+    place_rotations(good, undecided, m, judged, placed, later);
+    tally(verify(in, m, certificate), judged, on_certificate);
     return t;
 }
 
@@ -154,7 +183,7 @@ Tally drop_faces(const Input& in, const QuadMesh& good) {
     for (const auto& s : sides)
         if (!sides.count({s.second, s.first})) boundary.insert(s.first), boundary.insert(s.second);
     for (int v : boundary) sites.block(v);
-    std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
+    SiteList judged;
     std::vector<char> drop(good.faces.size(), 0);
     const std::size_t stride = std::max<std::size_t>(1, good.faces.size() / (2 * kDrops));
     for (std::size_t f = stride / 2; f < good.faces.size() && judged.size() < kDrops; f += stride) {
@@ -177,7 +206,7 @@ Tally slide_vertices(const Input& in, const QuadMesh& good, const std::vector<Pr
     Tally t;
     Sites sites(good);
     QuadMesh m = good;
-    std::vector<std::pair<std::set<Index>, std::set<Index>>> judged;
+    SiteList judged;
     const std::size_t stride = std::max<std::size_t>(1, good.positions.size() / (2 * kSlides));
     for (std::size_t v = stride / 2; v < good.positions.size() && judged.size() < kSlides; v += stride) {
         const Provenance& p = provenance[v];
@@ -210,7 +239,7 @@ std::string line(const char* kind, const Tally& t) {
 
 TEST(MutationSweep, EveryMutantOfEverySharedMapsOutputIsRejectedOrUndecided) {
     std::size_t maps = 0;
-    Tally all[3];
+    Tally all[3], all_on_certificate;
     for (const char* dir : {"paper", "miq", "miq-more", "quadcover"}) {
         std::vector<fs::path> files;
         std::error_code ec;
@@ -226,10 +255,19 @@ TEST(MutationSweep, EveryMutantOfEverySharedMapsOutputIsRejectedOrUndecided) {
             good.grid_scale = r.mesh.grid_scale;
             const VerifyResult own = verify(in, good);
             EXPECT_TRUE(own.valid) << path << ": " << first_message(own);
-            const Tally t[3] = {rotate_edges(in, good), drop_faces(in, good),
+            const Certificate certificate = make_certificate(in, r.mesh);
+            Tally on_certificate;
+            const Tally t[3] = {rotate_edges(in, good, certificate, on_certificate), drop_faces(in, good),
                                 slide_vertices(in, good, r.mesh.provenance)};
-            std::printf("%-34s rotated%s dropped%s slid%s (rejected/undecided/missed)\n", path.stem().c_str(),
-                        line("", t[0]).c_str(), line("", t[1]).c_str(), line("", t[2]).c_str());
+            std::printf(
+                "%-34s rotated%s dropped%s slid%s (rejected/undecided/missed); rotated undecided, on the "
+                "certificate%s\n",
+                path.stem().c_str(), line("", t[0]).c_str(), line("", t[1]).c_str(), line("", t[2]).c_str(),
+                line("", on_certificate).c_str());
+            EXPECT_EQ(on_certificate.missed, 0u) << path << " on its certificate";
+            all_on_certificate.rejected += on_certificate.rejected;
+            all_on_certificate.undecided += on_certificate.undecided;
+            all_on_certificate.missed += on_certificate.missed;
             for (int k = 0; k < 3; ++k) {
                 EXPECT_EQ(t[k].missed, 0u) << path << " kind " << k;
                 all[k].rejected += t[k].rejected, all[k].undecided += t[k].undecided, all[k].missed += t[k].missed;
@@ -239,8 +277,11 @@ TEST(MutationSweep, EveryMutantOfEverySharedMapsOutputIsRejectedOrUndecided) {
         }
     }
     if (maps == 0) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes";
-    std::printf("all %zu maps: rotated%s dropped%s slid%s (rejected/undecided/missed)\n", maps,
-                line("", all[0]).c_str(), line("", all[1]).c_str(), line("", all[2]).c_str());
+    std::printf(
+        "all %zu maps: rotated%s dropped%s slid%s (rejected/undecided/missed); rotated undecided, on the "
+        "certificate%s\n",
+        maps, line("", all[0]).c_str(), line("", all[1]).c_str(), line("", all[2]).c_str(),
+        line("", all_on_certificate).c_str());
 }
 
 } // namespace

@@ -1,7 +1,8 @@
 // The oracle's one entry for judging any extractor's quad mesh against a map: `qex check`,
 // `qex draw --quads`, the C API's qex_check and Python's qex.check all call check_mesh, so the
 // same mesh gets the same verdict everywhere, with the same defaults (VerifyOptions: fold-over
-// regions judged on the surface, positions read to 6 significant digits; grid scale 1).
+// regions judged on the surface, positions read to 6 significant digits; grid scale 1), or on
+// the certificate qex extract wrote beside the mesh.
 #pragma once
 
 #include "qex/extract.h"
@@ -27,6 +28,19 @@ inline MeshCheck check_mesh(const Input& map, QuadMesh mesh, int grid_scale = 1,
     if (!c.map_ok()) return c;
     mesh.grid_scale = grid_scale;
     c.verdict = verify(map, mesh, options);
+    return c;
+}
+
+/// Judges `mesh` on qex's certificate (`qex check --param MAP --certificate CERT`): the map
+/// validated as above, then the certificate checked against it and the mesh judged in located
+/// mode on the certificate's map at its grid scale (verify with a Certificate, qex/verify.h). A
+/// certificate that fails makes the verdict invalid with CertificateMismatch violations.
+inline MeshCheck check_mesh(const Input& map, const QuadMesh& mesh, const Certificate& certificate,
+                            const VerifyOptions& options = {}) {
+    MeshCheck c;
+    c.error = validate(map);
+    if (!c.map_ok()) return c;
+    c.verdict = verify(map, mesh, certificate, options);
     return c;
 }
 

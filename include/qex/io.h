@@ -5,6 +5,7 @@
 #pragma once
 
 #include "qex/mesh.h"
+#include "qex/verify.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -61,5 +62,16 @@ IoError read_polygon_ply(const std::string& path, QuadMesh& out);
 /// Writes the quad mesh as PLY (binary little endian, or ASCII): positions as doubles, faces as
 /// vertex lists and local UVs as a per-face `texcoord` list, through a temporary file.
 IoError write_ply(const std::string& path, const QuadMesh& mesh, bool binary = true);
+
+/// Writes qex's certificate (qex::Certificate; qex::make_certificate gives a result's) as an OBJ
+/// map with every digit: a header of comments (`# qex certificate 1`, `# grid_scale K`,
+/// `# repaired N`, then `# r` lines of up to 16 triangle indices), then `v`, one `vt` per
+/// corner and `f`; through a temporary file renamed into place.
+IoError write_certificate(const std::string& path, const Certificate& certificate);
+/// Reads a certificate write_certificate wrote: the header strictly (the first line names the
+/// format and version, then the grid scale, the count and exactly that many triangle indices,
+/// whole numbers in range; a problem names its line), then the map as parse_obj reads it.
+IoError parse_certificate(const char* data, std::size_t size, Certificate& out);
+IoError read_certificate(const std::string& path, Certificate& out);
 
 } // namespace qex

@@ -60,6 +60,12 @@ enum class ViolationKind {
     /// Located mode: a component of the input on which no vertex of the mesh lies;
     /// Violation::element is its first input triangle
     MissingComponent,
+    /// A certificate (verify with a Certificate) that is not the given map repaired inside its
+    /// listed triangles: other positions or triangles, a UV moved outside them, a transition or
+    /// a valence changed, a listed triangle not positively oriented, another newly flipped;
+    /// Violation::element is the input triangle at fault (an input vertex's first triangle,
+    /// the vertex then its place)
+    CertificateMismatch,
 };
 const char* to_string(ViolationKind kind);
 
@@ -69,7 +75,7 @@ enum class ViolationElement {
     OutputFace,    ///< a face of the judged mesh
     OutputVertex,  ///< a vertex of the judged mesh
     InputVertex,   ///< a vertex of the input (SingularityOffGrid)
-    InputTriangle, ///< a triangle of the input (MapNotIntegerGrid, RepairNotCertified)
+    InputTriangle, ///< a triangle of the input (MapNotIntegerGrid, RepairNotCertified, CertificateMismatch)
 };
 /// What a violation of kind `kind` names in Violation::element.
 ViolationElement element_kind(ViolationKind kind);
@@ -202,6 +208,13 @@ struct VerifyResult {
     /// to its nearest grid point of the raw map (max_grid_distance leaves them out).
     std::int64_t off_grid_region_vertices = 0;
     double max_region_grid_distance = 0.0;
+    /// Judged on a certificate (verify with a Certificate): the certificate passed its check
+    /// against the given map, and the located mode judged the mesh on the certificate's map
+    /// (fold-over regions, footprints and the undecided share are the certificate's, where it
+    /// still folds); and how many triangles it lists as repaired. False when the certificate
+    /// failed (CertificateMismatch) or none was given.
+    bool on_certificate = false;
+    std::int64_t certificate_triangles = 0;
     /// Signed UV area of the input map for display, printed with six decimals: the double sum,
     /// or the exact area rounded to a double where the sum's error bound left the rounding open.
     std::string input_signed_uv_area;
@@ -255,5 +268,40 @@ struct VerifyOptions {
 /// its area, and every cell it covers once (away from fold-overs and the boundary) a face.
 /// Does not throw on malformed meshes.
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options = {});
+
+/// qex extract's certificate: the repaired map a mesh of qex's own was extracted from, written
+/// beside it (`qex extract --certificate`, qex::write_certificate), so that the mesh, read back
+/// without provenance, is judged on the map it follows where the repair re-embedded fold-overs.
+struct Certificate {
+    /// The given map's positions and triangles, with the repaired map's UVs per corner (times
+    /// grid_scale; a triangle collapsed for a zero-length UV edge keeps the given UVs).
+    Input map;
+    /// The triangles the repair changed (sorted, distinct); may be empty (sanitized map only).
+    std::vector<std::int32_t> repaired;
+    /// The factor the given map's UVs were multiplied by (QuadMesh::grid_scale), a power of two.
+    int grid_scale = 1;
+};
+
+/// The certificate of qex's own result `mesh` (which carries its map) extracted from `input`;
+/// an empty map when the mesh carries none. Not for a result split from the map divided by k
+/// (Report::coarsening > 1): its mesh was extracted and checked at the coarse scale, and fails
+/// the located mode on this map times k where the coarse extraction lost quads near its folds
+/// (`qex extract --certificate` writes none then).
+Certificate make_certificate(const Input& input, const QuadMesh& mesh);
+
+/// Judges `mesh` on a certificate (located mode; its provenance and map, if any, are ignored).
+/// First the certificate is checked against `input`, exactly: the same positions and triangles;
+/// outside its listed triangles every corner's UV within the located mode's UV tolerance of the
+/// given map's (times the grid scale); across every edge whose transition the given map
+/// determines, the same grid automorphism, exactly; every interior edge a grid automorphism and
+/// every singularity on a grid point (as for QuadMesh::map_uvs); the same windings (valences)
+/// at the vertices of listed triangles where the given map's fan holds no fold, and no vertex
+/// whose fan composes to no turn winding other than once or as given; every listed triangle
+/// positively oriented and no other newly flipped or degenerate (CGAL's exact orientation).
+/// A certificate that fails gives CertificateMismatch violations and an invalid verdict (the
+/// mesh judged on the given map besides). One that passes: the mesh judged in located mode on
+/// the certificate's map at grid scale 1 (VerifyResult::on_certificate).
+VerifyResult verify(const Input& input, const QuadMesh& mesh, const Certificate& certificate,
+                    const VerifyOptions& options = {});
 
 } // namespace qex

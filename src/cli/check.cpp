@@ -82,19 +82,41 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
     std::printf("%s\n", v.valid ? "VALID" : "INVALID");
 }
 
+/// Where the mesh was judged, with --certificate: on the certificate (which holds against the
+/// map), or, when it does not hold, on the given map.
+void print_certificate(const std::string& path, const qex::VerifyResult& v) {
+    if (v.on_certificate)
+        std::printf("judged on the certificate %s (%lld repaired triangles; it holds against the map): the located "
+                    "figures are the certificate map's\n",
+                    path.c_str(), static_cast<long long>(v.certificate_triangles));
+    else
+        std::printf("the certificate %s does not hold against the map (CertificateMismatch): judged on the given map\n",
+                    path.c_str());
+}
+
 } // namespace
 
 int run_check(const CheckArgs& a) {
-    Progress progress(true, 3);
+    Progress progress(true, a.certificate_path.empty() ? 3 : 4);
     progress.step("reading " + a.param_path);
     qex::Input input;
     if (const int code = read_map(a.param_path, input); code != kOk) return code;
     progress.step("reading " + a.mesh_path);
     qex::QuadMesh mesh;
     if (const int code = read_quads(a.mesh_path, mesh); code != kOk) return code;
+    qex::Certificate certificate;
+    if (!a.certificate_path.empty()) {
+        progress.step("reading " + a.certificate_path);
+        if (const auto e = qex::read_certificate(a.certificate_path, certificate); !e.ok()) {
+            progress.stop();
+            std::cerr << "qex: " << e.message << "\n";
+            return io_exit(e);
+        }
+    }
     progress.step("checking " + std::to_string(mesh.faces.size()) + " faces");
     // The oracle's one entry (qex/check.h), as qex draw --quads, the C API and Python judge.
-    const qex::MeshCheck c = qex::check_mesh(input, mesh, a.grid_scale, a.options);
+    const qex::MeshCheck c = a.certificate_path.empty() ? qex::check_mesh(input, mesh, a.grid_scale, a.options)
+                                                        : qex::check_mesh(input, mesh, certificate, a.options);
     if (!c.map_ok()) {
         // The map is the judge's reference: one that extraction would reject judges nothing.
         progress.stop();
@@ -112,15 +134,19 @@ int run_check(const CheckArgs& a) {
     if (!a.svg_path.empty()) {
         const std::string title = std::filesystem::path(a.mesh_path).filename().string() + " on " +
                                   std::filesystem::path(a.param_path).filename().string();
-        if (!write_text(a.svg_path, verdict_svg(input, mesh, v, a.grid_scale, title))) {
+        if (!write_text(a.svg_path,
+                        verdict_svg(input, mesh, v, a.certificate_path.empty() ? a.grid_scale : certificate.grid_scale,
+                                    title))) {
             std::cerr << "qex: cannot write '" << a.svg_path << "'\n";
             return kIo;
         }
     }
-    if (a.json)
+    if (a.json) {
         std::cout << qex::verify_json(v) << "\n";
-    else
+    } else {
+        if (!a.certificate_path.empty()) print_certificate(a.certificate_path, v);
         print_verdict(a.mesh_path, v);
+    }
     return v.valid ? kOk : kRejected;
 }
 
@@ -132,11 +158,16 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     check->add_option("--report", a.report_path, "also write the JSON verdict to this file");
     check->add_option("--svg", a.svg_path,
                       "also draw the violations on the map (and on the mesh, up to 30,000 faces) into this SVG");
+    auto* certificate = check->add_option(
+        "--certificate", a.certificate_path,
+        "judge the mesh on the repaired map `qex extract --certificate` wrote beside it, once it holds against the "
+        "map (its grid scale is the certificate's)");
     check
         ->add_option("--grid-scale", a.grid_scale,
                      "judge the mesh against the map with its UVs multiplied by this power of two (a mesh qex "
                      "extracted with refinement)")
-        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
+        ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}))
+        ->excludes(certificate);
     check
         ->add_option("--uv-tolerance", a.options.uv_tolerance,
                      "largest UV distance of a vertex to its grid point (default 1e-3; K times it, at most 0.1, "

@@ -53,6 +53,7 @@ CLI::Validator finite_number();
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
     std::string layout_path; ///< --layout: the mesh's quad layout as JSON
+    std::string certificate_path; ///< --certificate: the repaired map beside the mesh (qex::Certificate)
     bool poly = false, quiet = false, snap_boundary = false, round_seams = false, best_effort = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
@@ -64,6 +65,7 @@ int run_extract(const ExtractArgs& a);
 struct CheckArgs {
     std::string param_path, mesh_path;
     std::string report_path, svg_path; ///< --report (the JSON verdict) and --svg (its picture)
+    std::string certificate_path;      ///< --certificate: judge the mesh on qex extract's certificate
     bool json = false;
     int grid_scale = 1;
     VerifyOptions options;

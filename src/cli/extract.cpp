@@ -34,8 +34,32 @@ bool write_report(const std::string& path, const qex::Result& result, double rea
     return write_text(path, qex::report_json(result, read_seconds, extract_seconds) + "\n");
 }
 
+/// The certificate (the repaired map the mesh was extracted from) beside the mesh, with
+/// --certificate: written whenever the mesh is, also when the repair changed nothing (then it
+/// lists no triangle and holds the sanitized map); not for a mesh split from the map divided by
+/// k (coarsened: extracted and checked at the coarse scale, which no map at this scale
+/// describes), which is said on stderr. Returns kOk or kIo.
+int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, const qex::Result& result) {
+    if (a.certificate_path.empty()) return kOk;
+    if (result.report.coarsening != 1) {
+        std::cerr << "qex: no certificate written: the mesh was split from the map divided by "
+                  << result.report.coarsening << " (judge it with `qex check --param` alone)\n";
+        return kOk;
+    }
+    const qex::Certificate c = qex::make_certificate(input, result.mesh);
+    if (const auto e = qex::write_certificate(a.certificate_path, c); !e.ok()) {
+        std::cerr << "qex: " << e.message << "\n";
+        return kIo;
+    }
+    if (!a.quiet)
+        std::printf("qex: certificate: %zu repaired triangles, grid scale %d -> %s (judge the mesh on it with `qex "
+                    "check --param MAP --certificate %s`)\n",
+                    c.repaired.size(), c.grid_scale, a.certificate_path.c_str(), a.certificate_path.c_str());
+    return kOk;
+}
+
 /// The checker rejected the mesh: its defects and violations on stderr, the mesh only with --poly.
-int reject(const ExtractArgs& a, const qex::Result& result) {
+int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& result) {
     const qex::VerifyResult& check = result.check;
     const auto& defects = result.report.defects;
     std::cerr << "qex: " << a.in_path << ": the extracted mesh fails the check (" << check.violations.size()
@@ -54,6 +78,7 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
+        if (write_certificate_beside(a, input, result) != kOk) return kIo;
         const int k = result.mesh.grid_scale;
         std::cerr << "qex: wrote the invalid mesh to " << a.out_path << (a.best_effort ? " (--best-effort" : " (--poly")
                   << (k != 1 ? "; judge it with `qex check --grid-scale " + std::to_string(k) + "`)" : ")") << "\n";
@@ -64,6 +89,10 @@ int reject(const ExtractArgs& a, const qex::Result& result) {
 } // namespace
 
 int run_extract(const ExtractArgs& a) {
+    if (!a.certificate_path.empty() && a.certificate_path == a.out_path) {
+        std::cerr << "qex: --certificate must name another file than the mesh (-o)\n";
+        return kUsage;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress(!a.quiet, 3);
     progress.step("reading " + a.in_path);
@@ -98,7 +127,7 @@ int run_extract(const ExtractArgs& a) {
     }
     if (!result.check.valid) {
         progress.stop();
-        return reject(a, result); // the checker's verdict, taken inside extract()
+        return reject(a, input, result); // the checker's verdict, taken inside extract()
     }
     if (const auto e = write_quads(a.out_path, result.mesh, a.threads); !e.ok()) {
         std::cerr << "qex: " << e.message << "\n";
@@ -127,6 +156,7 @@ int run_extract(const ExtractArgs& a) {
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
             static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
             r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
+    if (write_certificate_beside(a, input, result) != kOk) return kIo;
     if (!a.layout_path.empty()) { // cut along the mesh's edges on the map's feature edges
         LayoutOptions layout;
         layout.feature_edges = quad_feature_edges(input, result.mesh);
@@ -166,6 +196,9 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
         ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     extract->add_option("--layout", a.layout_path,
                         "also write the mesh's quad layout as JSON (separatrices, patches, sizes, adjacency)");
+    extract->add_option("--certificate", a.certificate_path,
+                        "also write the repaired map the mesh was extracted from (OBJ with a header: grid scale, "
+                        "repaired triangles), for `qex check --certificate`");
     extract->add_flag("-q,--quiet", a.quiet, "print nothing on success");
     return extract;
 }

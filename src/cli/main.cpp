@@ -19,6 +19,8 @@ namespace {
 const char* kExamples = R"(Examples (the maps in ../shared/meshes/):
   qex extract paper/fandisk_param.obj -o fandisk.obj --report fandisk.json   extract and check
   qex check --param paper/fandisk_param.obj fandisk.obj                      judge any quad mesh
+  qex extract paper/fandisk_param.obj -o fandisk.obj --certificate c.obj     the repaired map beside the mesh
+  qex check --param paper/fandisk_param.obj fandisk.obj --certificate c.obj  qex's mesh judged on it
   qex info paper/duck_miq_8_param.obj --json                                 the map before extraction
   qex extract paper/fandisk_param.obj -o fandisk.ply --features f.txt        PLY out, feature edges
   qex draw paper/duck_miq_8_param.obj -o duck_map.svg --png                  the map in UV space

@@ -73,6 +73,9 @@ nlohmann::json verify_object(const VerifyResult& v) {
                                          {"undecided_triangles", v.undecided_triangles},
                                          {"undecided_uv_area", v.undecided_uv_area}};
     }
+    // Judged on a certificate that passed its check (qex check --certificate): the located
+    // figures above are the certificate map's.
+    if (v.on_certificate) j["certificate"] = {{"judged_on", true}, {"repaired_triangles", v.certificate_triangles}};
     j["input"] = {{"euler", v.input_euler},
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},

@@ -14,6 +14,7 @@
 // This file holds the mode's order and the fold-over regions; locate_vertices.cpp locates the
 // vertices.
 #include "checker.h"
+#include "grid.h"
 #include "parallel.h"
 #include "union_find.h"
 
@@ -54,13 +55,30 @@ void count_surface_only_faces(const QuadMesh& mesh, const std::vector<Located>& 
     }
 }
 
-/// Coverage by count: a closed, consistently oriented mesh of positive unit cells covers the
-/// map once exactly when it has as many faces as the map has area. Flipped triangles (UV area
-/// < 0) can make that impossible: with any, the difference is reported but not a violation
-/// (degenerate ones alone do not excuse it).
-void check_face_count(const QuadMesh& mesh, VerifyResult& r, std::vector<Violation>& out) {
+/// Whether every boundary edge of the input runs along an integer iso-line (its ends on one
+/// integer u or v, within `tol`): else the boundary cuts cells, which an extractor discards.
+bool boundary_along_iso_lines(const LocatedMap& map, double tol) {
+    const auto on_line = [tol](double a, double b) {
+        const double k = std::nearbyint(a);
+        return std::abs(a - k) <= tol && std::abs(b - k) <= tol;
+    };
+    for (std::size_t c = 0; c < map.edges.partner.size(); ++c) {
+        if (map.edges.partner[c] >= 0) continue;
+        const auto &a = map.in.uvs[c], &b = map.in.uvs[next_corner(c)];
+        if (!on_line(a[0], b[0]) && !on_line(a[1], b[1])) return false;
+    }
+    return true;
+}
+
+/// Coverage by count: a consistently oriented mesh of positive unit cells covers the map once
+/// exactly when it has as many faces as the map has area, on a closed map or one whose boundary
+/// runs along iso-lines (a boundary off them cuts cells, which extractors discard). Flipped
+/// triangles (UV area < 0) can make that impossible: with any, the difference is reported but
+/// not a violation (degenerate ones alone do not excuse it).
+void check_face_count(const LocatedMap& map, const QuadMesh& mesh, double tol, VerifyResult& r,
+                      std::vector<Violation>& out) {
     r.coverage_difference = static_cast<std::int64_t>(mesh.faces.size()) - r.input_signed_uv_area_rounded;
-    if (r.coverage_difference != 0 && r.map_flipped_triangles == 0)
+    if (r.coverage_difference != 0 && r.map_flipped_triangles == 0 && boundary_along_iso_lines(map, tol))
         add_capped(out, ViolationKind::CoverageMismatch,
                    std::to_string(mesh.faces.size()) + " faces, but the map (without fold-overs) has area " +
                        std::to_string(r.input_signed_uv_area_rounded),
@@ -187,7 +205,7 @@ void check_located(const Input& in, const QuadMesh& mesh, const VerifyOptions& o
     count_surface_only_faces(mesh, loc, r);
     check_face_cells(map, mesh, loc, r, out);
     check_singularities(map, mesh, loc, seam_tolerance, r, out);
-    check_face_count(mesh, r, out);
+    check_face_count(map, mesh, seam_tolerance, r, out);
     // And cell by cell, away from the fold-overs (as far as their regions reach, whether or not
     // the vertices there are judged on the surface only): every cell the map covers once is a
     // face, its corners vertices.

@@ -69,6 +69,19 @@ void signed_uv_area(const Input& input, VerifyResult& r);
 void check_map(const Input& input, const QuadMesh& mesh, const EdgePairs& pairs, const std::vector<char>& single_fan,
                int threads, VerifyResult& r, std::vector<Violation>& out);
 
+/// The quarter turns R of the grid automorphism x -> R x + t (t integer) that carries a to a2
+/// and b to b2 exactly, or -1 when there is none. For an edge of non-zero length at most one
+/// rotation passes the first test; for a zero-length edge the first that passes is returned.
+int grid_automorphism(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& a2,
+                      const std::array<double, 2>& b2);
+
+// ============================================================================ certificates (certificate.cpp)
+
+/// A certificate (qex::Certificate) against `given`, the given map with its UVs times the
+/// certificate's grid scale: its CertificateMismatch violations, none when it holds. `tol`:
+/// the located mode's UV tolerance at that scale (grid_tolerance).
+std::vector<Violation> check_certificate(const Input& given, const Certificate& certificate, double tol, int threads);
+
 // ============================================================================ located mode (check_located.cpp)
 
 /// Located mode (meshes without provenance): locates every output vertex on the input surface

@@ -14,22 +14,30 @@
 #include <string>
 
 namespace qex::verify_detail {
+
+// grid_automorphism (checker.h).
+int grid_automorphism(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& a2,
+                      const std::array<double, 2>& b2) {
+    // Necessary: R (b - a) == b2 - a2 in doubles (a rotation commutes with the rounding of a
+    // difference), which leaves one candidate for an edge of non-zero length.
+    const std::array<double, 2> d{b[0] - a[0], b[1] - a[1]}, d2{b2[0] - a2[0], b2[1] - a2[1]};
+    for (int rr = 0; rr < 4; ++rr) {
+        if (rotate_quarter(d, rr) != d2) continue;
+        const auto ra = rotate_quarter(a, rr), rb = rotate_quarter(b, rr);
+        const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
+        if (std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
+            sums_exactly(ra[1], ty, a2[1]) && sums_exactly(rb[0], tx, b2[0]) && sums_exactly(rb[1], ty, b2[1]))
+            return rr;
+    }
+    return -1;
+}
+
 namespace {
 
 using UVs = std::vector<std::array<double, 2>>;
 
 /// Triangle f is still in the map: a collapse of UV-degenerate edges removed it otherwise (NaN UVs).
 bool alive(const UVs& U, std::size_t f) { return std::isfinite(U[3 * f][0]); }
-
-/// Exactly x + y == z? Knuth's TwoSum gives the rounding error of x + y without error
-/// (round-to-nearest, no contraction: the build uses -ffp-contract=off); the rounded sum must be
-/// z and its error zero.
-bool sums_exactly(double x, double y, double z) {
-    const double s = x + y;
-    const double bb = s - x;
-    const double err = (x - (s - bb)) + (y - bb);
-    return s == z && err == 0.0;
-}
 
 /// The largest move of an input UV (inf-norm) by which a carried map is still the input's.
 constexpr double kMaxMapDisplacement = 1.0;
@@ -62,25 +70,6 @@ void map_displacement(const Input& input, const UVs& U, const std::vector<char>&
     }
     r.max_map_displacement = largest;
     for (const double sum : block_sum) r.sum_map_displacement += sum;
-}
-
-/// The quarter turns R of the grid automorphism x -> R x + t (t integer) that carries a to a2
-/// and b to b2 exactly, or -1 when there is none. For an edge of non-zero length at most one
-/// rotation passes the first test; for a zero-length edge the first that passes is returned.
-int grid_automorphism(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& a2,
-                      const std::array<double, 2>& b2) {
-    // Necessary: R (b - a) == b2 - a2 in doubles (a rotation commutes with the rounding of a
-    // difference), which leaves one candidate for an edge of non-zero length.
-    const std::array<double, 2> d{b[0] - a[0], b[1] - a[1]}, d2{b2[0] - a2[0], b2[1] - a2[1]};
-    for (int rr = 0; rr < 4; ++rr) {
-        if (rotate_quarter(d, rr) != d2) continue;
-        const auto ra = rotate_quarter(a, rr), rb = rotate_quarter(b, rr);
-        const double tx = a2[0] - ra[0], ty = a2[1] - ra[1];
-        if (std::floor(tx) == tx && std::floor(ty) == ty && sums_exactly(ra[0], tx, a2[0]) &&
-            sums_exactly(ra[1], ty, a2[1]) && sums_exactly(rb[0], tx, b2[0]) && sums_exactly(rb[1], ty, b2[1]))
-            return rr;
-    }
-    return -1;
 }
 
 /// The map's interior edges, matched across (the input's edge pairs give each half-edge its
@@ -173,12 +162,7 @@ void check_singularities(const Input& input, const UVs& U, const std::vector<std
 /// The signed angle at corner c of its triangle in the UVs given (the chart does not matter).
 double corner_angle(const UVs& U, std::size_t c) {
     const std::size_t t = c - c % 3;
-    const auto &u = U[c], &p = U[t + (c % 3 + 1) % 3], &w = U[t + (c % 3 + 2) % 3];
-    const double ax = p[0] - u[0], ay = p[1] - u[1], bx = w[0] - u[0], by = w[1] - u[1];
-    const double cross = ax * by - ay * bx, dot = ax * bx + ay * by;
-    // A flat corner is half a turn in every chart (atan2 would take the sign of a zero).
-    if (cross == 0.0) return dot < 0.0 ? M_PI : 0.0;
-    return std::atan2(cross, dot);
+    return signed_angle(U[c], U[t + (c % 3 + 1) % 3], U[t + (c % 3 + 2) % 3]);
 }
 
 /// Per input vertex with a checked fan, its winding in quarter turns: the signed angle sum of its

@@ -33,6 +33,7 @@ const char* to_string(ViolationKind k) {
         case ViolationKind::SingularityNotCarried: return "SingularityNotCarried";
         case ViolationKind::Hole: return "Hole";
         case ViolationKind::MissingComponent: return "MissingComponent";
+        case ViolationKind::CertificateMismatch: return "CertificateMismatch";
     }
     return "Unknown";
 }
@@ -70,6 +71,7 @@ ViolationElement element_kind(ViolationKind k) {
         case ViolationKind::SingularityOffGrid:
         case ViolationKind::SingularityNotCarried: return ViolationElement::InputVertex;
         case ViolationKind::MissingComponent:
+        case ViolationKind::CertificateMismatch:
         case ViolationKind::MapNotIntegerGrid:
         case ViolationKind::RepairNotCertified:
         case ViolationKind::GridPointNotCovered:
