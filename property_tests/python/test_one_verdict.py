@@ -145,3 +145,48 @@ def test_every_front_end_gives_the_same_verdict(cli, c_library, tmp_path, shared
             else:
                 judged[by_cli["valid"]] += 1
     assert judged[False] >= 1, "no mutant was rejected"
+
+
+def test_python_and_cli_agree_on_a_certificate(cli, tmp_path, shared_or_none):
+    """qex.write_certificate writes the file `qex extract --certificate` writes; qex.check(certificate=)
+    and `qex check --certificate` give the same verdict on the mesh, its rotated-edge mutant, and a
+    tampered certificate, which both reject with CertificateMismatch."""
+    qex = pytest.importorskip("qex")
+    if shared_or_none is None:
+        pytest.skip("the shared maps are absent")
+    map_path = shared_or_none / "paper" / "duck_miq_8_param.obj"
+    V, F, UV = qex.read_obj(str(map_path))
+    r = qex.extract(V, F, UV)
+    assert r.valid
+    mesh, by_python_cert, by_cli_cert = tmp_path / "duck.obj", tmp_path / "py.cert.obj", tmp_path / "cli.cert.obj"
+    qex.write_obj(mesh, r)
+    qex.write_certificate(by_python_cert, V, F, UV, r)
+    done = subprocess.run([str(cli), "extract", str(map_path), "-o", str(tmp_path / "cli.obj"), "--certificate",
+                           str(by_cli_cert), "-q"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert by_python_cert.read_bytes() == by_cli_cert.read_bytes()
+    QV, QF = read_quads(mesh)
+    tampered = tmp_path / "tampered.cert.obj"
+    lines = by_python_cert.read_text().splitlines(keepends=True)
+    first_vt = next(i for i, line in enumerate(lines) if line.startswith("vt "))
+    u, v = (float(x) for x in lines[first_vt].split()[1:3])
+    lines[first_vt] = "vt %.17g %.17g\n" % (u + 0.5, v)
+    tampered.write_text("".join(lines))
+    rotated = rotated_edge(QF)
+    cases = [("own", QF, by_python_cert, True), ("tampered", QF, tampered, False)]
+    if rotated is not None:
+        cases.append(("rotated", rotated, by_python_cert, False))
+    for label, G, cert, expect in cases:
+        path = tmp_path / (label + ".obj")
+        write_quads(path, QV, G)
+        done = subprocess.run([str(cli), "check", "--param", str(map_path), str(path), "--certificate", str(cert),
+                               "--json"], capture_output=True, text=True)
+        assert done.returncode in (0, 6), label + ": " + done.stderr
+        by_cli = json.loads(done.stdout)
+        by_python = qex.check(V, F, UV, QV, G, certificate=cert)
+        assert by_python["valid"] == by_cli["valid"] == expect, label
+        assert kinds(by_python) == kinds(by_cli), label
+        if label == "tampered":
+            assert any(k == "CertificateMismatch" for k, _ in kinds(by_python)), label
+    with pytest.raises(ValueError):
+        qex.check(V, F, UV, QV, QF, certificate=by_python_cert, grid_scale=2)

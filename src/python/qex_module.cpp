@@ -271,9 +271,11 @@ std::string verify(const Doubles& V, const py::object& F, const Doubles& UV, con
     return qex::verify_json(qex::verify(in, mesh, o));
 }
 
+[[noreturn]] void raise(const std::string& path, const qex::IoError& e);
+
 std::string check(const Doubles& V, const py::object& F, const Doubles& UV, const Doubles& QV, const py::object& QF,
                   double uv_tolerance, double distance_tolerance, bool locate, int digits, int grid_scale,
-                  bool fold_regions, int threads) {
+                  bool fold_regions, int threads, const std::string& certificate_path) {
     // As the Python half: finite tolerances, the UV one at most a cell (the checker's search
     // for the cells about a triangle grows with it); digits and grid scale as `qex check` takes them.
     if (!(uv_tolerance >= 0 && uv_tolerance <= 1))
@@ -283,8 +285,19 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
     if (digits < 0 || digits > 17) throw py::value_error("digits must be an integer from 0 to 17");
     if (grid_scale < 1 || grid_scale > 64 || (grid_scale & (grid_scale - 1)) != 0)
         throw py::value_error("grid_scale must be 1, 2, 4, 8, 16, 32 or 64");
+    if (!certificate_path.empty() && grid_scale != 1)
+        throw py::value_error("grid_scale and certificate exclude each other: the certificate carries its grid scale");
     const qex::Input in = to_input(V, F, UV, py::none(), py::none());
     const qex::QuadMesh mesh = to_mesh(QV, QF);
+    qex::Certificate certificate;
+    if (!certificate_path.empty()) {
+        qex::IoError e;
+        {
+            py::gil_scoped_release unlocked;
+            e = qex::read_certificate(certificate_path, certificate);
+        }
+        if (!e.ok()) raise(certificate_path, e);
+    }
     qex::MeshCheck c;
     {
         py::gil_scoped_release unlocked;
@@ -296,7 +309,8 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
         o.position_digits = digits;
         o.fold_regions = fold_regions;
         o.threads = threads;
-        c = qex::check_mesh(in, mesh, grid_scale, o);
+        c = certificate_path.empty() ? qex::check_mesh(in, mesh, grid_scale, o)
+                                     : qex::check_mesh(in, mesh, certificate, o);
     }
     if (!c.map_ok()) reject(c.error);
     return qex::verify_json(c.verdict);
@@ -350,6 +364,19 @@ py::tuple read_obj(const std::string& path, int threads) {
             uv(i, k, 1) = in.uvs[3 * i + k][1];
         }
     return py::make_tuple(V, F, UV);
+}
+
+void write_certificate(const Doubles& V, const py::object& F, const Doubles& UV, const qex::QuadMesh& mesh,
+                       const std::string& path) {
+    const qex::Input in = to_input(V, F, UV, py::none(), py::none());
+    if (mesh.map_uvs.size() != in.uvs.size())
+        throw py::value_error("the mesh carries no map of these arrays' triangles (extract it from V, F, UV)");
+    qex::IoError e;
+    {
+        py::gil_scoped_release unlocked;
+        e = qex::write_certificate(path, qex::make_certificate(in, mesh));
+    }
+    if (!e.ok()) raise(path, e);
 }
 
 void write_obj(const std::string& path, const qex::QuadMesh& mesh) {
@@ -480,6 +507,9 @@ fold_regions : bool
     Judge vertices in the map's fold-over regions on the surface only.
 threads : int
     Threads of the checker (0: every core).
+certificate : str
+    A certificate file (`write_certificate`, ``qex extract --certificate``) to judge the mesh on;
+    "" for none.
 
 Returns
 -------
@@ -489,11 +519,14 @@ str
 Raises
 ------
 ValueError
-    Arrays of the wrong shape or dtype, a tolerance out of range, or a map the library rejects.
+    Arrays of the wrong shape or dtype, a tolerance out of range, a map the library rejects, a
+    malformed certificate, or a certificate with a grid scale other than 1.
+OSError
+    The certificate cannot be read.
 )doc",
           py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"), py::arg("uv_tolerance"),
           py::arg("distance_tolerance"), py::arg("locate"), py::arg("digits"), py::arg("grid_scale"),
-          py::arg("fold_regions"), py::arg("threads"));
+          py::arg("fold_regions"), py::arg("threads"), py::arg("certificate"));
     m.def("read_obj", &read_obj, R"doc(Read an OBJ map (the core of `qex.read_obj`).
 
 Parameters
@@ -551,6 +584,26 @@ OSError
     The file cannot be written.
 )doc",
           py::arg("path"), py::arg("mesh"));
+    m.def("write_certificate", &write_certificate,
+          R"doc(Write an extracted mesh's certificate (the core of `qex.write_certificate`).
+
+Parameters
+----------
+V, F, UV : ndarray
+    The map the mesh was extracted from, as for `extract`.
+mesh : QuadMesh
+    The ``mesh`` that `extract` returned.
+path : str
+    The file to write (through ``path + ".tmp"``, renamed).
+
+Raises
+------
+ValueError
+    Arrays of the wrong shape or dtype, or a mesh that carries no map of them.
+OSError
+    The file cannot be written.
+)doc",
+          py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("mesh"), py::arg("path"));
     m.def("layout", &layout_of, R"doc(The quad layout of an extracted mesh (qex/layout.h), as a dict of numpy arrays:
 "face_patch" (F,), "patch_sizes" (P, 2), "patch_corners" (P, 4), "separatrices" (a list of vertex index
 arrays), "separatrix_ends", "adjacency" (A, 3: patch a, patch b, shared edges), "special_vertices",

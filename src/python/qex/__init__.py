@@ -18,6 +18,7 @@ layout     the patch layout of a quad mesh: separatrices, patches, their sizes a
 read_obj   read an OBJ map as (V, F, UV)
 read_vval  read a VVAL file of valences (one per input vertex)
 write_obj  write an extracted mesh as OBJ
+write_certificate  write the repaired map an extracted mesh is judged on (check(certificate=...))
 
 Bad input raises ValueError with the library's message, which names the element at fault. The
 library releases the GIL while it works, so extractions in several Python threads run in parallel.
@@ -37,7 +38,7 @@ from . import _qex
 _Path = Union[str, "_os.PathLike[str]"]
 _Array = TypeVar("_Array", bound=npt.NDArray[Any])
 
-__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "read_vval", "write_obj"]
+__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "read_vval", "write_obj", "write_certificate"]
 
 
 class Result:
@@ -303,6 +304,7 @@ def check(
     grid_scale: int = 1,
     fold_regions: bool = True,
     threads: int = 0,
+    certificate: Optional[_Path] = None,
 ) -> Dict[str, Any]:
     """Judge any quad mesh, given as arrays, against a map: the oracle for any extractor's output.
 
@@ -336,6 +338,11 @@ def check(
         ``qex check --no-fold-regions``).
     threads : int, optional
         Threads of the checker (0: every core).
+    certificate : str or os.PathLike, optional
+        qex's certificate for this mesh (`write_certificate`, ``qex extract --certificate``): it
+        is checked against the map, and the mesh judged on the repaired map it holds, at its grid
+        scale (``qex check --certificate``; excludes `grid_scale`). A certificate that does not
+        hold gives ``CertificateMismatch`` violations.
 
     Returns
     -------
@@ -346,7 +353,10 @@ def check(
     Raises
     ------
     ValueError
-        Arrays of the wrong shape or dtype, or a map that `extract` would reject.
+        Arrays of the wrong shape or dtype, a map that `extract` would reject, a malformed
+        certificate, or both `certificate` and a `grid_scale` other than 1.
+    OSError
+        The certificate cannot be read.
     """
     Vm, Fm, UVm = _map(V, F, UV)
     QVm = _real("QV", QV, (None, 3))
@@ -357,7 +367,7 @@ def check(
     scale = _small_int("grid_scale", grid_scale, 1, 64)
     verdict: Dict[str, Any] = _json.loads(
         _qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), digits_, scale, bool(fold_regions),
-                   _threads(threads)))
+                   _threads(threads), "" if certificate is None else _os.fspath(certificate)))
     return verdict
 
 
@@ -441,6 +451,39 @@ def read_vval(path: _Path) -> npt.NDArray[_np.int32]:
         the line).
     """
     return _qex.read_vval(_os.fspath(path))
+
+
+def write_certificate(path: _Path, V: npt.ArrayLike, F: npt.ArrayLike, UV: npt.ArrayLike, result: Result) -> None:
+    """Write the certificate of an extracted mesh: the repaired map it was extracted from.
+
+    ``qex extract --certificate`` writes the same file. `check` (``certificate=``) and
+    ``qex check --certificate`` verify it against the map and judge the mesh on it, where the
+    repair left no fold-over to be undecided about. Written through ``path + ".tmp"``, renamed.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The certificate file to write (an OBJ map with a header of comments).
+    V, F, UV : array_like
+        The map the mesh was extracted from, as given to `extract`.
+    result : Result
+        What `extract` returned for them.
+
+    Raises
+    ------
+    OSError
+        The file cannot be written.
+    ValueError
+        `result` is not a `Result`, carries no map of these arrays, or was split from the map
+        divided by k (``report["fallback"]["coarsening"] > 1``: it was checked at the coarse
+        scale, and has no certificate on the given one).
+    """
+    if not isinstance(result, Result):
+        raise ValueError("result must be a qex.Result (what qex.extract returns)")
+    coarsening = result.report.get("fallback", {}).get("coarsening", 1)
+    if coarsening > 1:
+        raise ValueError(f"no certificate: the mesh was split from the map divided by {coarsening}")
+    _qex.write_certificate(*_map(V, F, UV), result._mesh, _os.fspath(path))
 
 
 def write_obj(path: _Path, result: Result) -> None:
