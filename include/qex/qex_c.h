@@ -92,6 +92,15 @@ QEX_C_API qex_verdict* qex_check(const double* positions, int64_t num_vertices, 
                                  int64_t num_triangles, const double* corner_uvs /* 6 per triangle */,
                                  const double* quad_positions, int64_t num_quad_vertices, const int32_t* quads,
                                  int64_t num_quads, int grid_scale);
+/* The same, judged on qex's certificate (`qex check --param MAP MESH --certificate CERT`): the
+ * certificate file `qex extract --certificate` wrote is checked against the map and the mesh
+ * judged on the repaired map it holds, at its grid scale. An unreadable or malformed file is
+ * refused (error codes "CannotOpen", "MalformedFile"); one that does not hold gives
+ * CertificateMismatch violations. */
+QEX_C_API qex_verdict* qex_check_certificate(const double* positions, int64_t num_vertices, const int32_t* triangles,
+                                             int64_t num_triangles, const double* corner_uvs,
+                                             const double* quad_positions, int64_t num_quad_vertices,
+                                             const int32_t* quads, int64_t num_quads, const char* certificate_path);
 QEX_C_API int qex_verdict_ok(const qex_verdict* verdict);    /* 1: the map was accepted (else an error) */
 QEX_C_API int qex_verdict_valid(const qex_verdict* verdict); /* 1: the checker accepted the mesh */
 /* Why the map or the call was refused, or "" (qex_result_error_code's names in error_code). */

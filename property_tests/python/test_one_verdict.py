@@ -66,6 +66,8 @@ class CApi:
         lib.qex_check.argtypes = [P(ctypes.c_double), ctypes.c_int64, P(ctypes.c_int32), ctypes.c_int64,
                                   P(ctypes.c_double), P(ctypes.c_double), ctypes.c_int64, P(ctypes.c_int32),
                                   ctypes.c_int64, ctypes.c_int]
+        lib.qex_check_certificate.restype = ctypes.c_void_p
+        lib.qex_check_certificate.argtypes = lib.qex_check.argtypes[:-1] + [ctypes.c_char_p]
         for name in ("qex_verdict_ok", "qex_verdict_valid"):
             getattr(lib, name).argtypes = [ctypes.c_void_p]
         lib.qex_verdict_json.restype = ctypes.c_char_p
@@ -73,11 +75,13 @@ class CApi:
         lib.qex_verdict_free.argtypes = [ctypes.c_void_p]
         self.lib = lib
 
-    def check(self, V, F, UV, QV, QF, grid_scale):
+    def check(self, V, F, UV, QV, QF, grid_scale, certificate=None):
         arrays = [np.ascontiguousarray(a, dtype=t) for a, t in
                   ((V, np.float64), (F, np.int32), (UV, np.float64), (QV, np.float64), (QF, np.int32))]
         ptr = [a.ctypes.data_as(ctypes.POINTER(np.ctypeslib.as_ctypes_type(a.dtype))) for a in arrays]
-        h = self.lib.qex_check(ptr[0], len(V), ptr[1], len(F), ptr[2], ptr[3], len(QV), ptr[4], len(QF), grid_scale)
+        args = (ptr[0], len(V), ptr[1], len(F), ptr[2], ptr[3], len(QV), ptr[4], len(QF))
+        h = (self.lib.qex_check(*args, grid_scale) if certificate is None else
+             self.lib.qex_check_certificate(*args, str(certificate).encode()))
         try:
             assert self.lib.qex_verdict_ok(h) == 1
             verdict = json.loads(self.lib.qex_verdict_json(h).decode())
@@ -147,11 +151,13 @@ def test_every_front_end_gives_the_same_verdict(cli, c_library, tmp_path, shared
     assert judged[False] >= 1, "no mutant was rejected"
 
 
-def test_python_and_cli_agree_on_a_certificate(cli, tmp_path, shared_or_none):
-    """qex.write_certificate writes the file `qex extract --certificate` writes; qex.check(certificate=)
-    and `qex check --certificate` give the same verdict on the mesh, its rotated-edge mutant, and a
-    tampered certificate, which both reject with CertificateMismatch."""
+def test_python_c_and_cli_agree_on_a_certificate(cli, c_library, tmp_path, shared_or_none):
+    """qex.write_certificate writes the file `qex extract --certificate` writes; qex.check(certificate=),
+    the C API's qex_check_certificate and `qex check --certificate` give the same verdict on the
+    mesh, its rotated-edge mutant, and a tampered certificate, which all reject with
+    CertificateMismatch."""
     qex = pytest.importorskip("qex")
+    capi = CApi(c_library)
     if shared_or_none is None:
         pytest.skip("the shared maps are absent")
     map_path = shared_or_none / "paper" / "duck_miq_8_param.obj"
@@ -184,8 +190,9 @@ def test_python_and_cli_agree_on_a_certificate(cli, tmp_path, shared_or_none):
         assert done.returncode in (0, 6), label + ": " + done.stderr
         by_cli = json.loads(done.stdout)
         by_python = qex.check(V, F, UV, QV, G, certificate=cert)
-        assert by_python["valid"] == by_cli["valid"] == expect, label
-        assert kinds(by_python) == kinds(by_cli), label
+        by_c = capi.check(V, F, UV, QV, G, 1, certificate=cert)
+        assert by_python["valid"] == by_cli["valid"] == by_c["valid"] == expect, label
+        assert kinds(by_python) == kinds(by_cli) == kinds(by_c), label
         if label == "tampered":
             assert any(k == "CertificateMismatch" for k, _ in kinds(by_python)), label
     with pytest.raises(ValueError):
