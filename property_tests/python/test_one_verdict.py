@@ -153,7 +153,8 @@ def test_every_front_end_gives_the_same_verdict(cli, c_library, tmp_path, shared
 
 def test_python_c_and_cli_agree_on_a_certificate(cli, c_library, tmp_path, shared_or_none):
     """qex.write_certificate writes the file `qex extract --certificate` writes; qex.check(certificate=),
-    the C API's qex_check_certificate and `qex check --certificate` give the same verdict on the
+    the C API's qex_check_certificate, `qex draw --quads --certificate` and `qex check --certificate`
+    give the same verdict on the
     mesh, its rotated-edge mutant, and a tampered certificate, which all reject with
     CertificateMismatch."""
     qex = pytest.importorskip("qex")
@@ -191,6 +192,12 @@ def test_python_c_and_cli_agree_on_a_certificate(cli, c_library, tmp_path, share
         by_cli = json.loads(done.stdout)
         by_python = qex.check(V, F, UV, QV, G, certificate=cert)
         by_c = capi.check(V, F, UV, QV, G, 1, certificate=cert)
+        svg = tmp_path / (label + ".svg")
+        done = subprocess.run([str(cli), "draw", str(map_path), "--quads", str(path), "--certificate", str(cert),
+                               "-o", str(svg)], capture_output=True, text=True)
+        assert done.returncode == 0, label + ": " + done.stderr
+        drawn = re.search(r": (VALID|INVALID) \(qex check\)", svg.read_text())
+        assert drawn and drawn.group(1) == ("VALID" if expect else "INVALID"), label
         assert by_python["valid"] == by_cli["valid"] == by_c["valid"] == expect, label
         assert kinds(by_python) == kinds(by_cli) == kinds(by_c), label
         if label == "tampered":

@@ -88,6 +88,7 @@ struct DrawArgs {
     bool png = false;
     bool layout = false; ///< with --quads: draw the mesh's quad layout instead of its defects
     int grid_scale = 0; ///< with --quads: the scale to judge the mesh at (0: the report's, else 1)
+    std::string certificate_path; ///< with --quads: judge the mesh on qex extract's certificate
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);
 int run_draw(const DrawArgs& a);

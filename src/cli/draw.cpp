@@ -190,7 +190,16 @@ int quads_picture(const DrawArgs& a, const Input& in, const std::string& name, s
                                 : nullptr;
         grid_scale = scale && scale->is_number_integer() ? scale->get<int>() : 1;
     }
-    const VerifyResult check = check_mesh(in, mesh, grid_scale).verdict;
+    qex::Certificate certificate;
+    if (!a.certificate_path.empty()) {
+        if (const auto e = qex::read_certificate(a.certificate_path, certificate); !e.ok()) {
+            stop_progress();
+            std::cerr << "qex: " << e.message << "\n";
+            return io_exit(e);
+        }
+    }
+    const VerifyResult check = a.certificate_path.empty() ? check_mesh(in, mesh, grid_scale).verdict
+                                                          : check_mesh(in, mesh, certificate).verdict;
     std::vector<std::string> listing;
     const std::vector<Mark> marks = collect_marks(in, mesh, report, check, listing);
     const std::string title = std::filesystem::path(a.quads_path).filename().string() + " on " + name + ": " +
@@ -245,6 +254,10 @@ CLI::App* add_draw(CLI::App& app, DrawArgs& a) {
                      "with --quads: judge the mesh at this grid scale, as `qex check --grid-scale` (default: the "
                      "report's, else 1)")
         ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64}));
+    draw->add_option("--certificate", a.certificate_path,
+                     "with --quads: judge the mesh on this certificate of `qex extract --certificate`, as `qex check "
+                     "--certificate` (its grid scale is the certificate's)")
+        ->excludes("--grid-scale");
     // A range of long long: a number past 2^63 is refused as such, not saturated to 2^63 - 1.
     draw->add_option("--around", a.around, "draw the map around this triangle only")
         ->check(CLI::Range(0LL, static_cast<long long>(INT32_MAX)));
