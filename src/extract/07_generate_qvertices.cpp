@@ -8,13 +8,9 @@
 #include <string>
 
 namespace qex::detail {
-namespace {
-
-/// Whether both coordinates of p are integers.
-bool is_integer_point(const Point2& p) { return std::floor(p[0]) == p[0] && std::floor(p[1]) == p[1]; }
 
 /// Barycentric coordinates of x in (a, b, c); only used for embedding, not for decisions.
-std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+static std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
     const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     // A sliver (twice its area at most 2^-20 of the product of two edges' lengths in the max
     // norm) loses its barycentric coordinates to rounding, and the grid point's 3D position with
@@ -27,8 +23,6 @@ std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Po
     return {1.0 - wb - wc, wb, wc};
 }
 
-/// Barycentric coordinates of x in triangle f, computed with the corners in 3D order so that
-/// the result does not depend on the input's corner order.
 std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
     std::array<int, 3> c{3 * f, 3 * f + 1, 3 * f + 2};
     std::sort(c.begin(), c.end(), [&](int i, int j) { return m.pos(i) < m.pos(j); });
@@ -37,6 +31,11 @@ std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
     for (int i = 0; i < 3; ++i) out[c[i] - 3 * f] = w[i];
     return out;
 }
+
+namespace {
+
+/// Whether both coordinates of p are integers.
+bool is_integer_point(const Point2& p) { return std::floor(p[0]) == p[0] && std::floor(p[1]) == p[1]; }
 
 /// Position from barycentric weights, summed in 3D order of the corners.
 std::array<double, 3> embed(const TriMesh& m, int f, const std::array<double, 3>& w) {

@@ -242,6 +242,11 @@ struct QState {
 /// Generates vertex-, edge- and face-q-vertices (Algorithm 3).
 Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q);
 
+/// Barycentric coordinates of x in triangle f (corner order), for placing a grid point in 3D,
+/// not for decisions: computed with the corners in 3D order, so that the result does not depend
+/// on the input's corner order; in doubles, exactly for a sliver (whose doubles lose them).
+std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x);
+
 /// Enumerates q-ports of every q-vertex in clockwise order on the surface (Algorithm 4).
 void enumerate_ports(const TriMesh& m, QState& q);
 

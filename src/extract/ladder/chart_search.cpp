@@ -193,7 +193,9 @@ Provenance located(const Input& input, const TriMesh& g, int found, const IPoint
         else if (sign(orient2d(u[k], u[(k + 1) % 3], x)) == 0)
             edge = k;
     }
-    std::array<double, 3> w = barycentric_exact(x, u[0], u[1], u[2]); // a rare path: exact
+    // For the position only (the place is decided above, exactly): in doubles, as generated
+    // q-vertices have them, exactly for a sliver.
+    std::array<double, 3> w = barycentric(g, found, x);
     if (corner >= 0) {
         np.kind = QVertexKind::Vertex;
         np.element = tri[static_cast<std::size_t>(corner)];
