@@ -191,21 +191,24 @@ std::vector<int> windings(const Input& input, const UVs& U, const std::vector<st
 /// can take whole turns from it, which the repair gives back, as Algorithm 8 counts them.)
 void check_repair_windings(const Input& input, const UVs& U, const std::vector<char>& repaired,
                            const std::vector<std::int8_t>& turns, std::vector<Violation>& out) {
-    std::vector<char> touched(turns.size(), 0);
+    // Per input vertex: the first repaired triangle round it (-1: none), the violation's place.
+    std::vector<std::int64_t> touched(turns.size(), -1);
     bool any = false;
-    for (std::size_t c = 0; c < U.size(); ++c)
-        if (repaired[c / 3]) touched[static_cast<std::size_t>(input.triangles[c / 3][c % 3])] = 1, any = true;
+    for (std::size_t c = 0; c < U.size(); ++c) {
+        std::int64_t& first = touched[static_cast<std::size_t>(input.triangles[c / 3][c % 3])];
+        if (repaired[c / 3] && first < 0) first = static_cast<std::int64_t>(c / 3), any = true;
+    }
     if (!any) return;
     const std::vector<int> now = windings(input, U, turns), given = windings(input, input.uvs, turns);
     const auto degrees = [](int w) { return w == INT_MIN ? std::string("unknown") : std::to_string(w * 90); };
     for (std::size_t v = 0; v < turns.size(); ++v)
-        if (touched[v] && turns[v] == 0 && (now[v] == INT_MIN || (now[v] != given[v] && now[v] != 4)))
+        if (touched[v] >= 0 && turns[v] == 0 && (now[v] == INT_MIN || (now[v] != given[v] && now[v] != 4)))
             add_capped(out, ViolationKind::RepairNotCertified,
-                       "input vertex " + std::to_string(v) + " winds " + degrees(now[v]) +
-                           " degrees in the repaired map, " + degrees(given[v]) +
+                       "input vertex " + std::to_string(v) + " (of repaired triangle " + std::to_string(touched[v]) +
+                           ") winds " + degrees(now[v]) + " degrees in the repaired map, " + degrees(given[v]) +
                            " in the input's: a vertex whose transitions compose to no turn must wind once, or "
                            "as in the input",
-                       static_cast<std::int64_t>(v));
+                       touched[v]);
 }
 
 /// The provenance's grid point lies on the element it names, in the chart of its triangle
