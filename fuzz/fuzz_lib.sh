@@ -7,7 +7,7 @@
 qex_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 qex_build="$qex_root/build-fuzz"
 # shellcheck disable=SC2034 # used by campaign.sh
-QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_extract) # slowest last
+QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_layout fuzz_extract) # slowest last
 # Units of the merged corpus are kept only up to this size, to keep the repository small.
 QEX_FUZZ_MAX_KEEP=16384
 
