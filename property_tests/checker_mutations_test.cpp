@@ -15,14 +15,10 @@ namespace {
 
 using Index = std::int64_t;
 
-/// The maps: a torus (no singularities: every face failure is decided), a cube (cones) and an
-/// annulus (boundary).
 using Case = MutationCase;
 
 TEST(CheckerMutations, CorrectMeshesPass) {
-    for (const Case& c :
-         {make_case("torus", make_map(torus_layout(), 3, 2)), make_case("cube", make_map(cube_layout(), 3, 3)),
-          make_case("annulus", make_map(annulus_layout(), 3, 3))}) {
+    for (const Case& c : standard_cases()) {
         const VerifyResult v = verify(c.in, c.good);
         EXPECT_TRUE(v.valid) << c.name << ": " << first_message(v);
         // No fold-overs, no cone inside a cell, boundaries on iso-lines: every cell is required,

@@ -15,9 +15,7 @@ using Index = std::int64_t;
 using Case = MutationCase;
 
 TEST(CheckerSingularities, CorrectMeshesMatchTheMapsCones) {
-    for (const Case& c :
-         {make_case("torus", make_map(torus_layout(), 3, 2)), make_case("cube", make_map(cube_layout(), 3, 3)),
-          make_case("annulus", make_map(annulus_layout(), 3, 3))}) {
+    for (const Case& c : standard_cases()) {
         const VerifyResult v = verify(c.in, c.good);
         EXPECT_TRUE(v.valid) << c.name << ": " << first_message(v);
         EXPECT_EQ(v.map_cones, std::string(c.name) == "cube" ? 8 : 0) << c.name;

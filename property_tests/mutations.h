@@ -3,6 +3,7 @@
 // checker_precision_test.cpp on qex's outputs of the real maps).
 #pragma once
 
+#include "map_generators.h"
 #include "qex/qex.h"
 
 #include <algorithm>
@@ -40,6 +41,16 @@ inline MutationCase make_case(const char* name, Input in) {
     MutationCase c{name, std::move(in), {}};
     c.good = bare(extract(c.in).mesh);
     return c;
+}
+
+/// The checker tests' maps: a torus (no singularities: every face failure is decided), a cube
+/// (cones) and an annulus (boundary), each with qex's own mesh.
+inline std::vector<MutationCase> standard_cases() {
+    std::vector<MutationCase> out;
+    out.push_back(make_case("torus", make_map(torus_layout(), 3, 2)));
+    out.push_back(make_case("cube", make_map(cube_layout(), 3, 3)));
+    out.push_back(make_case("annulus", make_map(annulus_layout(), 3, 3)));
+    return out;
 }
 
 /// Whether a violation of kind `k` has a place of kind `pk` whose indices include all of `want`.
