@@ -173,12 +173,14 @@ qex_verdict* run_check(const double* positions, int64_t num_vertices, const int3
 
 extern "C" {
 
-qex_verdict* qex_check(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
-                       const double* corner_uvs, const double* quad_positions, int64_t num_quad_vertices,
-                       const int32_t* quads, int64_t num_quads, int grid_scale) {
+/// run_check with every exception turned into a refused verdict (nothing escapes the C API).
+static qex_verdict* guarded_check(const double* positions, int64_t num_vertices, const int32_t* triangles,
+                                  int64_t num_triangles, const double* corner_uvs, const double* quad_positions,
+                                  int64_t num_quad_vertices, const int32_t* quads, int64_t num_quads, int grid_scale,
+                                  const char* certificate_path) {
     try {
         return run_check(positions, num_vertices, triangles, num_triangles, corner_uvs, quad_positions,
-                         num_quad_vertices, quads, num_quads, grid_scale, nullptr);
+                         num_quad_vertices, quads, num_quads, grid_scale, certificate_path);
     } catch (const std::bad_alloc&) {
         return refused_check("OutOfMemory", "out of memory");
     } catch (const std::exception& e) { return refused_check("InternalError", e.what()); } catch (...) {
@@ -186,19 +188,20 @@ qex_verdict* qex_check(const double* positions, int64_t num_vertices, const int3
     }
 }
 
+qex_verdict* qex_check(const double* positions, int64_t num_vertices, const int32_t* triangles, int64_t num_triangles,
+                       const double* corner_uvs, const double* quad_positions, int64_t num_quad_vertices,
+                       const int32_t* quads, int64_t num_quads, int grid_scale) {
+    return guarded_check(positions, num_vertices, triangles, num_triangles, corner_uvs, quad_positions,
+                         num_quad_vertices, quads, num_quads, grid_scale, nullptr);
+}
+
 qex_verdict* qex_check_certificate(const double* positions, int64_t num_vertices, const int32_t* triangles,
                                    int64_t num_triangles, const double* corner_uvs, const double* quad_positions,
                                    int64_t num_quad_vertices, const int32_t* quads, int64_t num_quads,
                                    const char* certificate_path) {
     if (!certificate_path) return refused_check("InvalidArgument", "certificate_path must not be NULL");
-    try {
-        return run_check(positions, num_vertices, triangles, num_triangles, corner_uvs, quad_positions,
+    return guarded_check(positions, num_vertices, triangles, num_triangles, corner_uvs, quad_positions,
                          num_quad_vertices, quads, num_quads, 1, certificate_path);
-    } catch (const std::bad_alloc&) {
-        return refused_check("OutOfMemory", "out of memory");
-    } catch (const std::exception& e) { return refused_check("InternalError", e.what()); } catch (...) {
-        return refused_check("InternalError", "unknown exception");
-    }
 }
 
 int qex_verdict_ok(const qex_verdict* v) { return v && v->ok; }
