@@ -200,11 +200,15 @@ std::vector<std::vector<std::size_t>> independent_groups(const TriMesh& m, const
 /// outcome is the serial one for any thread count.
 void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given, Attempts& a) {
     std::vector<std::optional<RegionFailure>> failed(regions.size());
-    const std::vector<std::vector<std::size_t>> groups = independent_groups(m, regions, a.label);
     std::size_t triangles = 0;
     for (const Region& r : regions) triangles += r.faces.size();
+    // The groups only when threads could share them.
+    const std::vector<std::vector<std::size_t>> groups =
+        a.threads > 1 && regions.size() > 1 && triangles >= kParallelMinTriangles
+            ? independent_groups(m, regions, a.label)
+            : std::vector<std::vector<std::size_t>>{};
     const int threads = std::min(a.threads, static_cast<int>(groups.size()));
-    if (threads > 1 && triangles >= kParallelMinTriangles) {
+    if (threads > 1) {
         // Plain threads, not OpenMP: a few per repair, and none left spinning when the library
         // runs inside its users' parallel jobs. Each takes the next group (largest first).
         while (a.scratch.size() < static_cast<std::size_t>(threads)) a.scratch.emplace_back(m);
