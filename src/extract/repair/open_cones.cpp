@@ -92,7 +92,7 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
 } // namespace
 
 bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
-                              Workspace& work) {
+                              Workspace& work, int patience) {
     restore_region_uvs(m, r, before);
     std::vector<int> short_cones;
     for (const int v : marks.fixed)
@@ -122,7 +122,7 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
     }
     std::sort(barrier.begin(), barrier.end());
     barrier.erase(std::unique(barrier.begin(), barrier.end()), barrier.end());
-    return !barrier.empty() && untangle_region(m, r, work, barrier) && windings_kept(m, r, marks);
+    return !barrier.empty() && untangle_region(m, r, work, patience, barrier) && windings_kept(m, r, marks);
 }
 
 } // namespace qex::detail::repair_impl

@@ -39,6 +39,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -136,13 +137,15 @@ std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int rad
     const bool admitted = admits_embedding(m, r, valences_given, marks);
     RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
     if (admitted) {
-        const bool untangled = untangle_region(m, r, a.work);
+        const int patience = radius == kRingRadii[std::size(kRingRadii) - 1] ? kPatienceAtLastRing
+                                                                               : kPatienceBeforeLastRing;
+        const bool untangled = untangle_region(m, r, a.work, patience);
         repaired = untangled && windings_kept(m, r, marks);
         if (!repaired) failure = describe_failure(m, r, marks, true, radius);
         // Once more with cone fans opened, where that is what failed: the untangler wound
         // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
         if (!repaired && (untangled || marks.cone >= 0))
-            repaired = untangle_with_open_cones(m, r, marks, before, a.work);
+            repaired = untangle_with_open_cones(m, r, marks, before, a.work, patience);
     } else {
         failure = describe_failure(m, r, marks, false, radius);
     }

@@ -17,9 +17,6 @@ constexpr int kOuterIterations = 60;
 constexpr int kInnerIterations = 80;
 /// The first regularisation, relative to the most negative Jacobian determinant.
 constexpr double kInitialRegularisation = 0.1;
-/// An attempt stops once this many regularisation steps in a row leave more triangles inverted
-/// than its best step did.
-constexpr int kStagnation = 8;
 /// Iterations of the final minimisation of a repaired region.
 constexpr int kPolishIterations = 2000;
 /// It stops when an iteration lowers the energy by less than this fraction of it.
@@ -175,7 +172,7 @@ bool kernel_sweeps(TriMesh& m, const Region& r) {
 
 Workspace::Workspace(const TriMesh& m) : corner_slot(3 * static_cast<std::size_t>(m.num_faces()), -1) {}
 
-bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier) {
+bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience, const std::vector<int>& barrier) {
     if (!rest_shapes(m, r, work.rest)) return false;
     const std::vector<RestShape>& rest = work.rest;
     const Problem p = make_problem(m, r, rest, work.corner_slot, barrier);
@@ -185,7 +182,7 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::ve
     region_energy(p, x, 1.0, nullptr, &lowest);
     double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
     std::size_t best = SIZE_MAX;
-    for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < kStagnation; ++outer) {
+    for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < patience; ++outer) {
         const double before = region_energy(p, x, eps, nullptr);
         minimise(p, x, eps, length, kInnerIterations);
         // Place (truncated, propagated exactly) and judge exactly.

@@ -18,9 +18,18 @@ struct Workspace {
     std::vector<int> corner_slot;
 };
 
+/// How many regularisation steps in a row may leave no fewer triangles inverted than the
+/// attempt's best before it stops. Short while a larger ring follows: a region that untangles
+/// mostly does so in its first two steps (559 of 606 successes over the shared maps), and the
+/// next ring holds the region again; long at the last ring, where nothing follows.
+constexpr int kPatienceBeforeLastRing = 3;
+constexpr int kPatienceAtLastRing = 8;
+
 /// Untangles the region in place; true when every triangle of it is positively oriented.
-/// `barrier` (sorted): triangles (positive at the start) kept positive by a pure barrier.
-bool untangle_region(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier = {});
+/// `patience`: see above. `barrier` (sorted): triangles (positive at the start) kept positive
+/// by a pure barrier.
+bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
+                     const std::vector<int>& barrier = {});
 
 /// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
 /// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
