@@ -54,13 +54,14 @@ void add_fan(const TriMesh& m, int v, Fans& fans) {
     const std::size_t first = fans.corner.size();
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) fans.corner.push_back(h);
     const auto fan = fans.corner.begin() + static_cast<std::ptrdiff_t>(first);
-    std::rotate(fan, std::min_element(fan, fans.corner.end(), [&](int a, int b) {
-                    return m.pos(TriMesh::next(a)) < m.pos(TriMesh::next(b));
-                }),
+    std::rotate(fan,
+                std::min_element(fan, fans.corner.end(),
+                                 [&](int a, int b) { return m.pos(TriMesh::next(a)) < m.pos(TriMesh::next(b)); }),
                 fans.corner.end());
     const std::size_t n = fans.corner.size() - first;
     std::vector<GridAutomorphism> to_c(n);
-    for (std::size_t i = 1; i < n; ++i) to_c[i] = m.map.transition[fan[static_cast<std::ptrdiff_t>(i - 1)]].after(to_c[i - 1]);
+    for (std::size_t i = 1; i < n; ++i)
+        to_c[i] = m.map.transition[fan[static_cast<std::ptrdiff_t>(i - 1)]].after(to_c[i - 1]);
     const GridAutomorphism loop = m.map.transition[fans.corner.back()].after(to_c[n - 1]);
     if (!loop.is_identity() || std::abs(m.map.winding_valence[v]) >= 8) {
         fans.corner.resize(first);
