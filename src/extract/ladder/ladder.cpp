@@ -5,6 +5,7 @@
 #include "ladder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <iterator>
 #include <limits>
@@ -70,10 +71,12 @@ std::vector<std::array<int, 2>> feature_edges(const TriMesh& m, const Input& inp
     return features;
 }
 
-std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
-    std::vector<Point2> uv = std::move(m.uv);
-    std::vector<int> input_triangle = std::move(m.input_triangle);
-    m = TriMesh{};
+namespace {
+
+/// A working mesh's map (`uv`, per working corner) per input corner: NaN for triangles
+/// collapsed away; handed over as it is when no triangle was.
+std::vector<std::array<double, 2>> per_input_corner(std::vector<Point2> uv, const std::vector<int>& input_triangle,
+                                                    const Input& input) {
     bool same_numbering = input_triangle.size() == input.triangles.size();
     for (std::size_t f = 0; f < input_triangle.size() && same_numbering; ++f)
         same_numbering = input_triangle[f] == static_cast<int>(f);
@@ -83,6 +86,20 @@ std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
     for (std::size_t f = 0; f < input_triangle.size(); ++f)
         for (std::size_t k = 0; k < 3; ++k) map[3 * static_cast<std::size_t>(input_triangle[f]) + k] = uv[3 * f + k];
     return map;
+}
+
+/// The map of m per input corner, a copy (take_map hands it over).
+std::vector<std::array<double, 2>> map_of(const TriMesh& m, const Input& input) {
+    return per_input_corner(m.uv, m.input_triangle, input);
+}
+
+} // namespace
+
+std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
+    std::vector<Point2> uv = std::move(m.uv);
+    std::vector<int> input_triangle = std::move(m.input_triangle);
+    m = TriMesh{};
+    return per_input_corner(std::move(uv), input_triangle, input);
 }
 
 namespace {
@@ -108,6 +125,11 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
     timer.done(Stage::collapse);
     return {};
 }
+
+/// Whether the rung's mesh from m as the repair left it so far (`outcome`) is valid with as many
+/// quads as the map's signed UV area (`report`'s): then the repair's last ring is spared.
+bool exact_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
+                  const Rung& rung, const Report& report);
 
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
 /// triangles whose UVs the repair changed. `scale`: the attempt's refinement factor (solver
@@ -135,7 +157,11 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     report_map(m, report);
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        RepairOutcome outcome = repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report);
+        const RepairEnough enough = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
+            return exact_so_far(so_far, outcome, input, options, rung, report);
+        };
+        RepairOutcome outcome =
+            repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, enough);
         explain_unrepaired(m, outcome, report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());
@@ -218,6 +244,22 @@ FaceWalks extract_connectivity(const TriMesh& m, const Options& options, QState&
     return out;
 }
 
+/// The repair's certificate: the triangles it changed (working indices), by input index, sorted.
+std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int>& repaired_faces) {
+    std::vector<std::int32_t> certificate;
+    for (const int f : repaired_faces) certificate.push_back(m.input_triangle[f]);
+    std::sort(certificate.begin(), certificate.end());
+    return certificate;
+}
+
+/// Stages generate_qvertices to merge_vertices on the map m: the output faces, flat, in `faces`.
+Error extract_mesh(const TriMesh& m, const Options& options, Result& result, StageTimer& timer, FaceWalks& faces) {
+    QState q;
+    if (Error e = extract_geometry(m, options, q, result.report, timer); e.code != ErrorCode::None) return e;
+    faces = extract_connectivity(m, options, q, result.mesh, result.report, timer);
+    return {};
+}
+
 /// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
 /// input error (in result.error), which no rung can help.
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
@@ -228,14 +270,10 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, scale)).code !=
         ErrorCode::None)
         return false;
-    std::vector<std::int32_t> certificate; // the repaired triangles, by input index
-    for (const int f : repaired_faces) certificate.push_back(m.input_triangle[f]);
-    std::sort(certificate.begin(), certificate.end());
+    std::vector<std::int32_t> certificate = certificate_of(m, repaired_faces);
     if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
-    QState q;
-    if ((result.error = extract_geometry(m, options, q, report, timer)).code != ErrorCode::None) return false;
-    FaceWalks faces = extract_connectivity(m, options, q, result.mesh, report, timer);
-    q = QState{};
+    FaceWalks faces;
+    if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) return false;
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     if (options.canonical_order) {
@@ -288,6 +326,21 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     }
     attempt.report.check_violations = static_cast<std::int64_t>(attempt.check.violations.size());
     timer.done(Stage::check);
+}
+
+bool exact_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
+                  const Rung& rung, const Report& report) {
+    Result attempt;
+    attempt.report.signed_uv_area = report.signed_uv_area;
+    StageTimer timer(attempt.report);
+    FaceWalks faces;
+    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return false;
+    attempt.mesh.map_uvs = map_of(m, input);
+    attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
+    set_faces(attempt.mesh, faces);
+    judge(input, options, rung, {}, attempt);
+    return attempt.check.valid &&
+           static_cast<std::int64_t>(attempt.mesh.faces.size()) == std::llround(report.signed_uv_area);
 }
 
 /// A fresh result for rung `r`, with what stages validate and collapse reported, and the stage

@@ -184,4 +184,30 @@ void settle_merges(TriMesh& m, const std::vector<DipoleMerge>& merges, const std
     }
 }
 
+MergesState merges_state(const TriMesh& m, const std::vector<DipoleMerge>& merges) {
+    MergesState state;
+    for (const DipoleMerge& d : merges) {
+        for (const int e : d.path)
+            state.transitions.push_back(m.map.transition[e]), state.transitions.push_back(m.map.transition[m.opp[e]]);
+        for (const int v : {d.a, d.b})
+            state.vertex.insert(state.vertex.end(), {m.map.singular[v], m.map.valence[v], m.map.winding_valence[v]});
+    }
+    return state;
+}
+
+void restore_merges(TriMesh& m, const std::vector<DipoleMerge>& merges, const MergesState& state) {
+    std::size_t t = 0, k = 0;
+    for (const DipoleMerge& d : merges) {
+        for (const int e : d.path) {
+            m.map.transition.set(static_cast<std::size_t>(e), state.transitions[t++]);
+            m.map.transition.set(static_cast<std::size_t>(m.opp[e]), state.transitions[t++]);
+        }
+        for (const int v : {d.a, d.b}) {
+            m.map.singular[v] = static_cast<char>(state.vertex[k++]);
+            m.map.valence[v] = state.vertex[k++];
+            m.map.winding_valence[v] = state.vertex[k++];
+        }
+    }
+}
+
 } // namespace qex::detail::repair_impl

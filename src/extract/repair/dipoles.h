@@ -34,4 +34,14 @@ bool merge_reembedded(const TriMesh& m, const DipoleMerge& d, const std::vector<
 void settle_merges(TriMesh& m, const std::vector<DipoleMerge>& merges, const std::vector<char>& reembedded,
                    Report& report);
 
+/// The map along the merges' paths: their transitions (both ways) and their singularities' flags
+/// and valences, as merges_state found them; restore_merges puts them back (after a look at the
+/// map with settle_merges done).
+struct MergesState {
+    std::vector<GridAutomorphism> transitions;
+    std::vector<int> vertex;
+};
+MergesState merges_state(const TriMesh& m, const std::vector<DipoleMerge>& merges);
+void restore_merges(TriMesh& m, const std::vector<DipoleMerge>& merges, const MergesState& state);
+
 } // namespace qex::detail::repair_impl

@@ -19,6 +19,10 @@
 // once more from its given UVs, with the fans of the singularities that wind short there opened
 // (laid out over their angles) and kept open by a barrier.
 //
+// Before the last ring, the caller may look at the map as it stands and stop the repair there
+// (RepairEnough: the ladder stops it when that map's mesh is valid with as many quads as its
+// area).
+//
 // The one change to transitions and singularities: before the regions are grown, co-located
 // dipoles (two singularities of opposite index on one grid point, which no fold-free map allows)
 // are merged into regular vertices, each merge named in the report and undone unless the repair
@@ -39,6 +43,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <iterator>
 #include <optional>
 #include <string>
@@ -249,9 +254,10 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
 /// flipped or degenerate triangles that remain.
 void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_given,
                   const std::vector<DipoleMerge>& merges, std::vector<int>& seeds_faces, std::vector<int>& stuck,
-                  Attempts& a) {
+                  Attempts& a, const std::function<bool()>& enough) {
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
+        if (radius == kRingRadii[std::size(kRingRadii) - 1] && enough && enough()) break;
         for (const DipoleMerge& d : merges)
             if (!merge_reembedded(m, d, a.reembedded))
                 for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
@@ -287,7 +293,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
 } // namespace repair_impl
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report) {
+                     int threads, Report& report, const RepairEnough& enough) {
     using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
@@ -303,7 +309,19 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     }
     const std::vector<Point2> sanitized = m.uv;
     Attempts attempts(m, thread_count(threads));
-    grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts);
+    std::function<bool()> before_last;
+    if (enough)
+        before_last = [&] {
+            // The map as the repair would leave it here (the merges that do not stand undone), and
+            // as it was if the repair goes on.
+            const MergesState merged = merges_state(m, merges);
+            Report look;
+            settle_merges(m, merges, attempts.reembedded, look);
+            const bool stop = enough(m, outcome_of(m, sanitized, stuck, seeds_faces, attempts.log));
+            if (!stop) restore_merges(m, merges, merged);
+            return stop;
+        };
+    grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts, before_last);
     settle_merges(m, merges, attempts.reembedded, report);
     return outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
 }

@@ -5,6 +5,7 @@
 #include "qex/extract.h"
 
 #include <array>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -41,7 +42,12 @@ void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& 
 /// MapState::face_sign, and the valences of singularities it corrects or merges. Regions that
 /// share no vertex are attempted on up to `threads` threads (0: every core), with the same
 /// result for any count.
+///
+/// `enough`, if given, is asked before the last ring radius, when fold-overs are left and every
+/// dipole merge stands, with the map and the outcome so far: true stops the repair there (the
+/// mesh of the map so far is as good as the last ring could make it).
+using RepairEnough = std::function<bool(const TriMesh&, const RepairOutcome&)>;
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report);
+                     int threads, Report& report, const RepairEnough& enough = {});
 
 } // namespace qex::detail
