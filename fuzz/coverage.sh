@@ -11,7 +11,7 @@ fi
 cmake --build "$build" --target fuzzers
 rm -f "$build"/*.profraw
 objects=()
-for t in fuzz_obj fuzz_extract fuzz_sanitize fuzz_predicates_differential; do
+for t in fuzz_obj fuzz_ply fuzz_extract fuzz_sanitize fuzz_predicates_differential fuzz_layout; do
   LLVM_PROFILE_FILE="$build/$t.profraw" "$build/fuzz/$t" "$root/corpus/$t" >/dev/null
   objects+=(-object "$build/fuzz/$t")
 done
