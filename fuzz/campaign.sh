@@ -5,7 +5,8 @@
 # corpus/<target>, fork mode with JOBS workers, -dict for fuzz_obj and fuzz_ply; findings are
 # copied to corpus/<target>/regressions/, units of new coverage to corpus/<target>/merged/.
 # Ends with a table, also written as Markdown to build-fuzz/campaign.md; logs and artifacts are in
-# build-fuzz/campaign/. Set QEX_FUZZ_ONLY="fuzz_obj fuzz_ply" to run some targets only.
+# build-fuzz/campaign/. Set QEX_FUZZ_ONLY="fuzz_obj fuzz_ply" to run some targets only, and
+# CMAKE_BUILD_PARALLEL_LEVEL to build with fewer jobs than the cores (fuzz_lib.sh).
 set -euo pipefail
 # shellcheck source=fuzz/fuzz_lib.sh
 . "$(dirname "$0")/fuzz_lib.sh"

@@ -3,6 +3,9 @@
 # build in build-fuzz/ and the run of one target.
 #   qex_fuzz_build TARGET...                  configure build-fuzz/ if needed, build the targets
 #   qex_fuzz_run TARGET SECONDS JOBS OUTDIR   fuzz one target; see the function for what it writes
+# The build runs CMAKE_BUILD_PARALLEL_LEVEL jobs, by default one per core (ninja's own default is
+# the cores + 2), so that a shared machine can be spared: CMAKE_BUILD_PARALLEL_LEVEL=1 fuzz/run.sh ...
+# CMake takes CMAKE_CXX_COMPILER_LAUNCHER=ccache from the environment when it first configures.
 
 qex_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 qex_build="$qex_root/build-fuzz"
@@ -10,13 +13,14 @@ qex_build="$qex_root/build-fuzz"
 QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_layout fuzz_extract) # slowest last
 # Units of the merged corpus are kept only up to this size, to keep the repository small.
 QEX_FUZZ_MAX_KEEP=16384
+qex_build_jobs=${CMAKE_BUILD_PARALLEL_LEVEL:-$(getconf _NPROCESSORS_ONLN)}
 
 qex_fuzz_build() {
   if [ ! -f "$qex_build/build.ninja" ]; then
     CC=clang CXX=clang++ cmake -S "$qex_root" -B "$qex_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DQEX_LIBFUZZER=ON -DQEX_BUILD_TESTS=OFF -DQEX_BUILD_CLI=OFF -DQEX_BUILD_FUZZERS=ON >/dev/null
   fi
-  cmake --build "$qex_build" --target "$@"
+  cmake --build "$qex_build" --parallel "$qex_build_jobs" --target "$@"
 }
 
 # The -dict file of a target, if it has one.

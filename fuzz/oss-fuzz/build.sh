@@ -9,7 +9,7 @@ cmake -S . -B build-oss -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS="$CXXFLAGS" -DQEX_BUILD_TESTS=OFF -DQEX_BUILD_CLI=OFF -DQEX_BUILD_FUZZERS=ON \
   -DQEX_LIBFUZZER=ON
 cmake --build build-oss --target fuzzers
-for t in fuzz_obj fuzz_ply fuzz_extract fuzz_sanitize fuzz_predicates_differential; do
+for t in fuzz_obj fuzz_ply fuzz_extract fuzz_sanitize fuzz_predicates_differential fuzz_layout; do
   cp "build-oss/fuzz/$t" "$OUT/"
   (cd "corpus/$t" && zip -qr "$OUT/${t}_seed_corpus.zip" .)
 done
