@@ -126,10 +126,11 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
     return {};
 }
 
-/// Whether the rung's mesh from m as the repair left it so far (`outcome`) is valid with as many
-/// quads as the map's signed UV area (`report`'s): then the repair's last ring is spared.
-bool exact_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                  const Rung& rung, const Report& report);
+/// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
+/// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
+/// signed UV area (`report`'s); when it is valid with fewer, the triangles where it lost them.
+RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
+                       const Rung& rung, const Report& report);
 
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
 /// triangles whose UVs the repair changed. `scale`: the attempt's refinement factor (solver
@@ -158,7 +159,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
         const RepairEnough enough = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
-            return exact_so_far(so_far, outcome, input, options, rung, report);
+            return look_so_far(so_far, outcome, input, options, rung, report);
         };
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, enough);
@@ -328,22 +329,34 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     timer.done(Stage::check);
 }
 
-bool exact_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                  const Rung& rung, const Report& report) {
+RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
+                       const Rung& rung, const Report& report) {
     Result attempt;
     attempt.report.signed_uv_area = report.signed_uv_area;
     StageTimer timer(attempt.report);
     FaceWalks faces;
-    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return false;
+    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
     set_faces(attempt.mesh, faces);
     const std::int64_t area = std::llround(report.signed_uv_area);
-    // Counted before the checker runs, which costs more than the extraction (a mesh that mending
-    // would bring to the area only costs the last ring, as without the look).
-    if (static_cast<std::int64_t>(attempt.mesh.faces.size()) != area) return false;
+    // A cell covered twice is not located: the last ring goes everywhere.
+    if (static_cast<std::int64_t>(attempt.mesh.faces.size()) > area) return {};
     attempt.mesh.map_uvs = map_of(m, input);
     attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
     judge(input, options, rung, {}, attempt);
-    return attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
+    if (!attempt.check.valid) return {};
+    RepairLook look;
+    look.enough = static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
+    if (look.enough) return look;
+    // Where quads were lost, by the explanations that name a place; one that names none sends
+    // the last ring everywhere.
+    std::vector<int> working(input.triangles.size(), -1);
+    for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
+    for (const Defect& d : attempt.report.explanations) {
+        const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
+        if (f < 0) return {};
+        look.near.push_back(f);
+    }
+    return look;
 }
 
 /// A fresh result for rung `r`, with what stages validate and collapse reported, and the stage

@@ -19,9 +19,8 @@
 // once more from its given UVs, with the fans of the singularities that wind short there opened
 // (laid out over their angles) and kept open by a barrier.
 //
-// Before the last ring, the caller may look at the map as it stands and stop the repair there
-// (RepairEnough: the ladder stops it when that map's mesh is valid with as many quads as its
-// area).
+// Before the last ring, the caller may look at the map as it stands and stop the repair there, or
+// send the last ring only where that map's mesh lost quads (RepairEnough, RepairLook).
 //
 // The one change to transitions and singularities: before the regions are grown, co-located
 // dipoles (two singularities of opposite index on one grid point, which no fold-free map allows)
@@ -249,18 +248,37 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
         if (failed[i]) a.log.record(regions[i], *failed[i]);
 }
 
+/// Keeps the seed triangles with a vertex within `radius` rings of a vertex of the `near`
+/// triangles: those whose regions at that radius reach them. `distance` is per-vertex scratch.
+void keep_near(const TriMesh& m, const std::vector<int>& near, int radius, std::vector<int>& seeds_faces,
+               std::vector<int>& distance) {
+    std::vector<int> corners;
+    for (const int f : near)
+        for (const int v : m.tri[f]) corners.push_back(v);
+    std::vector<char> reached(static_cast<std::size_t>(m.num_vertices), 0);
+    for (const int v : ring_neighbourhood(m, corners, radius, distance)) reached[static_cast<std::size_t>(v)] = 1;
+    const auto far = [&](int f) {
+        for (const int v : m.tri[f])
+            if (reached[static_cast<std::size_t>(v)]) return false;
+        return true;
+    };
+    seeds_faces.erase(std::remove_if(seeds_faces.begin(), seeds_faces.end(), far), seeds_faces.end());
+}
+
 /// Attempts the regions round the fold-overs (`seeds_faces`) and the paths of the dipole merges
 /// that do not stand yet, ring radius by ring radius; leaves in `seeds_faces` and `stuck` the
 /// flipped or degenerate triangles that remain.
 void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_given,
                   const std::vector<DipoleMerge>& merges, std::vector<int>& seeds_faces, std::vector<int>& stuck,
-                  Attempts& a, const std::function<bool()>& enough) {
+                  Attempts& a, const std::function<RepairLook()>& look) {
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
-        if (radius == kRingRadii[std::size(kRingRadii) - 1] && enough && enough()) break;
+        RepairLook seen;
+        if (radius == kRingRadii[std::size(kRingRadii) - 1] && look && (seen = look()).enough) break;
         for (const DipoleMerge& d : merges)
             if (!merge_reembedded(m, d, a.reembedded))
                 for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
+        if (!seen.near.empty()) keep_near(m, seen.near, radius, seeds_faces, a.distance);
         if (seeds_faces.empty()) break;
         attempt_regions(m, regions_within(m, seeds_faces, radius, pinned, a.distance, a.label), radius,
                         valences_given, a);
@@ -309,7 +327,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     }
     const std::vector<Point2> sanitized = m.uv;
     Attempts attempts(m, thread_count(threads));
-    std::function<bool()> before_last;
+    std::function<RepairLook()> before_last;
     if (enough)
         before_last = [&] {
             // The map as the repair would leave it here (the merges that do not stand undone), and
@@ -317,9 +335,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             const MergesState merged = merges_state(m, merges);
             Report look;
             settle_merges(m, merges, attempts.reembedded, look);
-            const bool stop = enough(m, outcome_of(m, sanitized, stuck, seeds_faces, attempts.log));
-            if (!stop) restore_merges(m, merges, merged);
-            return stop;
+            RepairLook seen = enough(m, outcome_of(m, sanitized, stuck, seeds_faces, attempts.log));
+            if (!seen.enough) restore_merges(m, merges, merged);
+            return seen;
         };
     grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts, before_last);
     settle_merges(m, merges, attempts.reembedded, report);

@@ -43,10 +43,16 @@ void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& 
 /// share no vertex are attempted on up to `threads` threads (0: every core), with the same
 /// result for any count.
 ///
-/// `enough`, if given, is asked before the last ring radius, when fold-overs are left and every
-/// dipole merge stands, with the map and the outcome so far: true stops the repair there (the
-/// mesh of the map so far is as good as the last ring could make it).
-using RepairEnough = std::function<bool(const TriMesh&, const RepairOutcome&)>;
+/// `look`, if given, is asked before the last ring radius, when fold-overs are left, with the map
+/// as the repair would leave it there (the dipole merges that do not stand undone) and the
+/// outcome so far: `enough` stops the repair there (the mesh of that map is as good as the last
+/// ring could make it); otherwise, with `near` given, the last ring attempts only the fold-overs
+/// within its radius of those triangles (where that mesh lost quads), else all of them.
+struct RepairLook {
+    bool enough = false;
+    std::vector<int> near;
+};
+using RepairEnough = std::function<RepairLook(const TriMesh&, const RepairOutcome&)>;
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
                      int threads, Report& report, const RepairEnough& enough = {});
 
