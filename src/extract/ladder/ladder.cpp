@@ -158,11 +158,11 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     report_map(m, report);
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
-        const RepairEnough enough = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
+        const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
             return look_so_far(so_far, outcome, input, options, rung, report);
         };
         RepairOutcome outcome =
-            repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, enough);
+            repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
         explain_unrepaired(m, outcome, report);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());

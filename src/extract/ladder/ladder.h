@@ -173,9 +173,9 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
 
 /// Stage repair on the sanitized map m, or its result at the map's own scale taken from
 /// `scale.memo` (see RepairMemo), which the repair at that scale fills; on up to `threads` threads.
-/// `enough` as for repair().
+/// `look` as for repair().
 RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
-                              int threads, const AtScale& scale, Report& report, const RepairEnough& enough = {});
+                              int threads, const AtScale& scale, Report& report, const LookBeforeLastRing& look = {});
 
 /// Whether refinement is worth trying after the map at its own scale (and coarsened) gave
 /// `result`, invalid: not when Options::max_refinement is below 2, nor once the map is proved to

@@ -69,7 +69,7 @@ RepairOutcome repair_from_memo(TriMesh& m, const RepairMemo& memo, std::int64_t 
 /// Stage repair on m at the map's own scale, with the map before it and after it, and what it
 /// reported, kept in `memo` for the refinements.
 RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
-                               int threads, RepairMemo& memo, Report& report, const RepairEnough& enough) {
+                               int threads, RepairMemo& memo, Report& report, const LookBeforeLastRing& look) {
     memo = RepairMemo{};
     memo.tri = m.tri;
     memo.input_triangle = m.input_triangle;
@@ -81,7 +81,7 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
     memo.valence = m.map.valence;
     memo.winding_valence = m.map.winding_valence;
     const std::size_t explained = report.explanations.size();
-    RepairOutcome outcome = repair(m, features, valences_given, threads, report, enough);
+    RepairOutcome outcome = repair(m, features, valences_given, threads, report, look);
     memo.repaired = m.uv;
     memo.repaired_transitions = all_transitions(m);
     memo.repaired_singular = m.map.singular;
@@ -97,14 +97,14 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
 } // namespace
 
 RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
-                              int threads, const AtScale& scale, Report& report, const RepairEnough& enough) {
+                              int threads, const AtScale& scale, Report& report, const LookBeforeLastRing& look) {
     RepairMemo* memo = scale.memo;
     if (memo && scale.factor > 1 && memo_applies(m, *memo, scale.factor))
         return repair_from_memo(m, *memo, scale.factor, report);
     // No refinement can follow when doubling the map takes it past kMaxRefinedQuads.
     if (!memo || scale.factor != 1 || std::abs(report.signed_uv_area) * 4 > kMaxRefinedQuads)
-        return repair(m, features, valences_given, threads, report, enough);
-    return repair_into_memo(m, features, valences_given, threads, *memo, report, enough);
+        return repair(m, features, valences_given, threads, report, look);
+    return repair_into_memo(m, features, valences_given, threads, *memo, report, look);
 }
 
 // ============================================================================ explanations

@@ -20,7 +20,7 @@
 // (laid out over their angles) and kept open by a barrier.
 //
 // Before the last ring, the caller may look at the map as it stands and stop the repair there, or
-// send the last ring only where that map's mesh lost quads (RepairEnough, RepairLook).
+// send the last ring only where that map's mesh lost quads (LookBeforeLastRing, RepairLook).
 //
 // The one change to transitions and singularities: before the regions are grown, co-located
 // dipoles (two singularities of opposite index on one grid point, which no fold-free map allows)
@@ -311,7 +311,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
 } // namespace repair_impl
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report, const RepairEnough& enough) {
+                     int threads, Report& report, const LookBeforeLastRing& look) {
     using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
@@ -328,14 +328,14 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     const std::vector<Point2> sanitized = m.uv;
     Attempts attempts(m, thread_count(threads));
     std::function<RepairLook()> before_last;
-    if (enough)
+    if (look)
         before_last = [&] {
             // The map as the repair would leave it here (the merges that do not stand undone), and
             // as it was if the repair goes on.
             const MergesState merged = merges_state(m, merges);
-            Report look;
-            settle_merges(m, merges, attempts.reembedded, look);
-            RepairLook seen = enough(m, outcome_of(m, sanitized, stuck, seeds_faces, attempts.log));
+            Report scratch;
+            settle_merges(m, merges, attempts.reembedded, scratch);
+            RepairLook seen = look(m, outcome_of(m, sanitized, stuck, seeds_faces, attempts.log));
             if (!seen.enough) restore_merges(m, merges, merged);
             return seen;
         };

@@ -52,8 +52,8 @@ struct RepairLook {
     bool enough = false;
     std::vector<int> near;
 };
-using RepairEnough = std::function<RepairLook(const TriMesh&, const RepairOutcome&)>;
+using LookBeforeLastRing = std::function<RepairLook(const TriMesh&, const RepairOutcome&)>;
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report, const RepairEnough& enough = {});
+                     int threads, Report& report, const LookBeforeLastRing& look = {});
 
 } // namespace qex::detail
