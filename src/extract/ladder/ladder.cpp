@@ -128,7 +128,8 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
 
 /// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
 /// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
-/// signed UV area (`report`'s); when it is valid with fewer, the triangles where it lost them.
+/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the triangles
+/// where it lost them.
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
                        const Rung& rung, const Report& report);
 
@@ -338,17 +339,21 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
     if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
     set_faces(attempt.mesh, faces);
     const std::int64_t area = std::llround(report.signed_uv_area);
-    // A cell covered twice is not located: the last ring goes everywhere.
-    if (static_cast<std::int64_t>(attempt.mesh.faces.size()) > area) return {};
-    attempt.mesh.map_uvs = map_of(m, input);
-    attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
-    judge(input, options, rung, {}, attempt);
-    if (!attempt.check.valid) return {};
+    const auto quads = static_cast<std::int64_t>(attempt.mesh.faces.size());
+    // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
+    // the last ring goes everywhere.
+    if (quads > area || !attempt.report.defects.empty()) return {};
     RepairLook look;
-    look.enough = static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
-    if (look.enough) return look;
-    // Where quads were lost, by the explanations that name a place; one that names none sends
-    // the last ring everywhere.
+    if (quads == area) {
+        attempt.mesh.map_uvs = map_of(m, input);
+        attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
+        judge(input, options, rung, {}, attempt);
+        look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
+        return look;
+    }
+    // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
+    // that names none sends the last ring everywhere). Not judged here (the checker's memory on
+    // top of the repair's would raise the peak); the rung's mesh is judged as ever.
     std::vector<int> working(input.triangles.size(), -1);
     for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
     for (const Defect& d : attempt.report.explanations) {
