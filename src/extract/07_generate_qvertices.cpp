@@ -8,9 +8,10 @@
 #include <string>
 
 namespace qex::detail {
+namespace {
 
 /// Barycentric coordinates of x in (a, b, c); only used for embedding, not for decisions.
-static std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
+std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, const Point2& b, const Point2& c) {
     const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     // A sliver (twice its area at most 2^-20 of the product of two edges' lengths in the max
     // norm) loses its barycentric coordinates to rounding, and the grid point's 3D position with
@@ -22,6 +23,8 @@ static std::array<double, 3> barycentric_raw(const Point2& x, const Point2& a, c
     const double wc = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
     return {1.0 - wb - wc, wb, wc};
 }
+
+} // namespace
 
 std::array<double, 3> barycentric(const TriMesh& m, int f, const Point2& x) {
     std::array<int, 3> c{3 * f, 3 * f + 1, 3 * f + 2};
