@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace qex::detail::repair_impl {
@@ -23,23 +24,29 @@ constexpr int kPolishIterations = 2000;
 constexpr double kPolishStall = 1e-15;
 
 /// The dot product of a and b, summed in four interleaved lanes (one chain of dependent
-/// additions would bound the L-BFGS's two-loop recursion by the adder's latency); the order is
-/// fixed, so the result does not depend on anything but a and b.
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+/// additions would bound the L-BFGS's two-loop recursion by the adder's latency): lane j sums
+/// the products i = j mod 4 in order, the tail goes to lane 0, and the lanes are added as
+/// (0 + 1) + (2 + 3). The order is fixed, so the result depends on nothing but a and b, and the
+/// lanes are one vector register where the processor has four (the same bits either way).
+inline __attribute__((always_inline)) double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    typedef double Lanes __attribute__((vector_size(32)));
+    Lanes s = {0.0, 0.0, 0.0, 0.0};
     std::size_t i = 0;
     for (; i + 4 <= a.size(); i += 4) {
-        s0 += a[i] * b[i];
-        s1 += a[i + 1] * b[i + 1];
-        s2 += a[i + 2] * b[i + 2];
-        s3 += a[i + 3] * b[i + 3];
+        Lanes x, y;
+        std::memcpy(&x, a.data() + i, sizeof x);
+        std::memcpy(&y, b.data() + i, sizeof y);
+        s += x * y;
     }
+    double s0 = s[0];
     for (; i < a.size(); ++i) s0 += a[i] * b[i];
-    return (s0 + s1) + (s2 + s3);
+    return (s0 + s[1]) + (s[2] + s[3]);
 }
 
-/// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking).
-void minimise(const Problem& p, std::vector<double>& x, double eps, double length, int iterations, double stall = 1e-12) {
+/// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking). Inline:
+/// built for the baseline and for AVX2 below, the same arithmetic in wider lanes.
+inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std::vector<double>& x, double eps,
+                                                           double length, int iterations, double stall) {
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
@@ -95,6 +102,26 @@ void minimise(const Problem& p, std::vector<double>& x, double eps, double lengt
         x.swap(x_new), g.swap(g_new), f = f_new;
         if (stalled) return;
     }
+}
+
+// On x86-64 the L-BFGS (its dot products and vector updates) is built twice, for AVX2 and for
+// the baseline, and the first call picks the one the processor runs (a check, not an ifunc, as
+// for the energy: energy.cpp). Not FMA: the values are the same bits either way.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define QEX_SOLVER_AVX2 1
+__attribute__((target("avx2"))) void minimise_avx2(const Problem& p, std::vector<double>& x, double eps, double length,
+                                                   int iterations, double stall) {
+    minimise_lanes(p, x, eps, length, iterations, stall);
+}
+#endif
+
+void minimise(const Problem& p, std::vector<double>& x, double eps, double length, int iterations,
+              double stall = 1e-12) {
+#if defined(QEX_SOLVER_AVX2)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) return minimise_avx2(p, x, eps, length, iterations, stall);
+#endif
+    minimise_lanes(p, x, eps, length, iterations, stall);
 }
 
 /// Moves a free vertex into the kernel of its link (where every triangle round it is positive),
