@@ -248,15 +248,12 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
         if (failed[i]) a.log.record(regions[i], *failed[i]);
 }
 
-/// Keeps the seed triangles with a vertex within `radius` rings of a vertex of the `near`
-/// triangles: those whose regions at that radius reach them. `distance` is per-vertex scratch.
+/// Keeps the seed triangles with a vertex within `radius` rings of the `near` vertices: those
+/// whose regions at that radius reach them. `distance` is per-vertex scratch.
 void keep_near(const TriMesh& m, const std::vector<int>& near, int radius, std::vector<int>& seeds_faces,
                std::vector<int>& distance) {
-    std::vector<int> corners;
-    for (const int f : near)
-        for (const int v : m.tri[f]) corners.push_back(v);
     std::vector<char> reached(static_cast<std::size_t>(m.num_vertices), 0);
-    for (const int v : ring_neighbourhood(m, corners, radius, distance)) reached[static_cast<std::size_t>(v)] = 1;
+    for (const int v : ring_neighbourhood(m, near, radius, distance)) reached[static_cast<std::size_t>(v)] = 1;
     const auto far = [&](int f) {
         for (const int v : m.tri[f])
             if (reached[static_cast<std::size_t>(v)]) return false;

@@ -47,7 +47,7 @@ void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& 
 /// as the repair would leave it there (the dipole merges that do not stand undone) and the
 /// outcome so far: `enough` stops the repair there (the mesh of that map is as good as the last
 /// ring could make it); otherwise, with `near` given, the last ring attempts only the fold-overs
-/// within its radius of those triangles (where that mesh lost quads), else all of them.
+/// within its radius of those vertices (where that mesh lost quads), else all of them.
 struct RepairLook {
     bool enough = false;
     std::vector<int> near;
