@@ -321,6 +321,12 @@ FaceWalks merge_vertices(const TriMesh& m, const QState& q, FaceWalks faces, con
 /// near (through the provenance).
 void locate_violations(const Input& input, Result& result);
 
+/// A place a defect or an explanation names by triangle f (working index) and grid point g in
+/// f's chart, as vertices of the working mesh: those of every triangle round the element g lies
+/// on (a corner's fan, an edge's two triangles, else f), appended to `out`. Which triangle round
+/// a place is named follows the input's order; these vertices do not.
+void place_vertices(const TriMesh& m, int f, const std::array<std::int64_t, 2>& g, std::vector<int>& out);
+
 // ============================================================================ collapsed handles (collapsed_handles.cpp)
 
 /// The handles of the surface the map (as given) collapses: each a region of triangles whose UV

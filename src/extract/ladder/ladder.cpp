@@ -330,30 +330,6 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     timer.done(Stage::check);
 }
 
-/// The vertices of every triangle round the element of triangle f that grid point g (in f's
-/// chart) lies on: a corner's fan, an edge's two triangles, else f. Whichever triangle round a
-/// place an explanation names (that depends on the input's order), the vertices are the same,
-/// and they hold the named triangle's.
-void place_vertices(const TriMesh& m, int f, const std::array<std::int64_t, 2>& g, std::vector<int>& out) {
-    const Point2 p{static_cast<double>(g[0]), static_cast<double>(g[1])};
-    const auto triangle = [&](int t) {
-        for (const int v : m.tri[t]) out.push_back(v);
-    };
-    for (int k = 0; k < 3; ++k)
-        if (m.uv[3 * f + k] == p) {
-            const int v = m.tri[f][k];
-            for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) triangle(TriMesh::face(h));
-            return triangle(f);
-        }
-    for (int k = 0; k < 3; ++k)
-        if (on_segment(p, m.uv[3 * f + k], m.uv[3 * f + (k + 1) % 3]) &&
-            orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2]) != Orientation::Collinear) {
-            if (const int o = m.opp[3 * f + k]; o >= 0) triangle(TriMesh::face(o));
-            return triangle(f);
-        }
-    triangle(f);
-}
-
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
                        const Rung& rung, const Report& report) {
     Result attempt;
