@@ -185,26 +185,30 @@ void locate_violations(const Input& input, Result& result) {
 }
 
 /// The vertices of every triangle round the element of triangle f that grid point g (in f's
-/// chart) lies on: a corner's fan, an edge's two triangles, else f. Whichever triangle round a
-/// place an explanation names (that depends on the input's order), the vertices are the same,
-/// and they hold the named triangle's.
+/// chart) lies on: a corner's fan (every corner on g: a zero-length edge can survive the
+/// collapse), an edge's two triangles (every edge through g when f is degenerate), else f.
+/// Whichever triangle round a place an explanation names (that depends on the input's order),
+/// the vertices are the same, and they hold the named triangle's.
 void place_vertices(const TriMesh& m, int f, const std::array<std::int64_t, 2>& g, std::vector<int>& out) {
     const Point2 p{static_cast<double>(g[0]), static_cast<double>(g[1])};
     const auto triangle = [&](int t) {
         for (const int v : m.tri[t]) out.push_back(v);
     };
+    bool on_corner = false;
     for (int k = 0; k < 3; ++k)
         if (m.uv[3 * f + k] == p) {
             const int v = m.tri[f][k];
             for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) triangle(TriMesh::face(h));
-            return triangle(f);
+            on_corner = true;
         }
-    for (int k = 0; k < 3; ++k)
-        if (on_segment(p, m.uv[3 * f + k], m.uv[3 * f + (k + 1) % 3]) &&
-            orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2]) != Orientation::Collinear) {
-            if (const int o = m.opp[3 * f + k]; o >= 0) triangle(TriMesh::face(o));
-            return triangle(f);
-        }
+    if (!on_corner) {
+        const bool degenerate = orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2]) == Orientation::Collinear;
+        for (int k = 0; k < 3; ++k)
+            if (on_segment(p, m.uv[3 * f + k], m.uv[3 * f + (k + 1) % 3])) {
+                if (const int o = m.opp[3 * f + k]; o >= 0) triangle(TriMesh::face(o));
+                if (!degenerate) break;
+            }
+    }
     triangle(f);
 }
 

@@ -128,8 +128,8 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
 
 /// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
 /// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
-/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the triangles
-/// where it lost them.
+/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the vertices
+/// round where it lost them (place_vertices).
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
                        const Rung& rung, const Report& report);
 

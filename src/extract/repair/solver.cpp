@@ -80,7 +80,9 @@ inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std:
             for (std::size_t i = 0; i < d.size(); ++i) d[i] += (alpha[j] - beta) * ss[j][i];
         }
         double slope = dot(g, d);
+        bool gradient_step = ss.empty();
         if (!(slope < 0)) { // not a descent direction: restart from the gradient
+            gradient_step = true;
             ss.clear(), ys.clear(), rho.clear();
             const double norm = std::sqrt(dot(g, g));
             if (!(norm > 0)) return;
@@ -105,7 +107,9 @@ inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std:
             if (ss.size() == kHistory) ss.erase(ss.begin()), ys.erase(ys.begin()), rho.erase(rho.begin());
             ss.push_back(std::move(s_k)), ys.push_back(std::move(y_k)), rho.push_back(1.0 / sy);
         }
-        const bool stalled = f - f_new <= stall * std::abs(f);
+        // A gradient step (the first, or after a restart) does not end the minimisation: near a
+        // barrier it can gain little where the steps after it, with a history, gain much.
+        const bool stalled = gradient_step ? false : f - f_new <= stall * std::abs(f);
         x.swap(x_new), g.swap(g_new), f = f_new;
         if (stalled) return;
     }
