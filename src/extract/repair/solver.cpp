@@ -14,15 +14,16 @@ namespace {
 // ============================================================================ budget
 
 /// Regularisation steps per attempt, and L-BFGS iterations per step: a step stops earlier, at the
-/// first iteration that lowers the energy by less than kInnerStall of it. The regularisation
-/// changes after each step, so its minimum need not be reached: 744 of 766 steps on the paper's
-/// maps ran all 80 iterations, gaining less than 1e-6 per iteration from the 40th on average.
-/// Looser stalls (1e-6 to 1e-4) keep every quad count and exit code of the shared maps and save
-/// up to a quarter of their CPU, but move repaired vertices of translated or re-charted maps into
-/// other minima of the relaxation (the transform tests; bench/RESULTS.md, issue 30 round 6).
+/// first iteration after its gradient step that lowers the energy by less than kInnerStall of it.
+/// The regularisation changes after each step, so its minimum need not be reached: 744 of 766
+/// steps on the paper's maps ran all 80 iterations, gaining less than 1e-6 per iteration from the
+/// 40th on average. Quad counts and exit codes of the shared maps are the same from 1e-4 to 1e-7;
+/// where the untangler stops moves the repaired vertices, and with them which minimum of the
+/// relaxation a translated or re-charted map lands in (the transform tests; bench/RESULTS.md,
+/// issue 30 round 6).
 constexpr int kOuterIterations = 60;
 constexpr int kInnerIterations = 80;
-constexpr double kInnerStall = 1e-7;
+constexpr double kInnerStall = 1e-5;
 /// The first regularisation, relative to the most negative Jacobian determinant.
 constexpr double kInitialRegularisation = 0.1;
 /// Iterations of the final minimisation of a repaired region.
