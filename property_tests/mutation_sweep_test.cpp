@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -237,52 +238,56 @@ std::string line(const char* kind, const Tally& t) {
     return buf;
 }
 
-TEST(MutationSweep, EveryMutantOfEverySharedMapsOutputIsRejectedOrUndecided) {
-    std::size_t maps = 0;
-    Tally all[3], all_on_certificate;
+/// Every shared map, as folder/file: one test each.
+std::vector<std::string> shared_maps() {
+    std::vector<std::string> out;
     for (const char* dir : {"paper", "miq", "miq-more", "quadcover"}) {
-        std::vector<fs::path> files;
         std::error_code ec;
         for (const auto& e : fs::directory_iterator(fs::path(QEX_SHARED_DIR) / "meshes" / dir, ec))
-            if (e.path().extension() == ".obj") files.push_back(e.path());
-        std::sort(files.begin(), files.end());
-        for (const fs::path& path : files) {
-            Input in;
-            if (!read_obj(path.string(), in).ok()) continue;
-            const Result r = extract(in);
-            if (!r.ok() || !r.check.valid) continue;
-            QuadMesh good = bare(r.mesh);
-            good.grid_scale = r.mesh.grid_scale;
-            const VerifyResult own = verify(in, good);
-            EXPECT_TRUE(own.valid) << path << ": " << first_message(own);
-            const Certificate certificate = make_certificate(in, r.mesh);
-            Tally on_certificate;
-            const Tally t[3] = {rotate_edges(in, good, certificate, on_certificate), drop_faces(in, good),
-                                slide_vertices(in, good, r.mesh.provenance)};
-            std::printf(
-                "%-34s rotated%s dropped%s slid%s (rejected/undecided/missed); rotated undecided, on the "
-                "certificate%s\n",
-                path.stem().c_str(), line("", t[0]).c_str(), line("", t[1]).c_str(), line("", t[2]).c_str(),
-                line("", on_certificate).c_str());
-            EXPECT_EQ(on_certificate.missed, 0u) << path << " on its certificate";
-            all_on_certificate.rejected += on_certificate.rejected;
-            all_on_certificate.undecided += on_certificate.undecided;
-            all_on_certificate.missed += on_certificate.missed;
-            for (int k = 0; k < 3; ++k) {
-                EXPECT_EQ(t[k].missed, 0u) << path << " kind " << k;
-                all[k].rejected += t[k].rejected, all[k].undecided += t[k].undecided, all[k].missed += t[k].missed;
-            }
-            EXPECT_EQ(t[1].undecided, 0u) << path << ": a dropped quad is a hole, decided everywhere";
-            ++maps;
-        }
+            if (e.path().extension() == ".obj") out.push_back(std::string(dir) + "/" + e.path().filename().string());
     }
-    if (maps == 0) GTEST_SKIP() << "no maps in " << QEX_SHARED_DIR << "/meshes";
-    std::printf(
-        "all %zu maps: rotated%s dropped%s slid%s (rejected/undecided/missed); rotated undecided, on the "
-        "certificate%s\n",
-        maps, line("", all[0]).c_str(), line("", all[1]).c_str(), line("", all[2]).c_str(),
-        line("", all_on_certificate).c_str());
+    std::sort(out.begin(), out.end());
+    return out;
 }
+
+std::string map_name(const ::testing::TestParamInfo<std::string>& info) {
+    std::string s = fs::path(info.param).stem().string();
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return s;
+}
+
+class MutationSweep : public ::testing::TestWithParam<std::string> {};
+
+// One test per map (ctest runs them side by side); each prints its tallies, which
+// property_tests/README.md sums.
+TEST_P(MutationSweep, EveryMutantOfTheOutputIsRejectedOrUndecided) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / GetParam();
+    Input in;
+    ASSERT_TRUE(read_obj(path.string(), in).ok()) << path;
+    const Result r = extract(in);
+    if (!r.ok() || !r.check.valid) GTEST_SKIP() << path << ": no valid mesh to mutate";
+    QuadMesh good = bare(r.mesh);
+    good.grid_scale = r.mesh.grid_scale;
+    const VerifyResult own = verify(in, good);
+    EXPECT_TRUE(own.valid) << path << ": " << first_message(own);
+    const Certificate certificate = make_certificate(in, r.mesh);
+    Tally on_certificate;
+    const Tally t[3] = {rotate_edges(in, good, certificate, on_certificate), drop_faces(in, good),
+                        slide_vertices(in, good, r.mesh.provenance)};
+    std::printf(
+        "%-34s rotated%s dropped%s slid%s (rejected/undecided/missed); rotated undecided, on the "
+        "certificate%s\n",
+        path.stem().c_str(), line("", t[0]).c_str(), line("", t[1]).c_str(), line("", t[2]).c_str(),
+        line("", on_certificate).c_str());
+    EXPECT_EQ(on_certificate.missed, 0u) << path << " on its certificate";
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(t[k].missed, 0u) << path << " kind " << k;
+    EXPECT_EQ(t[1].undecided, 0u) << path << ": a dropped quad is a hole, decided everywhere";
+}
+
+// Every shared map, none where ../shared is absent.
+INSTANTIATE_TEST_SUITE_P(SharedMaps, MutationSweep, ::testing::ValuesIn(shared_maps()), map_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(MutationSweep);
 
 } // namespace
 } // namespace qex::testing
