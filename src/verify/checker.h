@@ -59,6 +59,10 @@ Topology analyse(std::size_t num_vertices, const std::vector<std::size_t>& offse
 /// must be 3 per triangle.
 void signed_uv_area(const Input& input, VerifyResult& r);
 
+/// Per input triangle: its UV area is exactly zero (its corners' UVs collinear or coincident),
+/// decided exactly (a filtered orientation, rationals when the filter cannot tell).
+std::vector<char> uv_degenerate_triangles(const Input& input);
+
 // ============================================================================ the mesh's map (map_check.cpp)
 
 /// The map the mesh claims to come from (`mesh.map_uvs`, as many as the input's UVs): an exact

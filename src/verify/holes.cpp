@@ -139,17 +139,39 @@ std::vector<double> cell_reach(const QuadMesh& mesh) {
     return reach;
 }
 
-/// The input's boundary edges grouped into loops (by shared vertices).
+/// The input's boundary edges grouped into loops (by shared vertices), each with the edges of
+/// the triangles of zero UV area joined to it through vertices: the map covers no cell there, so
+/// a mesh that follows it runs along their far side (a boundary corner whose vertex shares its UV
+/// with an interior one is cut off by the mesh's boundary). A degenerate triangle touching two
+/// loops joins both; loops are not merged through it.
 std::vector<std::vector<std::array<int, 2>>> input_loops(const Input& in) {
     const auto edges = input_boundary_edges(in);
     UnionFind uf(in.positions.size());
     for (const auto& e : edges) uf.unite(e[0], e[1]);
-    std::vector<std::int64_t> slot(in.positions.size(), -1);
+    std::vector<std::int64_t> slot(in.positions.size(), -1), loop_of(in.positions.size(), -1);
     std::vector<std::vector<std::array<int, 2>>> loops;
     for (const auto& e : edges) {
         auto& s = slot[static_cast<std::size_t>(uf.find(e[0]))];
         if (s < 0) s = static_cast<std::int64_t>(loops.size()), loops.emplace_back();
         loops[static_cast<std::size_t>(s)].push_back(e);
+        loop_of[static_cast<std::size_t>(e[0])] = loop_of[static_cast<std::size_t>(e[1])] = s;
+    }
+    const std::vector<char> degenerate = uv_degenerate_triangles(in);
+    std::vector<std::vector<std::int64_t>> joined(in.triangles.size()); // per triangle, the loops it joined
+    for (bool grew = !loops.empty(); grew;) { // to their closure through degenerate triangles
+        grew = false;
+        for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+            if (!degenerate[f]) continue;
+            const auto& t = in.triangles[f];
+            for (const int v : t) {
+                const std::int64_t l = loop_of[static_cast<std::size_t>(v)];
+                if (l < 0 || std::find(joined[f].begin(), joined[f].end(), l) != joined[f].end()) continue;
+                joined[f].push_back(l), grew = true;
+                for (int k = 0; k < 3; ++k) loops[static_cast<std::size_t>(l)].push_back({t[k], t[(k + 1) % 3]});
+                for (const int w : t)
+                    if (loop_of[static_cast<std::size_t>(w)] < 0) loop_of[static_cast<std::size_t>(w)] = l;
+            }
+        }
     }
     return loops;
 }

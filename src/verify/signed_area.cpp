@@ -61,6 +61,22 @@ std::int64_t round_half_up(const Rational& area) {
 
 } // namespace
 
+std::vector<char> uv_degenerate_triangles(const Input& input) {
+    std::vector<char> out(input.triangles.size(), 0);
+    for (std::size_t f = 0; f < input.triangles.size(); ++f) {
+        const auto &a = input.uvs[3 * f], &b = input.uvs[3 * f + 1], &c = input.uvs[3 * f + 2];
+        const double left = (b[0] - a[0]) * (c[1] - a[1]), right = (b[1] - a[1]) * (c[0] - a[0]);
+        // Shewchuk's bound for the orientation in doubles: past it the sign is the exact one.
+        const double bound = 3.3306690738754716e-16 * (std::abs(left) + std::abs(right));
+        if (std::isfinite(left - right) && std::abs(left - right) > bound) continue;
+        if (!std::isfinite(a[0] + a[1] + b[0] + b[1] + c[0] + c[1])) continue;
+        const Rational twice = (Rational(b[0]) - Rational(a[0])) * (Rational(c[1]) - Rational(a[1])) -
+                               (Rational(b[1]) - Rational(a[1])) * (Rational(c[0]) - Rational(a[0]));
+        out[f] = twice == 0;
+    }
+    return out;
+}
+
 void signed_uv_area(const Input& input, VerifyResult& r) {
     // The double sum decides the rounding when its error bound keeps it off every half; exact
     // rationals decide it only when the bound does not. The display shows the double sum, or
