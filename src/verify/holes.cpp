@@ -156,21 +156,27 @@ std::vector<std::vector<std::array<int, 2>>> input_loops(const Input& in) {
         loops[static_cast<std::size_t>(s)].push_back(e);
         loop_of[static_cast<std::size_t>(e[0])] = loop_of[static_cast<std::size_t>(e[1])] = s;
     }
+    // To their closure through degenerate triangles: a worklist of labelled vertices, each
+    // degenerate triangle at one joining its loop once (a pass over all triangles per step of a
+    // chain of them would be quadratic).
     const std::vector<char> degenerate = uv_degenerate_triangles(in);
+    std::vector<std::vector<std::size_t>> at(in.positions.size()); // degenerate triangles per vertex
+    for (std::size_t f = 0; f < in.triangles.size(); ++f)
+        if (degenerate[f])
+            for (const int v : in.triangles[f]) at[static_cast<std::size_t>(v)].push_back(f);
     std::vector<std::vector<std::int64_t>> joined(in.triangles.size()); // per triangle, the loops it joined
-    for (bool grew = !loops.empty(); grew;) { // to their closure through degenerate triangles
-        grew = false;
-        for (std::size_t f = 0; f < in.triangles.size(); ++f) {
-            if (!degenerate[f]) continue;
+    std::vector<int> work;
+    for (std::size_t v = 0; v < in.positions.size(); ++v)
+        if (loop_of[v] >= 0 && !at[v].empty()) work.push_back(static_cast<int>(v));
+    for (std::size_t i = 0; i < work.size(); ++i) {
+        const std::int64_t l = loop_of[static_cast<std::size_t>(work[i])];
+        for (const std::size_t f : at[static_cast<std::size_t>(work[i])]) {
+            if (std::find(joined[f].begin(), joined[f].end(), l) != joined[f].end()) continue;
+            joined[f].push_back(l);
             const auto& t = in.triangles[f];
-            for (const int v : t) {
-                const std::int64_t l = loop_of[static_cast<std::size_t>(v)];
-                if (l < 0 || std::find(joined[f].begin(), joined[f].end(), l) != joined[f].end()) continue;
-                joined[f].push_back(l), grew = true;
-                for (int k = 0; k < 3; ++k) loops[static_cast<std::size_t>(l)].push_back({t[k], t[(k + 1) % 3]});
-                for (const int w : t)
-                    if (loop_of[static_cast<std::size_t>(w)] < 0) loop_of[static_cast<std::size_t>(w)] = l;
-            }
+            for (int k = 0; k < 3; ++k) loops[static_cast<std::size_t>(l)].push_back({t[k], t[(k + 1) % 3]});
+            for (const int w : t)
+                if (loop_of[static_cast<std::size_t>(w)] < 0) loop_of[static_cast<std::size_t>(w)] = l, work.push_back(w);
         }
     }
     return loops;
