@@ -66,6 +66,20 @@ qex_fuzz_run() {
   ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$stats")
   eps=$(sed -nE 's/.* exec\/s:? ([0-9]+).*/\1/p' <<<"$stats")
 
+  # New coverage: the units the run added to the scratch corpus, up to QEX_FUZZ_MAX_KEEP bytes,
+  # merged by edges against the corpus (before the findings: the merge can time out on a unit too).
+  local f
+  mkdir -p "$work/new"
+  (cd "$work/corpus" && ls) | sort | comm -13 "$work/before" - >"$work/new.list"
+  while read -r f; do
+    if [ -n "$f" ] && [ "$(stat -c %s "$work/corpus/$f")" -le "$QEX_FUZZ_MAX_KEEP" ]; then
+      cp "$work/corpus/$f" "$work/new/"
+    fi
+  done <"$work/new.list"
+  local added
+  added=$(qex_fuzz_keep "$target" "$work/new" "$out/$target/")
+  rm -rf "$work"
+
   # Findings: every artifact but slow units goes to regressions/, named by content.
   local a kind n=0 slow=0 kinds=""
   for a in "$out/$target"/*; do
@@ -82,37 +96,29 @@ qex_fuzz_run() {
     findings="$n ($(tr ' ' '\n' <<<"$kinds" | sed '/^$/d' | sort | uniq -c | awk '{printf "%s%s %s", s, $1, $2; s=", "}'))"
   fi
 
-  # New coverage: the units the run added to the scratch corpus, up to QEX_FUZZ_MAX_KEEP bytes.
-  local f
-  mkdir -p "$work/new"
-  (cd "$work/corpus" && ls) | sort | comm -13 "$work/before" - >"$work/new.list"
-  while read -r f; do
-    if [ -n "$f" ] && [ "$(stat -c %s "$work/corpus/$f")" -le "$QEX_FUZZ_MAX_KEEP" ]; then
-      cp "$work/corpus/$f" "$work/new/"
-    fi
-  done <"$work/new.list"
-  local added
-  added=$(qex_fuzz_keep "$target" "$work/new")
-  rm -rf "$work"
-
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$target" "$((end - start))" "${runs:-?}" "${eps:-?}" \
     "${cov:-?}" "${ft:-?}" "$added" "$findings" "$slow" >"$out/$target.row"
 }
 
-# Minimizes the units in DIR (a merge among themselves: a later unit can cover an earlier one's
-# features, so some are not needed) and copies the rest to corpus/TARGET/merged/ under
-# libFuzzer's hash names. Replays only DIR's units, not the corpus. Prints how many it copied.
+# Keeps the units in DIR that reach edges the whole corpus/TARGET (seeds, merged/, regressions/)
+# does not: libFuzzer's merge by edges only (-use_counters=0; units that add only hit-count
+# features made the replays 3-9 times slower) into a scratch copy of the corpus. Copies them to
+# corpus/TARGET/merged/ under libFuzzer's hash names and prints how many. The merge replays the
+# whole corpus once (fuzz_extract: about 10 minutes under the sanitizers); artifacts of units that
+# crash or time out in it go to ARTIFACTS (default: the scratch directory, then dropped).
 qex_fuzz_keep() {
-  local target=$1 dir=$2 kept n=0 f
-  kept=$(mktemp -d)
-  "$qex_build/fuzz/$target" -merge=1 -timeout=30 -rss_limit_mb=2048 "$kept" "$dir" >"$kept.log" 2>&1 || true
-  for f in "$kept"/*; do
-    [ -f "$f" ] || continue
-    if [ ! -e "$qex_root/corpus/$target/merged/$(basename "$f")" ]; then
-      cp "$f" "$qex_root/corpus/$target/merged/"
+  local target=$1 dir=$2 artifacts=${3:-} ctrl f n=0
+  ctrl=$(mktemp -d)
+  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$ctrl" {} +
+  (cd "$ctrl" && ls) | sort >"$ctrl.before"
+  "$qex_build/fuzz/$target" -merge=1 -use_counters=0 -timeout=30 -rss_limit_mb=2048 \
+    -artifact_prefix="${artifacts:-$ctrl.}" "$ctrl" "$dir" >"$ctrl.log" 2>&1 || true
+  while read -r f; do
+    if [ ! -e "$qex_root/corpus/$target/merged/$f" ]; then
+      cp "$ctrl/$f" "$qex_root/corpus/$target/merged/"
       n=$((n + 1))
     fi
-  done
-  rm -rf "$kept" "$kept.log"
+  done < <((cd "$ctrl" && ls) | sort | comm -13 "$ctrl.before" -)
+  rm -rf "$ctrl" "$ctrl".*
   echo "$n"
 }
