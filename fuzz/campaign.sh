@@ -6,7 +6,9 @@
 # copied to corpus/<target>/regressions/, units of new coverage to corpus/<target>/merged/.
 # Ends with a table, also written as Markdown to build-fuzz/campaign.md; logs and artifacts are in
 # build-fuzz/campaign/. Set QEX_FUZZ_ONLY="fuzz_obj fuzz_ply" to run some targets only, and
-# CMAKE_BUILD_PARALLEL_LEVEL to build with fewer jobs than the cores (fuzz_lib.sh).
+# CMAKE_BUILD_PARALLEL_LEVEL to build with fewer jobs than the cores (fuzz_lib.sh), and
+# QEX_FUZZ_SECONDS_<target>=S to give one target S seconds instead (fuzz_extract replays its corpus
+# for about 10 minutes under the sanitizers before it fuzzes).
 set -euo pipefail
 # shellcheck source=fuzz/fuzz_lib.sh
 . "$(dirname "$0")/fuzz_lib.sh"
@@ -22,12 +24,13 @@ if [ "$commit" != unknown ] && ! git -C "$qex_root" diff --quiet HEAD -- src inc
   commit="$commit (with uncommitted changes)"
 fi
 for t in "${targets[@]}"; do
-  echo "== $t: $seconds s, $jobs job(s)"
-  qex_fuzz_run "$t" "$seconds" "$jobs" "$out"
+  own="QEX_FUZZ_SECONDS_$t"
+  echo "== $t: ${!own:-$seconds} s, $jobs job(s)"
+  qex_fuzz_run "$t" "${!own:-$seconds}" "$jobs" "$out"
   cut -f2- "$out/$t.row" | awk -F'\t' '{printf "   %s s, %s executions, %s exec/s, cov %s ft %s, %s new units, findings: %s, slow units: %s\n", $1,$2,$3,$4,$5,$6,$7,$8}'
 done
 {
-  echo "Fuzz campaign $(date +%F), commit $commit: $seconds s per target, $jobs job(s), $(getconf _NPROCESSORS_ONLN) cores," \
+  echo "Fuzz campaign $(date +%F), commit $commit: $seconds s per target (unless the seconds column says otherwise), $jobs job(s), $(getconf _NPROCESSORS_ONLN) cores," \
     "clang $(clang --version | sed -nE 's/.*version ([0-9.]+).*/\1/p' | head -n 1), ASan+UBSan," \
     "OMP_NUM_THREADS=${OMP_NUM_THREADS:-unset}"
   echo
