@@ -15,6 +15,33 @@
 
 namespace qex::testing {
 
+/// Mutation sites a face apart: each claims its faces and every face at their vertices.
+class Sites {
+public:
+    explicit Sites(const QuadMesh& m) : faces_of_(m.positions.size()), taken_(m.faces.size(), 0) {
+        for (std::size_t f = 0; f < m.faces.size(); ++f)
+            for (int v : m.faces[f]) faces_of_[static_cast<std::size_t>(v)].push_back(f);
+    }
+    /// Claims the faces at `vertices` if none is claimed yet.
+    bool claim(const std::vector<int>& vertices) {
+        for (int v : vertices)
+            for (std::size_t f : faces_of_[static_cast<std::size_t>(v)])
+                if (taken_[f]) return false;
+        for (int v : vertices)
+            for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
+        return true;
+    }
+    /// Claims every face at v, claimed or not.
+    void block(int v) {
+        for (std::size_t f : faces_of_[static_cast<std::size_t>(v)]) taken_[f] = 1;
+    }
+    const std::vector<std::size_t>& faces_at(int v) const { return faces_of_[static_cast<std::size_t>(v)]; }
+
+private:
+    std::vector<std::vector<std::size_t>> faces_of_;
+    std::vector<char> taken_;
+};
+
 /// The mesh as another extractor would write it: positions and faces only.
 inline QuadMesh bare(const QuadMesh& m) {
     QuadMesh b;
@@ -72,6 +99,23 @@ inline bool names_face(const VerifyResult& v, std::int64_t f, bool undecided) {
         for (const Violation& x : *list)
             if (x.kind == ViolationKind::FaceNotGridCell && x.element == f && (list == &v.violations || undecided))
                 return true;
+    return false;
+}
+
+/// Whether a violation in `list` names one of `vertices` or `faces` (its element or a place).
+inline bool named(const std::vector<Violation>& list, const std::set<std::int64_t>& vertices, const std::set<std::int64_t>& faces) {
+    for (const Violation& x : list) {
+        const ViolationElement e = element_kind(x.kind);
+        if ((e == ViolationElement::OutputVertex && vertices.count(x.element)) ||
+            (e == ViolationElement::OutputFace && faces.count(x.element)))
+            return true;
+        for (const Place& p : x.places) {
+            const auto& in = p.kind == PlaceKind::Face ? faces : vertices;
+            if (p.kind != PlaceKind::Vertex && p.kind != PlaceKind::Loop && p.kind != PlaceKind::Face) continue;
+            for (const std::int64_t i : p.indices)
+                if (in.count(i)) return true;
+        }
+    }
     return false;
 }
 
