@@ -44,7 +44,7 @@ using namespace qex::testing;
 namespace {
 
 /// The most quads a map scaled by UVs x 2^k may have (perturb_more, case 0).
-constexpr std::int64_t kMaxScaledQuads = 8192;
+constexpr std::int64_t kMaxScaledQuads = 4096;
 
 /// The generated map and what the perturbations did to it.
 struct Case {
@@ -194,7 +194,8 @@ void perturb_more(fuzz::Bytes& b, int op, Case& c) {
             int e = std::min(b.range(1, 3), 3 - c.scale_log2);
             // and up to kMaxScaledQuads: the three-ring torus x 8 (27,648 quads, invalid after its
             // folds) took 0.42 s in Release and 11 s under ASan on an idle machine, a timeout (30 s)
-            // at nice 19 beside the other half of a campaign (fifth run, timeout-23f89e03...).
+            // at nice 19 beside the other half of a campaign (fifth run, timeout-23f89e03...), and
+            // the same torus x 4 (6,912 quads) 1.24 s in Release, a timeout in the sixth's replay.
             while (e > 0 && (expected_quads(*c.layout, c.n) << (2 * (c.scale_log2 + e))) > kMaxScaledQuads) --e;
             if (e <= 0) break;
             if (transforms::scale_uvs(in, std::int64_t{1} << e) != 0) c.benign = c.area_kept = false; // overflowed
