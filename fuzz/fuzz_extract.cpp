@@ -43,7 +43,8 @@ using namespace qex::testing;
 
 namespace {
 
-/// The most quads a map scaled by UVs x 2^k may have (perturb_more, case 0).
+/// The most quads a map scaled by UVs x 2^k, or refined, may have (perturb_more, case 0; the
+/// refinement allowed).
 constexpr std::int64_t kMaxScaledQuads = 4096;
 
 /// The generated map and what the perturbations did to it.
@@ -318,7 +319,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // refined x 2 and x 4 (48K quads), took 1.2 s in Release and 30 s under ASan, past run.sh's
     // 30 s timeout; and since the library's default became x 16, unscaled maps that no refinement
     // helps took 4-7 s in Release (five timeouts in a 600 s run).
+    // And a refinement stays within kMaxScaledQuads too (the cap on UVs x 2^k alone let a map it
+    // held at x 2 be refined x 2 to the size it was meant to prevent).
     opt.max_refinement = std::max(1, std::min(opt.max_refinement, 4) >> c.scale_log2);
+    while (opt.max_refinement > 1 &&
+           (expected_quads(*c.layout, c.n) << 2 * c.scale_log2) * opt.max_refinement * opt.max_refinement >
+               kMaxScaledQuads)
+        opt.max_refinement /= 2;
     const Result r = extract(c.in, opt);
     if (!r.ok()) {
         if (c.benign) fuzz::fail(std::string("a generated map is valid input: ") + r.error.message);

@@ -38,9 +38,10 @@ qex_fuzz_dict() {
 #   TARGET.row    one tab-separated line: target, wall seconds, executions, exec/s, cov, ft,
 #                 new units kept, findings (count and kinds), slow units
 #   TARGET/       the artifacts libFuzzer wrote (crash-*, timeout-*, oom-*, leak-*, slow-unit-*)
+#   TARGET.merge.log  libFuzzer's output of the merge of the new units (qex_fuzz_keep)
 # and in the repository: every artifact but slow units in corpus/TARGET/regressions/<sha1:16>,
-# and the units the run added (fork mode adds only units with features new to the whole corpus)
-# up to QEX_FUZZ_MAX_KEEP bytes in corpus/TARGET/merged/.
+# and of the units the run added, up to QEX_FUZZ_MAX_KEEP bytes, those that reach edges the whole
+# corpus does not (qex_fuzz_keep) in corpus/TARGET/merged/.
 qex_fuzz_run() {
   local target=$1 seconds=$2 jobs=$3 out=$4
   local bin="$qex_build/fuzz/$target" work="$qex_build/fuzz-work/$target"
@@ -77,7 +78,7 @@ qex_fuzz_run() {
     fi
   done <"$work/new.list"
   local added
-  added=$(qex_fuzz_keep "$target" "$work/new" "$out/$target/")
+  added=$(qex_fuzz_keep "$target" "$work/new" "$out/$target/" "$out/$target.merge.log")
   rm -rf "$work"
 
   # Findings: every artifact but slow units goes to regressions/, named by content.
@@ -104,15 +105,21 @@ qex_fuzz_run() {
 # does not: libFuzzer's merge by edges only (-use_counters=0; units that add only hit-count
 # features made the replays 3-9 times slower) into a scratch copy of the corpus. Copies them to
 # corpus/TARGET/merged/ under libFuzzer's hash names and prints how many. The merge replays the
-# whole corpus once (fuzz_extract: about 10 minutes under the sanitizers); artifacts of units that
-# crash or time out in it go to ARTIFACTS (default: the scratch directory, then dropped).
+# whole corpus once (fuzz_extract: about 10 minutes under the sanitizers), and not at all when DIR
+# is empty; artifacts of units that crash or time out in it go to ARTIFACTS, and its output to LOG
+# (defaults: the scratch directory, then dropped).
 qex_fuzz_keep() {
-  local target=$1 dir=$2 artifacts=${3:-} ctrl f n=0
+  local target=$1 dir=$2 artifacts=${3:-} log=${4:-} ctrl f n=0
+  # Nothing new: no merge (it would replay the whole corpus for nothing).
+  if [ -z "$(ls -A "$dir" 2>/dev/null)" ]; then
+    echo 0
+    return
+  fi
   ctrl=$(mktemp -d)
   find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$ctrl" {} +
   (cd "$ctrl" && ls) | sort >"$ctrl.before"
   "$qex_build/fuzz/$target" -merge=1 -use_counters=0 -timeout=30 -rss_limit_mb=2048 \
-    -artifact_prefix="${artifacts:-$ctrl.}" "$ctrl" "$dir" >"$ctrl.log" 2>&1 || true
+    -artifact_prefix="${artifacts:-$ctrl.}" "$ctrl" "$dir" >"${log:-$ctrl.log}" 2>&1 || true
   while read -r f; do
     if [ ! -e "$qex_root/corpus/$target/merged/$f" ]; then
       cp "$ctrl/$f" "$qex_root/corpus/$target/merged/"

@@ -5,7 +5,7 @@
 // (--strict), with positions as %.6g and as float32 values. Its mutations (mutations.h) are
 // rejected with the right kind and place, and the coverage check names every cell it requires
 // when that cell's face is dropped, and nothing else.
-// One ctest test per map (SharedMaps/*, label precision: `ctest -L precision`); all 48 take about
+// One ctest test per map (SharedMaps/*, label precision: `ctest -L precision`); all 45 take about
 // 65 s of CPU (the rotated edges of a test are judged together, a face apart).
 #include "mutations.h"
 #include "test_support.h"
@@ -228,7 +228,7 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
 }
 
 /// Rotated edges between two faces whose cells the coverage check requires: both cells named,
-/// with their corners and the two faces in their place (up to nine edges, a face apart, judged
+/// with their corners and the two faces in their place (up to eight edges, a face apart, judged
 /// together).
 void rotations_are_located(const Input& in, const QuadMesh& good, const VerifyOptions& opt,
                            const std::vector<std::size_t>& required, Tally& tally) {
