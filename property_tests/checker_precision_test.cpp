@@ -203,20 +203,15 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
     std::vector<SharedEdge> rotated;
     for (std::size_t start = 0; start < good.faces.size(); start += good.faces.size() / 8 + 1) {
         const SharedEdge e = shared_edge(good, start);
-        if (e.a < 0) continue;
-        std::vector<int> six(good.faces[e.f].begin(), good.faces[e.f].end());
-        six.insert(six.end(), good.faces[e.g].begin(), good.faces[e.g].end());
-        if (!sites.claim(six)) continue;
-        rotate_edge(m, e);
-        rotated.push_back(e);
+        if (e.a >= 0 && rotate_apart(sites, good, m, e)) rotated.push_back(e);
     }
     if (rotated.empty()) return;
     const VerifyResult v = verify(in, m, opt);
     EXPECT_EQ(unplaced(v), "");
     for (const SharedEdge& e : rotated) {
         const std::set<Index> faces{static_cast<Index>(e.f), static_cast<Index>(e.g)};
-        std::set<Index> vertices(good.faces[e.f].begin(), good.faces[e.f].end());
-        vertices.insert(good.faces[e.g].begin(), good.faces[e.g].end());
+        const std::vector<int> site = edge_site(good, e);
+        const std::set<Index> vertices(site.begin(), site.end());
         ++tally.rotations;
         tally.rotations_rejected += named(v.violations, vertices, faces);
         tally.rotations_face_rejected +=
@@ -240,12 +235,7 @@ void rotations_are_located(const Input& in, const QuadMesh& good, const VerifyOp
     std::vector<SharedEdge> rotated;
     for (std::size_t i = 0; i < required.size(); i += step) {
         const SharedEdge e = shared_edge(good, required[i]);
-        if (e.a < 0 || e.f != required[i] || !is_required[e.g]) continue;
-        std::vector<int> six(good.faces[e.f].begin(), good.faces[e.f].end());
-        six.insert(six.end(), good.faces[e.g].begin(), good.faces[e.g].end());
-        if (!sites.claim(six)) continue;
-        rotate_edge(m, e);
-        rotated.push_back(e);
+        if (e.a >= 0 && e.f == required[i] && is_required[e.g] && rotate_apart(sites, good, m, e)) rotated.push_back(e);
     }
     if (rotated.empty()) return;
     // Judged at once, a face apart: each rotation's two cells named, with their corners and the

@@ -85,16 +85,14 @@ void place_rotations(const QuadMesh& good, const std::vector<SharedEdge>& todo, 
                      std::vector<SharedEdge>& placed, std::vector<SharedEdge>& later) {
     Sites sites(good);
     for (const SharedEdge& e : todo) {
-        const std::vector<int>&f = good.faces[e.f], &g = good.faces[e.g];
-        std::vector<int> all(f.begin(), f.end());
-        all.insert(all.end(), g.begin(), g.end());
-        if (!sites.claim(all)) {
+        if (!rotate_apart(sites, good, m, e)) {
             later.push_back(e);
             continue;
         }
-        rotate_edge(m, e);
         placed.push_back(e);
-        judged.push_back({std::set<Index>(all.begin(), all.end()), {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
+        const std::vector<int> site = edge_site(good, e);
+        judged.push_back(
+            {std::set<Index>(site.begin(), site.end()), {static_cast<Index>(e.f), static_cast<Index>(e.g)}});
     }
 }
 

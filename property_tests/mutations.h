@@ -103,7 +103,8 @@ inline bool names_face(const VerifyResult& v, std::int64_t f, bool undecided) {
 }
 
 /// Whether a violation in `list` names one of `vertices` or `faces` (its element or a place).
-inline bool named(const std::vector<Violation>& list, const std::set<std::int64_t>& vertices, const std::set<std::int64_t>& faces) {
+inline bool named(const std::vector<Violation>& list, const std::set<std::int64_t>& vertices,
+                  const std::set<std::int64_t>& faces) {
     for (const Violation& x : list) {
         const ViolationElement e = element_kind(x.kind);
         if ((e == ViolationElement::OutputVertex && vertices.count(x.element)) ||
@@ -184,6 +185,21 @@ inline void rotate_edge(QuadMesh& m, const SharedEdge& e) {
     const std::vector<int> hex{f[0], g[2], g[3], f[1], f[2], f[3]};
     m.faces[e.f] = {hex[1], hex[2], hex[3], hex[4]};
     m.faces[e.g] = {hex[4], hex[5], hex[0], hex[1]};
+}
+
+/// The vertices of the two faces of e in `good` (each once when e is rotatable).
+inline std::vector<int> edge_site(const QuadMesh& good, const SharedEdge& e) {
+    std::vector<int> site(good.faces[e.f].begin(), good.faces[e.f].end());
+    site.insert(site.end(), good.faces[e.g].begin(), good.faces[e.g].end());
+    return site;
+}
+
+/// Rotates e in m (a copy of `good`, mutated so far only at sites `sites` claimed) when its
+/// faces lie a face apart from those sites, claiming it: mutants that can be judged together.
+inline bool rotate_apart(Sites& sites, const QuadMesh& good, QuadMesh& m, const SharedEdge& e) {
+    if (!sites.claim(edge_site(good, e))) return false;
+    rotate_edge(m, e);
+    return true;
 }
 
 } // namespace qex::testing
