@@ -47,6 +47,12 @@ namespace {
 /// refinement allowed).
 constexpr std::int64_t kMaxScaledQuads = 4096;
 
+/// Whether the generated map with its UVs x `factor` (scaled, then refined) stays within
+/// kMaxScaledQuads.
+bool within_bound(const QuadLayout& layout, int n, std::int64_t factor) {
+    return expected_quads(layout, n) * factor * factor <= kMaxScaledQuads;
+}
+
 /// The generated map and what the perturbations did to it.
 struct Case {
     const QuadLayout* layout = nullptr;
@@ -197,7 +203,7 @@ void perturb_more(fuzz::Bytes& b, int op, Case& c) {
             // folds) took 0.42 s in Release and 11 s under ASan on an idle machine, a timeout (30 s)
             // at nice 19 beside the other half of a campaign (fifth run, timeout-23f89e03...), and
             // the same torus x 4 (6,912 quads) 1.24 s in Release, a timeout in the sixth's replay.
-            while (e > 0 && (expected_quads(*c.layout, c.n) << (2 * (c.scale_log2 + e))) > kMaxScaledQuads) --e;
+            while (e > 0 && !within_bound(*c.layout, c.n, std::int64_t{1} << (c.scale_log2 + e))) --e;
             if (e <= 0) break;
             if (transforms::scale_uvs(in, std::int64_t{1} << e) != 0) c.benign = c.area_kept = false; // overflowed
             c.scale_log2 += e;
@@ -323,8 +329,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // held at x 2 be refined x 2 to the size it was meant to prevent).
     opt.max_refinement = std::max(1, std::min(opt.max_refinement, 4) >> c.scale_log2);
     while (opt.max_refinement > 1 &&
-           (expected_quads(*c.layout, c.n) << 2 * c.scale_log2) * opt.max_refinement * opt.max_refinement >
-               kMaxScaledQuads)
+           !within_bound(*c.layout, c.n, (std::int64_t{1} << c.scale_log2) * opt.max_refinement))
         opt.max_refinement /= 2;
     const Result r = extract(c.in, opt);
     if (!r.ok()) {
