@@ -16,9 +16,13 @@ seconds=${1:?usage: fuzz/campaign.sh SECONDS [JOBS]}
 [[ $seconds =~ ^[0-9]+$ ]] || { echo "SECONDS=$seconds: not a number of seconds" >&2; exit 2; }
 jobs=${2:-$(getconf _NPROCESSORS_ONLN)}
 read -r -a targets <<<"${QEX_FUZZ_ONLY:-${QEX_FUZZ_TARGETS[*]}}"
+declare -A budget # per target: QEX_FUZZ_SECONDS_<target>, else SECONDS
+own_seconds=""
 for t in "${targets[@]}"; do
   own="QEX_FUZZ_SECONDS_$t"
-  [[ ${!own:-$seconds} =~ ^[0-9]+$ ]] || { echo "$own=${!own}: not a number of seconds" >&2; exit 2; }
+  budget[$t]=${!own:-$seconds}
+  [[ ${budget[$t]} =~ ^[0-9]+$ ]] || { echo "$own=${budget[$t]}: not a number of seconds" >&2; exit 2; }
+  [ "${budget[$t]}" = "$seconds" ] || own_seconds="$own_seconds ($t: ${budget[$t]} s)"
 done
 qex_fuzz_build "${targets[@]}"
 out="$qex_build/campaign"
@@ -29,14 +33,12 @@ if [ "$commit" != unknown ] && ! git -C "$qex_root" diff --quiet HEAD -- src inc
   commit="$commit (with uncommitted changes)"
 fi
 for t in "${targets[@]}"; do
-  own="QEX_FUZZ_SECONDS_$t"
-  budget=${!own:-$seconds}
-  echo "== $t: $budget s, $jobs job(s)"
-  qex_fuzz_run "$t" "$budget" "$jobs" "$out"
+  echo "== $t: ${budget[$t]} s, $jobs job(s)"
+  qex_fuzz_run "$t" "${budget[$t]}" "$jobs" "$out"
   cut -f2- "$out/$t.row" | awk -F'\t' '{printf "   %s s, %s executions, %s exec/s, cov %s ft %s, %s new units, findings: %s, slow units: %s\n", $1,$2,$3,$4,$5,$6,$7,$8}'
 done
 {
-  echo "Fuzz campaign $(date +%F), commit $commit: $seconds s per target$(for t in "${targets[@]}"; do own="QEX_FUZZ_SECONDS_$t"; [ -n "${!own:-}" ] && printf " (%s: %s s)" "$t" "${!own}"; done), $jobs job(s), $(getconf _NPROCESSORS_ONLN) cores," \
+  echo "Fuzz campaign $(date +%F), commit $commit: $seconds s per target$own_seconds, $jobs job(s), $(getconf _NPROCESSORS_ONLN) cores," \
     "clang $(clang --version | sed -nE 's/.*version ([0-9.]+).*/\1/p' | head -n 1), ASan+UBSan," \
     "OMP_NUM_THREADS=${OMP_NUM_THREADS:-unset}"
   echo
