@@ -597,6 +597,73 @@ TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
         }
     }
     EXPECT_GT(proofs, 0) << "no fold of duck_miq_28 is named with a rim short of its singularity";
+    // Each proof is also a typed explanation, before the folds it backs, placed at the
+    // singularity: a triangle of its fan, and its grid point there.
+    std::size_t first_fold = r.report.explanations.size(), last_proof = 0;
+    int typed = 0;
+    for (std::size_t i = 0; i < r.report.explanations.size(); ++i) {
+        const Defect& d = r.report.explanations[i];
+        if (d.kind == DefectKind::FoldOverNotRepaired) first_fold = std::min(first_fold, i);
+        if (d.kind != DefectKind::RimShortOfSingularity) continue;
+        ++typed;
+        last_proof = i;
+        int vertex = -1, valence = 0, turns = 0;
+        ASSERT_EQ(std::sscanf(d.message.c_str(), "the singularity at input vertex %d (valence %d", &vertex, &valence), 2)
+            << d.message;
+        const std::size_t at = d.message.find(") turns ");
+        ASSERT_NE(at, std::string::npos) << d.message;
+        turns = std::stoi(d.message.substr(at + 8));
+        EXPECT_EQ(((turns - valence) % 4 + 4) % 4, 0) << d.message;
+        EXPECT_NE(turns, valence) << d.message;
+        ASSERT_GE(d.input_element, 0);
+        ASSERT_LT(static_cast<std::size_t>(d.input_element), in.triangles.size());
+        const auto& tri = in.triangles[static_cast<std::size_t>(d.input_element)];
+        const auto corner = std::find(tri.begin(), tri.end(), vertex);
+        ASSERT_NE(corner, tri.end()) << d.message << ": its triangle has no corner at the singularity";
+        const auto& uv = in.uvs[3 * static_cast<std::size_t>(d.input_element) + static_cast<std::size_t>(corner - tri.begin())];
+        EXPECT_EQ(d.grid[0], std::llround(uv[0])) << d.message;
+        EXPECT_EQ(d.grid[1], std::llround(uv[1])) << d.message;
+    }
+    EXPECT_GT(typed, 0) << "no RimShortOfSingularity among duck_miq_28's explanations";
+    EXPECT_LT(last_proof, first_fold) << "the proofs come before the folds they back";
+}
+
+/// decimated-knight_miq_18: a flipped triangle whose three corners are singularities (solver
+/// rounding crowds its 92 singularities onto 502 vertices). No fold-free map keeps them at their
+/// grid points, and the report says so with the triangle: flipped in the map as given, its
+/// corners the input vertices named.
+TEST(RealMaps, AFoldBetweenThreeSingularitiesIsNamedAsTheProof) {
+    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "decimated-knight_miq_18_param.obj";
+    Input in;
+    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    Options one_rung;
+    one_rung.fallback_ladder = false;
+    const Result r = extract(in, one_rung);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    const std::vector<std::int8_t> sign = uv_orientations(in);
+    int proofs = 0;
+    for (const Defect& d : r.report.explanations) {
+        if (d.kind != DefectKind::FoldPinnedBySingularities) continue;
+        ++proofs;
+        ASSERT_GE(d.input_element, 0);
+        ASSERT_LT(static_cast<std::size_t>(d.input_element), in.triangles.size());
+        EXPECT_LT(sign[static_cast<std::size_t>(d.input_element)], 0) << d.message << ": not flipped as given";
+        EXPECT_EQ(d.message.find("input triangle " + std::to_string(d.input_element) + " is flipped"), 0u) << d.message;
+        // Its corners, named in the message: the triangle's own.
+        const std::size_t at = d.message.find("at input vertices ");
+        ASSERT_NE(at, std::string::npos) << d.message;
+        int a = -1, b = -1, c = -1, va = 0, vb = 0, vc = 0;
+        ASSERT_EQ(std::sscanf(d.message.c_str() + at, "at input vertices %d (valence %d), %d (valence %d) and %d (valence %d)",
+                              &a, &va, &b, &vb, &c, &vc),
+                  6)
+            << d.message;
+        std::array<int, 3> named{a, b, c}, corners = in.triangles[static_cast<std::size_t>(d.input_element)];
+        std::sort(named.begin(), named.end());
+        std::sort(corners.begin(), corners.end());
+        EXPECT_EQ(named, corners) << d.message;
+        for (const int v : {va, vb, vc}) EXPECT_NE(v, 4) << d.message << ": a corner of valence 4 is no singularity";
+    }
+    EXPECT_GT(proofs, 0) << "no FoldPinnedBySingularities on decimated-knight_miq_18";
 }
 
 /// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the

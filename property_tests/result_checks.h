@@ -28,7 +28,8 @@ inline bool is_explanation_kind(DefectKind k) {
            k == DefectKind::BoundaryFaceDiscarded || k == DefectKind::FoldOverNotRepaired ||
            k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
            k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed || k == DefectKind::SheetsSeparated ||
-           k == DefectKind::RefinementFailed || k == DefectKind::BestEffortMesh;
+           k == DefectKind::RefinementFailed || k == DefectKind::BestEffortMesh ||
+           k == DefectKind::RimShortOfSingularity || k == DefectKind::FoldPinnedBySingularities;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the

@@ -175,6 +175,19 @@ enum class DefectKind {
     /// Options::best_effort: the mesh returned is the attempt closest to valid (the fewest
     /// checker violations, ties to the smallest grid scale); names it and its violation count.
     BestEffortMesh,
+    // Proofs (Report::explanations, before the FoldOverNotRepaired they back): singularities stay
+    // at their grid points, and the map leaves a fold no fold-free map with them there removes.
+    /// The rim of a fold-over's region turns about the grid point of its one singularity by whole
+    /// turns more or less than the singularity's angle (stage repair's room certificate): no
+    /// fold-free map of the region keeps the singularity at its grid point, so the fold stays as
+    /// the map gives it and the paper's local handling applies there. Names the singularity
+    /// (input vertex, valence, the quarter turns its rim turns, `grid` its grid point in the chart
+    /// of `input_element`, a triangle of its fan) and the region (rings, triangles).
+    RimShortOfSingularity,
+    /// A flipped triangle (UV area < 0) whose three corners are singularities: none of them moves,
+    /// so no fold-free map keeps them at their grid points. Names the triangle (`input_element`),
+    /// its UV area and its corners (input vertices, `grid` the first one's grid point).
+    FoldPinnedBySingularities,
 };
 const char* to_string(DefectKind kind);
 

@@ -44,6 +44,8 @@ const char* to_string(DefectKind k) {
         case DefectKind::RefinementFailed: return "RefinementFailed";
         case DefectKind::MapCollapsesHandle: return "MapCollapsesHandle";
         case DefectKind::BestEffortMesh: return "BestEffortMesh";
+        case DefectKind::RimShortOfSingularity: return "RimShortOfSingularity";
+        case DefectKind::FoldPinnedBySingularities: return "FoldPinnedBySingularities";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";
         case DefectKind::GhostFacesCancelled: return "GhostFacesCancelled";

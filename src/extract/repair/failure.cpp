@@ -4,6 +4,8 @@
 #include "extract/repair/repair.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -69,6 +71,7 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
     } else if (!admitted && marks.rim_cone >= 0) {
         f.why = RegionFailure::Why::RimShort;
         f.vertex = m.input_vertex[marks.rim_cone];
+        f.cone = marks.rim_cone;
         f.singular = true;
         f.winds = static_cast<int>(std::lround(marks.rim_angle / (0.5 * M_PI)));
         f.target = static_cast<int>(std::lround(marks.target(m, marks.rim_cone) / (0.5 * M_PI)));
@@ -119,9 +122,70 @@ std::string FailureLog::reason(const TriMesh& m, const std::vector<int>& group) 
     return why;
 }
 
+void FailureLog::proofs(const TriMesh& m, const std::vector<int>& group, std::vector<char>& seen,
+                        std::vector<int>& out) const {
+    seen.resize(failures.size(), 0);
+    for (const int f : group)
+        for (const int v : m.tri[f]) {
+            const int p = proof_of[v];
+            if (p < 0 || seen[static_cast<std::size_t>(p)]) continue;
+            seen[static_cast<std::size_t>(p)] = 1;
+            out.push_back(p);
+        }
+}
+
+namespace {
+
+/// The corner of vertex v in the triangle of its fan with the smallest input index.
+int first_corner(const TriMesh& m, int v) {
+    int best = m.fan_start[v];
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+        if (m.input_triangle[TriMesh::face(h)] < m.input_triangle[TriMesh::face(best)]) best = h;
+    return best;
+}
+
+std::array<std::int64_t, 2> grid_point(const Point2& uv) { return {std::llround(uv[0]), std::llround(uv[1])}; }
+
+} // namespace
+
+Defect rim_short_proof(const TriMesh& m, const RegionFailure& f) {
+    const int h = first_corner(m, f.cone);
+    const std::array<std::int64_t, 2> g = grid_point(m.uv[h]);
+    return {DefectKind::RimShortOfSingularity,
+            "the singularity at input vertex " + std::to_string(f.vertex) + " (valence " + std::to_string(f.target) +
+                ", grid point (" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ") of input triangle " +
+                std::to_string(m.input_triangle[TriMesh::face(h)]) + ") needs " + std::to_string(f.target) +
+                " quarter turns, but the rim of the fold-over's region round it (within " + std::to_string(f.radius) +
+                " rings, " + std::to_string(f.triangles) + " triangles) turns " + std::to_string(f.winds) +
+                " about its grid point: no fold-free map of the region keeps the singularity there, and "
+                "singularities stay at their grid points",
+            m.input_triangle[TriMesh::face(h)],
+            -1,
+            g,
+            std::nullopt};
+}
+
+Defect pinned_fold_proof(const TriMesh& m, int t) {
+    const Point2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
+    const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    std::string corners;
+    for (int k = 0; k < 3; ++k)
+        corners += (k == 0 ? "" : k == 1 ? ", " : " and ") + std::to_string(m.input_vertex[m.tri[t][k]]) +
+                   " (valence " + std::to_string(m.map.valence[m.tri[t][k]]) + ")";
+    return {DefectKind::FoldPinnedBySingularities,
+            "input triangle " + std::to_string(m.input_triangle[t]) + " is flipped (UV area " + std::to_string(area) +
+                ") and its three corners are singularities, at input vertices " + corners +
+                ": singularities stay at their grid points, so no fold-free map removes this fold",
+            m.input_triangle[t],
+            -1,
+            grid_point(a),
+            std::nullopt};
+}
+
 } // namespace repair_impl
 
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
+    report.explanations.insert(report.explanations.end(), outcome.proofs.begin(), outcome.proofs.end());
     for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
         int first = m.input_triangle[u.triangles[0]];
         double area = 0.0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "extract/repair/certificates.h"
+#include "qex/extract.h"
 
 #include <cstdint>
 #include <string>
@@ -21,6 +22,7 @@ struct RegionFailure {
     int inverted = 0;      ///< Inverted: triangles left inverted, the first (by input index) of them
     int triangle = -1;
     int vertex = -1; ///< Winding: the input vertex that winds wrongly, its winding and target
+    int cone = -1;   ///< RimShort: the singularity (working vertex) whose angle the rim misses
     int winds = 0, target = 0;
     bool singular = false;
 
@@ -48,6 +50,16 @@ struct FailureLog {
     /// Why the fold-over of the triangles in `group` was not repaired: the latest attempt at a
     /// region that held one of its vertices, and an earlier proof that none exists.
     std::string reason(const TriMesh& m, const std::vector<int>& group) const;
+    /// The proofs (rims short of their singularity's angle) that hold for the fold-over of the
+    /// triangles in `group`: the failures' indices, each once in `seen` (per failure, scratch).
+    void proofs(const TriMesh& m, const std::vector<int>& group, std::vector<char>& seen, std::vector<int>& out) const;
 };
+
+/// The proof that rim-short failure f gives, as RimShortOfSingularity.
+Defect rim_short_proof(const TriMesh& m, const RegionFailure& f);
+
+/// The proof that triangle t (flipped, its corners all singular) gives, as
+/// FoldPinnedBySingularities.
+Defect pinned_fold_proof(const TriMesh& m, int t);
 
 } // namespace qex::detail::repair_impl

@@ -297,10 +297,22 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         m.map.face_sign[f] = static_cast<signed char>(sign(orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2])));
     }
     out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, out.repaired_faces).size());
-    for (auto& group : triangle_groups(m, stuck))
+    for (auto& group : triangle_groups(m, stuck)) {
+        // A flipped triangle between three singularities: none of its corners moves.
+        for (const int f : group)
+            if (m.map.face_sign[f] < 0 && m.map.singular[m.tri[f][0]] && m.map.singular[m.tri[f][1]] &&
+                m.map.singular[m.tri[f][2]])
+                out.proofs.push_back(pinned_fold_proof(m, f));
         out.unrepaired.push_back(
             {std::move(group), "all its corners are singular, boundary or feature vertices, which stay fixed"});
-    for (const auto& group : triangle_groups(m, seeds_faces)) out.unrepaired.push_back({group, log.reason(m, group)});
+    }
+    std::vector<char> seen;
+    for (const auto& group : triangle_groups(m, seeds_faces)) {
+        std::vector<int> proved;
+        log.proofs(m, group, seen, proved);
+        for (const int p : proved) out.proofs.push_back(rim_short_proof(m, log.failures[static_cast<std::size_t>(p)]));
+        out.unrepaired.push_back({group, log.reason(m, group)});
+    }
     return out;
 }
 

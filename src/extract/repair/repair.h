@@ -25,9 +25,14 @@ struct RepairOutcome {
         std::string why;
     };
     std::vector<Unrepaired> unrepaired;
+    /// What proves that a fold-over left cannot be removed with the singularities at their grid
+    /// points (RimShortOfSingularity, FoldPinnedBySingularities), each once, in the order of
+    /// `unrepaired`.
+    std::vector<Defect> proofs;
 };
 
-/// One explanation (FoldOverNotRepaired) per fold-over the repair left, with its UV area in m.
+/// The proofs first, then one explanation (FoldOverNotRepaired) per fold-over the repair left,
+/// with its UV area in m.
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
 
 /// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
