@@ -310,7 +310,9 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         std::vector<int> proved;
         log.proofs(m, group, seen, proved);
-        for (const int p : proved) out.proofs.push_back(rim_short_proof(m, log.failures[static_cast<std::size_t>(p)]));
+        for (const int p : proved)
+            if (const RegionFailure& f = log.failures[static_cast<std::size_t>(p)]; m.fan_start[f.cone] >= 0)
+                out.proofs.push_back(rim_short_proof(m, f));
         out.unrepaired.push_back({group, log.reason(m, group)});
     }
     return out;
