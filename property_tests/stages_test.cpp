@@ -612,6 +612,44 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
     }
 }
 
+/// Whether stage `name` ran (has a time) in the report.
+bool stage_ran(const Report& report, const std::string& name) {
+    return std::any_of(report.stage_seconds.begin(), report.stage_seconds.end(),
+                       [&](const auto& entry) { return entry.first == name; });
+}
+
+TEST(Mend, AHoleIsClosedUnlessAFaceNoStepChangesIsWrong) {
+    // A valid mesh with one face taken out: mending closes the hole and the checker accepts it.
+    // With another face's local UVs spoiled too (no unit square: neither step changes an existing
+    // face's local UVs), no mended mesh could pass: nothing is tried, the mesh stays as it is.
+    for (const LayoutMesh& made : layout_meshes()) {
+        const QuadLayout& layout = made.layout;
+        const Input& in = made.in;
+        const std::vector<std::vector<std::size_t>> around = faces_around(made.mesh);
+        std::size_t inner = SIZE_MAX; // a face none of whose corners is on a boundary
+        for (std::size_t f = 0; f < made.mesh.faces.size() && inner == SIZE_MAX; ++f) {
+            bool ok = true;
+            for (const int u : made.mesh.faces[f]) ok = ok && around[static_cast<std::size_t>(u)].size() == 4;
+            if (ok) inner = f;
+        }
+        ASSERT_NE(inner, SIZE_MAX) << layout.name;
+        const QuadMesh holed = without_faces(made.mesh, {inner});
+        for (const bool spoiled : {false, true}) {
+            const std::string about = layout.name + (spoiled ? ", a face's local UVs spoiled" : "");
+            Result attempt;
+            attempt.mesh = holed;
+            if (spoiled) attempt.mesh.face_uvs[inner == 0 ? 1 : 0] = {{0, 0}, {2, 0}, {2, 1}, {0, 1}};
+            attempt.check = verify(in, attempt.mesh);
+            ASSERT_FALSE(attempt.check.valid) << about;
+            detail::StageTimer timer(attempt.report);
+            detail::mend_if_accepted(in, false, VerifyOptions{}, timer, attempt);
+            EXPECT_EQ(attempt.check.valid, !spoiled) << about;
+            EXPECT_EQ(stage_ran(attempt.report, "close_holes"), !spoiled) << about;
+            EXPECT_EQ(face_set(attempt.mesh), face_set(spoiled ? holed : made.mesh)) << about;
+        }
+    }
+}
+
 /// Whether `got` is `want` with its vertices renamed: the same number of faces, and one
 /// one-to-one renaming taking each face of `got`, corner by corner, to the face of `want` at the
 /// same index.

@@ -165,7 +165,9 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
 /// mesh is kept if it is accepted (the checker passes it, and the oracle without provenance
 /// against the given map: fold-over regions judged on the surface, or everywhere after a
 /// relaxed rung), or once its holes are closed too. Else the holes of the mesh as it is are
-/// closed, and the result kept if it is accepted.
+/// closed, and the result kept if it is accepted. Nothing is tried (no stage runs) when the
+/// checker found what no mend step changes: a face that is no quad or whose local UVs are no unit
+/// square, or a fault of the carried map, its certificate or the mesh's size.
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
                       Result& attempt);
 

@@ -57,10 +57,34 @@ bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool rela
     return false;
 }
 
+/// Whether the checker found what no mend step changes, so that every mended mesh would be
+/// rejected again: a face with other than four corners or whose local UVs are no unit square
+/// (separate_sheets renumbers corners and moves vertices, close_holes adds unit squares; neither
+/// touches an existing face's size or local UVs), or a fault of the map the mesh carries, of its
+/// certificate or of its size.
+bool beyond_mending(const std::vector<Violation>& violations) {
+    return std::any_of(violations.begin(), violations.end(), [](const Violation& v) {
+        switch (v.kind) {
+            case ViolationKind::NotQuad:
+            case ViolationKind::LocalUvNotUnitSquare:
+            case ViolationKind::MapNotIntegerGrid:
+            case ViolationKind::SingularityOffGrid:
+            case ViolationKind::RepairNotCertified:
+            case ViolationKind::CertificateMismatch:
+            case ViolationKind::EmptyMesh:
+            case ViolationKind::TooLarge: return true;
+            default: return false;
+        }
+    });
+}
+
 } // namespace
 
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
                       Result& attempt) {
+    // Fail fast: mending cannot change the verdict (decimated-knight_miq_18 spent 0.8 of its 1.8 s
+    // mending meshes refined x8 and x16 with faces of other local UVs).
+    if (beyond_mending(attempt.check.violations)) return;
     const bool joined = std::any_of(attempt.check.violations.begin(), attempt.check.violations.end(),
                                     [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
     for (const bool larger_end_first : {false, true}) {
