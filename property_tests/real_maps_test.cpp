@@ -39,6 +39,14 @@ VerifyOptions with_fold_regions() {
     return o;
 }
 
+/// The repaired rung alone, at the map's own scale (no fallback ladder): what the repair leaves
+/// is reported as it is, not covered by a later rung or scale.
+Result first_rung(const Input& in) {
+    Options one_rung;
+    one_rung.fallback_ladder = false;
+    return extract(in, one_rung);
+}
+
 /// qex's mesh with positions and faces only (as `qex check --param RAW --grid-scale K OUT` reads
 /// it) passes the located mode against the raw map. Where the repair moved the map, the vertices
 /// lie in the raw map's fold-over regions (kFoldRegionRings around its flipped or degenerate
@@ -503,13 +511,11 @@ TEST(RealMaps, NoDipoleIsMergedAgainstGivenValences) {
         return std::count_if(r.report.explanations.begin(), r.report.explanations.end(),
                              [](const Defect& d) { return d.kind == DefectKind::SingularitiesMerged; });
     };
-    Options one_rung; // the repaired rung alone, at the map's own scale: the merge is its business
-    one_rung.fallback_ladder = false;
-    const Result computed = extract(in, one_rung);
+    const Result computed = first_rung(in); // the merge is the repaired rung's business
     ASSERT_TRUE(computed.ok()) << computed.error.message;
     ASSERT_GT(merges(computed), 0) << "no dipole merged on fandisk x 8: pick another map";
     in.valences = valences;
-    const Result given = extract(in, one_rung);
+    const Result given = first_rung(in);
     ASSERT_TRUE(given.ok()) << given.error.message;
     EXPECT_EQ(merges(given), 0);
     // Whatever that leaves, the verdict is the checker's and every defect is located.
@@ -522,13 +528,10 @@ TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
     // duck_miq_16 x8 at its own scale, the repaired rung alone: folds the repair cannot re-embed
     // are named with what the last attempt found (the region, and the triangle left inverted or
     // the vertex that winds wrongly), not only that it failed.
-    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "duck_miq_16_param.obj";
     Input in;
-    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
+    if (const std::string why = read_real_map("paper", "duck_miq_16", in); !why.empty()) GTEST_SKIP() << why;
     ASSERT_EQ(transforms::scale_uvs(in, 8), 0);
-    Options one_rung;
-    one_rung.fallback_ladder = false;
-    const Result r = extract(in, one_rung);
+    const Result r = first_rung(in);
     ASSERT_TRUE(r.ok()) << r.error.message;
     ASSERT_GT(r.report.unrepaired_regions, 0) << "duck_miq_16 x8 is repaired now: pick another map";
     int named = 0;
@@ -562,12 +565,9 @@ TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
 /// quarter turns differ from the valence by whole turns, and the singularity lies on a grid
 /// point in every corner of the raw map.
 TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
-    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "paper" / "duck_miq_28_param.obj";
     Input in;
-    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
-    Options one_rung;
-    one_rung.fallback_ladder = false;
-    const Result r = extract(in, one_rung);
+    if (const std::string why = read_real_map("paper", "duck_miq_28", in); !why.empty()) GTEST_SKIP() << why;
+    const Result r = first_rung(in);
     ASSERT_TRUE(r.ok()) << r.error.message;
     const std::string key = "its rim turns ";
     int proofs = 0;
@@ -633,12 +633,10 @@ TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
 /// grid points, and the report says so with the triangle: flipped in the map as given, its
 /// corners the input vertices named.
 TEST(RealMaps, AFoldBetweenThreeSingularitiesIsNamedAsTheProof) {
-    const fs::path path = fs::path(QEX_SHARED_DIR) / "meshes" / "miq-more" / "decimated-knight_miq_18_param.obj";
     Input in;
-    if (!read_obj(path.string(), in).ok()) GTEST_SKIP() << "no " << path;
-    Options one_rung;
-    one_rung.fallback_ladder = false;
-    const Result r = extract(in, one_rung);
+    if (const std::string why = read_real_map("miq-more", "decimated-knight_miq_18", in); !why.empty())
+        GTEST_SKIP() << why;
+    const Result r = first_rung(in);
     ASSERT_TRUE(r.ok()) << r.error.message;
     const std::vector<std::int8_t> sign = uv_orientations(in);
     int proofs = 0;
