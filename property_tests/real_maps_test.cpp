@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <set>
 #include <tuple>
 
 namespace qex::testing {
@@ -558,6 +559,79 @@ TEST(RealMaps, EveryFoldLeftUnrepairedSaysWhyAndWhere) {
     EXPECT_EQ(named, r.report.unrepaired_regions);
 }
 
+/// The grid point of input triangle t's corner at input vertex v, at the mesh's grid scale; or
+/// nothing if v is no corner of t.
+std::optional<std::array<std::int64_t, 2>> corner_grid(const Input& in, std::int64_t t, int v, int scale) {
+    const auto& tri = in.triangles[static_cast<std::size_t>(t)];
+    const auto at = std::find(tri.begin(), tri.end(), v);
+    if (at == tri.end()) return std::nullopt;
+    const auto& uv = in.uvs[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(at - tri.begin())];
+    return std::array<std::int64_t, 2>{std::llround(uv[0] * scale), std::llround(uv[1] * scale)};
+}
+
+/// Every proof among r's explanations placed and stated as it must be, each once, before the
+/// folds it backs: a RimShortOfSingularity names a triangle with a corner at its singularity,
+/// whose grid point (at the mesh's grid scale) is its `grid`, and a rim short of the quarter turns
+/// it needs by whole turns; a FoldPinnedBySingularities names a triangle flipped in the map as
+/// given, its corners, and one corner's grid point. Returns how many of each there are.
+std::array<int, 2> expect_proofs_placed(const Input& in, const Result& r) {
+    std::array<int, 2> count{0, 0};
+    const int k = r.mesh.grid_scale;
+    const std::vector<std::int8_t> sign = uv_orientations(in);
+    std::set<std::int64_t> seen_vertices, seen_triangles;
+    std::size_t last_proof = 0, first_fold = r.report.explanations.size();
+    for (std::size_t i = 0; i < r.report.explanations.size(); ++i) {
+        const Defect& d = r.report.explanations[i];
+        if (d.kind == DefectKind::FoldOverNotRepaired) first_fold = std::min(first_fold, i);
+        const bool rim = d.kind == DefectKind::RimShortOfSingularity;
+        if (!rim && d.kind != DefectKind::FoldPinnedBySingularities) continue;
+        last_proof = i;
+        ++count[rim ? 0 : 1];
+        EXPECT_GE(d.input_element, 0) << d.message;
+        EXPECT_LT(d.input_element, static_cast<std::int64_t>(in.triangles.size())) << d.message;
+        if (d.input_element < 0 || d.input_element >= static_cast<std::int64_t>(in.triangles.size())) continue;
+        if (rim) {
+            int vertex = -1, needs = 0, turns = 0;
+            const std::size_t at_needs = d.message.find(" needs "), at_turns = d.message.find(") turns ");
+            if (std::sscanf(d.message.c_str(), "the singularity at input vertex %d", &vertex) != 1 ||
+                at_needs == std::string::npos || at_turns == std::string::npos) {
+                ADD_FAILURE() << "unreadable: " << d.message;
+                continue;
+            }
+            needs = std::stoi(d.message.substr(at_needs + 7));
+            turns = std::stoi(d.message.substr(at_turns + 8));
+            EXPECT_LT(turns, needs) << d.message;
+            EXPECT_EQ((needs - turns) % 4, 0) << d.message;
+            EXPECT_TRUE(seen_vertices.insert(vertex).second) << "named twice: " << d.message;
+            const auto g = corner_grid(in, d.input_element, vertex, k);
+            EXPECT_TRUE(g.has_value()) << d.message << ": its triangle has no corner at the singularity";
+            if (g) { EXPECT_EQ(d.grid, *g) << d.message << " (grid scale " << k << ")"; }
+        } else {
+            EXPECT_LT(sign[static_cast<std::size_t>(d.input_element)], 0) << d.message << ": not flipped as given";
+            EXPECT_TRUE(seen_triangles.insert(d.input_element).second) << "named twice: " << d.message;
+            const std::size_t at = d.message.find("at input vertices ");
+            int a = -1, b = -1, c = -1, va = 0, vb = 0, vc = 0;
+            if (at == std::string::npos ||
+                std::sscanf(d.message.c_str() + at,
+                            "at input vertices %d (valence %d), %d (valence %d) and %d (valence %d)", &a, &va, &b,
+                            &vb, &c, &vc) != 6) {
+                ADD_FAILURE() << "unreadable: " << d.message;
+                continue;
+            }
+            std::array<int, 3> named{a, b, c}, corners = in.triangles[static_cast<std::size_t>(d.input_element)];
+            std::sort(named.begin(), named.end());
+            std::sort(corners.begin(), corners.end());
+            EXPECT_EQ(named, corners) << d.message;
+            for (const int v : {va, vb, vc}) EXPECT_NE(v, 4) << d.message << ": a corner of valence 4 is no singularity";
+            bool placed = false;
+            for (const int v : corners) placed = placed || corner_grid(in, d.input_element, v, k) == d.grid;
+            EXPECT_TRUE(placed) << d.message << ": its grid point is no corner's (grid scale " << k << ")";
+        }
+    }
+    if (count[0] + count[1] > 0) { EXPECT_LT(last_proof, first_fold) << "the proofs come before the folds they back"; }
+    return count;
+}
+
 /// duck_miq_28: MIQ rounded singularities onto grid points that the map round them does not
 /// wind about (a valence-3 cone whose rings turn -1 quarter turns about its grid point, a
 /// valence-5 one whose rings turn 1). No fold-free map keeps such a singularity at its grid
@@ -597,71 +671,38 @@ TEST(RealMaps, ARimShortOfItsSingularitysAngleIsNamedAsTheProof) {
         }
     }
     EXPECT_GT(proofs, 0) << "no fold of duck_miq_28 is named with a rim short of its singularity";
-    // Each proof is also a typed explanation, before the folds it backs, placed at the
-    // singularity: a triangle of its fan, and its grid point there.
-    std::size_t first_fold = r.report.explanations.size(), last_proof = 0;
-    int typed = 0;
-    for (std::size_t i = 0; i < r.report.explanations.size(); ++i) {
-        const Defect& d = r.report.explanations[i];
-        if (d.kind == DefectKind::FoldOverNotRepaired) first_fold = std::min(first_fold, i);
-        if (d.kind != DefectKind::RimShortOfSingularity) continue;
-        ++typed;
-        last_proof = i;
-        int vertex = -1, valence = 0, turns = 0;
-        ASSERT_EQ(std::sscanf(d.message.c_str(), "the singularity at input vertex %d (valence %d", &vertex, &valence), 2)
-            << d.message;
-        const std::size_t at = d.message.find(") turns ");
-        ASSERT_NE(at, std::string::npos) << d.message;
-        turns = std::stoi(d.message.substr(at + 8));
-        EXPECT_EQ(((turns - valence) % 4 + 4) % 4, 0) << d.message;
-        EXPECT_NE(turns, valence) << d.message;
-        ASSERT_GE(d.input_element, 0);
-        ASSERT_LT(static_cast<std::size_t>(d.input_element), in.triangles.size());
-        const auto& tri = in.triangles[static_cast<std::size_t>(d.input_element)];
-        const auto corner = std::find(tri.begin(), tri.end(), vertex);
-        ASSERT_NE(corner, tri.end()) << d.message << ": its triangle has no corner at the singularity";
-        const auto& uv = in.uvs[3 * static_cast<std::size_t>(d.input_element) + static_cast<std::size_t>(corner - tri.begin())];
-        EXPECT_EQ(d.grid[0], std::llround(uv[0])) << d.message;
-        EXPECT_EQ(d.grid[1], std::llround(uv[1])) << d.message;
-    }
-    EXPECT_GT(typed, 0) << "no RimShortOfSingularity among duck_miq_28's explanations";
-    EXPECT_LT(last_proof, first_fold) << "the proofs come before the folds they back";
+    // Each is also a typed explanation, placed at the singularity.
+    EXPECT_GT(expect_proofs_placed(in, r)[0], 0) << "no RimShortOfSingularity among duck_miq_28's explanations";
 }
 
 /// decimated-knight_miq_18: a flipped triangle whose three corners are singularities (solver
 /// rounding crowds its 92 singularities onto 502 vertices). No fold-free map keeps them at their
-/// grid points, and the report says so with the triangle: flipped in the map as given, its
-/// corners the input vertices named.
+/// grid points, and the report says so with the triangle, at the map's own scale and on the
+/// best-effort mesh of its map refined (its grid point then at that scale).
 TEST(RealMaps, AFoldBetweenThreeSingularitiesIsNamedAsTheProof) {
     Input in;
     if (const std::string why = read_real_map("miq-more", "decimated-knight_miq_18", in); !why.empty())
         GTEST_SKIP() << why;
-    const Result r = first_rung(in);
+    EXPECT_GT(expect_proofs_placed(in, first_rung(in))[1], 0) << "no FoldPinnedBySingularities at its own scale";
+    Options refined;
+    refined.max_refinement = 2;
+    refined.best_effort = true;
+    const Result r = extract(in, refined);
     ASSERT_TRUE(r.ok()) << r.error.message;
-    const std::vector<std::int8_t> sign = uv_orientations(in);
-    int proofs = 0;
-    for (const Defect& d : r.report.explanations) {
-        if (d.kind != DefectKind::FoldPinnedBySingularities) continue;
-        ++proofs;
-        ASSERT_GE(d.input_element, 0);
-        ASSERT_LT(static_cast<std::size_t>(d.input_element), in.triangles.size());
-        EXPECT_LT(sign[static_cast<std::size_t>(d.input_element)], 0) << d.message << ": not flipped as given";
-        EXPECT_EQ(d.message.find("input triangle " + std::to_string(d.input_element) + " is flipped"), 0u) << d.message;
-        // Its corners, named in the message: the triangle's own.
-        const std::size_t at = d.message.find("at input vertices ");
-        ASSERT_NE(at, std::string::npos) << d.message;
-        int a = -1, b = -1, c = -1, va = 0, vb = 0, vc = 0;
-        ASSERT_EQ(std::sscanf(d.message.c_str() + at, "at input vertices %d (valence %d), %d (valence %d) and %d (valence %d)",
-                              &a, &va, &b, &vb, &c, &vc),
-                  6)
-            << d.message;
-        std::array<int, 3> named{a, b, c}, corners = in.triangles[static_cast<std::size_t>(d.input_element)];
-        std::sort(named.begin(), named.end());
-        std::sort(corners.begin(), corners.end());
-        EXPECT_EQ(named, corners) << d.message;
-        for (const int v : {va, vb, vc}) EXPECT_NE(v, 4) << d.message << ": a corner of valence 4 is no singularity";
-    }
-    EXPECT_GT(proofs, 0) << "no FoldPinnedBySingularities on decimated-knight_miq_18";
+    ASSERT_EQ(r.mesh.grid_scale, 2) << "the best effort is no longer the map refined x2: pick another case";
+    EXPECT_GT(expect_proofs_placed(in, r)[1], 0) << "no FoldPinnedBySingularities on the refined mesh";
+}
+
+/// kitten_miq_10 is valid with its map refined x2, and the repair of its own scale, reused there,
+/// leaves a rim short of its singularity: the proof is named on the refined map.
+TEST(RealMaps, AProofOfARefinedMeshIsPlacedAtItsScale) {
+    Input in;
+    if (const std::string why = read_real_map("miq-more", "kitten_miq_10", in); !why.empty()) GTEST_SKIP() << why;
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid);
+    ASSERT_GT(r.mesh.grid_scale, 1) << "kitten_miq_10 is valid at its own scale now: pick another map";
+    EXPECT_GT(expect_proofs_placed(in, r)[0], 0) << "no RimShortOfSingularity on kitten_miq_10 refined";
 }
 
 /// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the

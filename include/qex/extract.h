@@ -175,14 +175,16 @@ enum class DefectKind {
     /// Options::best_effort: the mesh returned is the attempt closest to valid (the fewest
     /// checker violations, ties to the smallest grid scale); names it and its violation count.
     BestEffortMesh,
-    // Proofs (Report::explanations, before the FoldOverNotRepaired they back): singularities stay
-    // at their grid points, and the map leaves a fold no fold-free map with them there removes.
-    /// The rim of a fold-over's region turns about the grid point of its one singularity by whole
-    /// turns more or less than the singularity's angle (stage repair's room certificate): no
-    /// fold-free map of the region keeps the singularity at its grid point, so the fold stays as
-    /// the map gives it and the paper's local handling applies there. Names the singularity
-    /// (input vertex, valence, the quarter turns its rim turns, `grid` its grid point in the chart
-    /// of `input_element`, a triangle of its fan) and the region (rings, triangles).
+    // Proofs (Report::explanations, before the FoldOverNotRepaired they back), with singularities
+    // held at their grid points.
+    /// The rim of a fold-over's region turns about the grid point of its one singularity by fewer
+    /// quarter turns than the singularity's angle (stage repair's room certificate; in a fold-free
+    /// map it turns by the angle, and a full turn more for each other preimage of the point): no
+    /// fold-free map of that region, its rim as the map gives it, keeps the singularity at its grid
+    /// point. (A larger region moves the rim; the repair tried those it could.) Names the
+    /// singularity (input vertex, the quarter turns it needs and its rim turns, `grid` its grid
+    /// point in the chart of `input_element`, a triangle of its fan) and the region (rings,
+    /// triangles).
     RimShortOfSingularity,
     /// A flipped triangle (UV area < 0) whose three corners are singularities: none of them moves,
     /// so no fold-free map keeps them at their grid points. Names the triangle (`input_element`),

@@ -93,7 +93,11 @@ std::pair<int, double> barest_input_vertex(const Input& input, const QuadMesh& m
 /// A global defect has no single place; the places where faces were removed are where the
 /// topology can have changed, and the barest input vertex is where the output is missing.
 void describe_global(const Input& input, const Result& result, Defect& d) {
-    const auto& explanations = result.report.explanations;
+    std::vector<Defect> explanations; // those that removed faces
+    for (const Defect& e : result.report.explanations)
+        if (e.kind == DefectKind::FaceCollapsed || e.kind == DefectKind::GhostFacesCancelled ||
+            e.kind == DefectKind::BoundaryFaceDiscarded)
+            explanations.push_back(e);
     if (!explanations.empty()) {
         d.message += " (faces were removed at " + std::to_string(explanations.size()) +
                      " places, listed in explanations; the first is near grid point (" +

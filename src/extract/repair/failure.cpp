@@ -148,24 +148,25 @@ std::array<std::int64_t, 2> grid_point(const Point2& uv) { return {std::llround(
 
 } // namespace
 
-Defect rim_short_proof(const TriMesh& m, const RegionFailure& f) {
-    const int h = first_corner(m, f.cone);
-    const std::array<std::int64_t, 2> g = grid_point(m.uv[h]);
-    return {DefectKind::RimShortOfSingularity,
-            "the singularity at input vertex " + std::to_string(f.vertex) + " (valence " + std::to_string(f.target) +
-                ", grid point (" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ") of input triangle " +
-                std::to_string(m.input_triangle[TriMesh::face(h)]) + ") needs " + std::to_string(f.target) +
-                " quarter turns, but the rim of the fold-over's region round it (within " + std::to_string(f.radius) +
-                " rings, " + std::to_string(f.triangles) + " triangles) turns " + std::to_string(f.winds) +
-                " about its grid point: no fold-free map of the region keeps the singularity there, and "
-                "singularities stay at their grid points",
-            m.input_triangle[TriMesh::face(h)],
-            -1,
-            g,
-            std::nullopt};
-}
-
-Defect pinned_fold_proof(const TriMesh& m, int t) {
+Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
+    if (p.kind == DefectKind::RimShortOfSingularity) {
+        const int h = first_corner(m, p.element);
+        const int t = m.input_triangle[TriMesh::face(h)];
+        const std::array<std::int64_t, 2> g = grid_point(m.uv[h]);
+        return {DefectKind::RimShortOfSingularity,
+                "the singularity at input vertex " + std::to_string(m.input_vertex[p.element]) + " (grid point (" +
+                    std::to_string(g[0]) + ", " + std::to_string(g[1]) + ") of input triangle " + std::to_string(t) +
+                    ") needs " + std::to_string(p.target) + " quarter turns round it, but the rim of the fold-over's "
+                    "region round it (within " + std::to_string(p.radius) + " rings, " + std::to_string(p.triangles) +
+                    " triangles) turns " + std::to_string(p.winds) +
+                    " about its grid point, fewer: no fold-free map of the region with its rim as the map gives it "
+                    "keeps the singularity at its grid point",
+                t,
+                -1,
+                g,
+                std::nullopt};
+    }
+    const int t = p.element;
     const Point2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
     const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     std::string corners;
@@ -185,7 +186,7 @@ Defect pinned_fold_proof(const TriMesh& m, int t) {
 } // namespace repair_impl
 
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
-    report.explanations.insert(report.explanations.end(), outcome.proofs.begin(), outcome.proofs.end());
+    for (const RepairOutcome::Proof& p : outcome.proofs) report.explanations.push_back(repair_impl::proof_explanation(m, p));
     for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
         int first = m.input_triangle[u.triangles[0]];
         double area = 0.0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "extract/repair/certificates.h"
+#include "extract/repair/repair.h"
 #include "qex/extract.h"
 
 #include <cstdint>
@@ -55,11 +56,7 @@ struct FailureLog {
     void proofs(const TriMesh& m, const std::vector<int>& group, std::vector<char>& seen, std::vector<int>& out) const;
 };
 
-/// The proof that rim-short failure f gives, as RimShortOfSingularity.
-Defect rim_short_proof(const TriMesh& m, const RegionFailure& f);
-
-/// The proof that triangle t (flipped, its corners all singular) gives, as
-/// FoldPinnedBySingularities.
-Defect pinned_fold_proof(const TriMesh& m, int t);
+/// The explanation a proof gives, named on m's map (its grid point and area at m's scale).
+Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p);
 
 } // namespace qex::detail::repair_impl

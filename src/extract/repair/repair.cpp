@@ -302,7 +302,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         for (const int f : group)
             if (m.map.face_sign[f] < 0 && m.map.singular[m.tri[f][0]] && m.map.singular[m.tri[f][1]] &&
                 m.map.singular[m.tri[f][2]])
-                out.proofs.push_back(pinned_fold_proof(m, f));
+                out.proofs.push_back({DefectKind::FoldPinnedBySingularities, f});
         out.unrepaired.push_back(
             {std::move(group), "all its corners are singular, boundary or feature vertices, which stay fixed"});
     }
@@ -310,9 +310,13 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
     for (const auto& group : triangle_groups(m, seeds_faces)) {
         std::vector<int> proved;
         log.proofs(m, group, seen, proved);
+        // A rim that turns about the grid point by fewer quarter turns than the singularity needs:
+        // in a fold-free map of the region it turns by the angle and a full turn more for each
+        // other preimage of the point inside (a rim turning more proves nothing).
         for (const int p : proved)
-            if (const RegionFailure& f = log.failures[static_cast<std::size_t>(p)]; m.fan_start[f.cone] >= 0)
-                out.proofs.push_back(rim_short_proof(m, f));
+            if (const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
+                f.winds < f.target && m.fan_start[f.cone] >= 0)
+                out.proofs.push_back({DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
         out.unrepaired.push_back({group, log.reason(m, group)});
     }
     return out;

@@ -25,14 +25,23 @@ struct RepairOutcome {
         std::string why;
     };
     std::vector<Unrepaired> unrepaired;
-    /// What proves that a fold-over left cannot be removed with the singularities at their grid
-    /// points (RimShortOfSingularity, FoldPinnedBySingularities), each once, in the order of
-    /// `unrepaired`.
-    std::vector<Defect> proofs;
+    /// What proves that a fold-over left stays with the singularities at their grid points, each
+    /// once, in the order of `unrepaired`: a rim short of its singularity's angle
+    /// (RimShortOfSingularity: `element` the singularity, working vertex) or a flipped triangle
+    /// between three singularities (FoldPinnedBySingularities: `element` the triangle). Kept as
+    /// their sources, so that a refinement reusing this outcome names them on its own map.
+    struct Proof {
+        DefectKind kind;
+        int element = -1;
+        int winds = 0, target = 0; ///< RimShortOfSingularity: quarter turns of the rim, and needed
+        int radius = 0;            ///< RimShortOfSingularity: the region, its rings and triangles
+        std::size_t triangles = 0;
+    };
+    std::vector<Proof> proofs;
 };
 
 /// The proofs first, then one explanation (FoldOverNotRepaired) per fold-over the repair left,
-/// with its UV area in m.
+/// with its UV area and places in m (the map of the scale being extracted).
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
 
 /// Stage repair: re-embeds the regions of flipped and degenerate triangles (UV area <= 0) of the
