@@ -78,12 +78,12 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
 
 /// Whether the rim of a region that is a disk leaves room for its one singularity (of valence 3,
 /// or 5 and more; `marks.rim_cone` is set when it does not). In an orientation-preserving map
-/// that keeps every winding, the singularity is the only point of the region at its grid point
-/// (any other would be the centre of a full turn, which the cone's angle does not divide), so the
-/// rim turns about it by exactly its angle. A solver that rounded a singularity onto a grid point
-/// the map round it does not wind about leaves the rim a whole turn short, on every ring out to
-/// where other singularities take part: no re-embedding of such a region exists, and the
-/// untangler is not run on it.
+/// that keeps every winding, the rim turns about the singularity's grid point by its angle, and by
+/// a full turn more for each other point of the region on that grid point (a sheet covering it
+/// again): never by less. A solver that rounded a singularity onto a grid point the map round it
+/// does not wind about leaves the rim a whole turn short, on every ring out to where other
+/// singularities take part: no re-embedding of such a region exists, and the untangler is not run
+/// on it. A rim that turns more proves nothing.
 bool rim_leaves_room(const TriMesh& m, const Region& r, RegionMarks& marks) {
     int cone = -1;
     for (const int v : marks.fixed) {
@@ -103,7 +103,7 @@ bool rim_leaves_room(const TriMesh& m, const Region& r, RegionMarks& marks) {
     // The transitions round the rim turn by the singularity's angle, so the rim's angle differs
     // from it by whole turns; a sum that does not proves nothing.
     const double turns = std::nearbyint((angle - target) / (2.0 * M_PI));
-    if (turns == 0.0 || !(std::abs(angle - target - 2.0 * M_PI * turns) < 0.25)) return true;
+    if (turns >= 0.0 || !(std::abs(angle - target - 2.0 * M_PI * turns) < 0.25)) return true;
     marks.rim_cone = cone;
     marks.rim_angle = angle;
     return false;
