@@ -622,7 +622,8 @@ std::array<int, 2> expect_proofs_placed(const Input& in, const Result& r) {
             std::sort(named.begin(), named.end());
             std::sort(corners.begin(), corners.end());
             EXPECT_EQ(named, corners) << d.message;
-            for (const int v : {va, vb, vc}) EXPECT_NE(v, 4) << d.message << ": a corner of valence 4 is no singularity";
+            for (const int v : {va, vb, vc})
+                EXPECT_NE(v, 4) << d.message << ": a corner of valence 4 is no singularity";
             bool placed = false;
             for (const int v : corners) placed = placed || corner_grid(in, d.input_element, v, k) == d.grid;
             EXPECT_TRUE(placed) << d.message << ": its grid point is no corner's (grid scale " << k << ")";

@@ -186,7 +186,8 @@ Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
 } // namespace repair_impl
 
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report) {
-    for (const RepairOutcome::Proof& p : outcome.proofs) report.explanations.push_back(repair_impl::proof_explanation(m, p));
+    for (const RepairOutcome::Proof& p : outcome.proofs)
+        report.explanations.push_back(repair_impl::proof_explanation(m, p));
     for (const RepairOutcome::Unrepaired& u : outcome.unrepaired) {
         int first = m.input_triangle[u.triangles[0]];
         double area = 0.0;

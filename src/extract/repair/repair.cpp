@@ -316,7 +316,8 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         for (const int p : proved)
             if (const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
                 f.winds < f.target && m.fan_start[f.cone] >= 0)
-                out.proofs.push_back({DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
+                out.proofs.push_back(
+                    {DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
         out.unrepaired.push_back({group, log.reason(m, group)});
     }
     return out;
