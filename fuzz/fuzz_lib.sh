@@ -31,6 +31,19 @@ qex_fuzz_dict() {
   esac
 }
 
+# Copies corpus/TARGET (seeds, merged/, regressions/; same names kept apart) into the scratch
+# directory DIR and lists its files in DIR.before, for qex_fuzz_added.
+qex_fuzz_scratch() {
+  local target=$1 dir=$2
+  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$dir" {} +
+  (cd "$dir" && ls) | sort >"$dir.before"
+}
+
+# The files of scratch directory DIR that qex_fuzz_scratch did not put there, one per line.
+qex_fuzz_added() {
+  (cd "$1" && ls) | sort | comm -13 "$1.before" -
+}
+
 # Fuzzes a scratch copy of corpus/TARGET (seeds, merged/, regressions/) for SECONDS in libFuzzer's
 # fork mode with JOBS workers, ignoring crashes, timeouts and out-of-memory so that one run
 # collects every finding. Writes, under OUTDIR:
@@ -49,8 +62,7 @@ qex_fuzz_run() {
   dict=$(qex_fuzz_dict "$target")
   rm -rf "${work:?}" "${out:?}/$target"
   mkdir -p "$work/corpus" "$out/$target" "$qex_root/corpus/$target/merged"
-  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$work/corpus" {} +
-  (cd "$work/corpus" && ls) | sort >"$work/before"
+  qex_fuzz_scratch "$target" "$work/corpus"
   local start end
   start=$(date +%s)
   (cd "$work" && "$bin" -max_total_time="$seconds" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 \
@@ -71,7 +83,7 @@ qex_fuzz_run() {
   # merged by edges against the corpus (before the findings: the merge can time out on a unit too).
   local f
   mkdir -p "$work/new"
-  (cd "$work/corpus" && ls) | sort | comm -13 "$work/before" - >"$work/new.list"
+  qex_fuzz_added "$work/corpus" >"$work/new.list"
   while read -r f; do
     if [ -n "$f" ] && [ "$(stat -c %s "$work/corpus/$f")" -le "$QEX_FUZZ_MAX_KEEP" ]; then
       cp "$work/corpus/$f" "$work/new/"
@@ -116,8 +128,7 @@ qex_fuzz_keep() {
     return
   fi
   ctrl=$(mktemp -d)
-  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$ctrl" {} +
-  (cd "$ctrl" && ls) | sort >"$ctrl.before"
+  qex_fuzz_scratch "$target" "$ctrl"
   "$qex_build/fuzz/$target" -merge=1 -use_counters=0 -timeout=30 -rss_limit_mb=2048 \
     -artifact_prefix="${artifacts:-$ctrl.}" "$ctrl" "$dir" >"${log:-$ctrl.log}" 2>&1 || true
   while read -r f; do
@@ -125,7 +136,7 @@ qex_fuzz_keep() {
       cp "$ctrl/$f" "$qex_root/corpus/$target/merged/"
       n=$((n + 1))
     fi
-  done < <((cd "$ctrl" && ls) | sort | comm -13 "$ctrl.before" -)
+  done < <(qex_fuzz_added "$ctrl")
   rm -rf "$ctrl" "$ctrl".*
   echo "$n"
 }

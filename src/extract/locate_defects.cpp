@@ -93,18 +93,20 @@ std::pair<int, double> barest_input_vertex(const Input& input, const QuadMesh& m
 /// A global defect has no single place; the places where faces were removed are where the
 /// topology can have changed, and the barest input vertex is where the output is missing.
 void describe_global(const Input& input, const Result& result, Defect& d) {
-    std::vector<Defect> explanations; // those that removed faces
+    // The explanations that removed faces: how many, and the first.
+    const Defect* first = nullptr;
+    std::size_t removed = 0;
     for (const Defect& e : result.report.explanations)
         if (e.kind == DefectKind::FaceCollapsed || e.kind == DefectKind::GhostFacesCancelled ||
             e.kind == DefectKind::BoundaryFaceDiscarded)
-            explanations.push_back(e);
-    if (!explanations.empty()) {
-        d.message += " (faces were removed at " + std::to_string(explanations.size()) +
-                     " places, listed in explanations; the first is near grid point (" +
-                     std::to_string(explanations[0].grid[0]) + ", " + std::to_string(explanations[0].grid[1]) +
-                     ") of input triangle " + std::to_string(explanations[0].input_element) + ")";
-        d.input_element = explanations[0].input_element;
-        d.grid = explanations[0].grid;
+            first = first ? first : &e, ++removed;
+    if (first) {
+        d.message += " (faces were removed at " + std::to_string(removed) +
+                     " places, listed in explanations; the first is near grid point (" + std::to_string(first->grid[0]) +
+                     ", " + std::to_string(first->grid[1]) + ") of input triangle " +
+                     std::to_string(first->input_element) + ")";
+        d.input_element = first->input_element;
+        d.grid = first->grid;
     }
     const auto [bare, distance] = barest_input_vertex(input, result.mesh);
     if (bare >= 0) {

@@ -136,21 +136,13 @@ void FailureLog::proofs(const TriMesh& m, const std::vector<int>& group, std::ve
 
 namespace {
 
-/// The corner of vertex v in the triangle of its fan with the smallest input index.
-int first_corner(const TriMesh& m, int v) {
-    int best = m.fan_start[v];
-    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
-        if (m.input_triangle[TriMesh::face(h)] < m.input_triangle[TriMesh::face(best)]) best = h;
-    return best;
-}
-
 std::array<std::int64_t, 2> grid_point(const Point2& uv) { return {std::llround(uv[0]), std::llround(uv[1])}; }
 
 } // namespace
 
 Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
     if (p.kind == DefectKind::RimShortOfSingularity) {
-        const int h = first_corner(m, p.element);
+        const int h = m.fan_start[p.element]; // its first corner, as SingularitiesMerged names one
         const int t = m.input_triangle[TriMesh::face(h)];
         const std::array<std::int64_t, 2> g = grid_point(m.uv[h]);
         return {DefectKind::RimShortOfSingularity,
