@@ -29,7 +29,8 @@ inline bool is_explanation_kind(DefectKind k) {
            k == DefectKind::MapRefined || k == DefectKind::MapCoarsened || k == DefectKind::SeamRounded ||
            k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed || k == DefectKind::SheetsSeparated ||
            k == DefectKind::RefinementFailed || k == DefectKind::BestEffortMesh ||
-           k == DefectKind::RimShortOfSingularity || k == DefectKind::FoldPinnedBySingularities;
+           k == DefectKind::RimShortOfSingularity || k == DefectKind::FoldPinnedBySingularities ||
+           k == DefectKind::HoleFilled;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the
@@ -161,8 +162,8 @@ inline std::string place_inconsistency(const Input& in, const Result& r) {
 /// "" when a valid result keeps the area promise of Report::signed_uv_area and
 /// Report::explanations, else what breaks it: a quad count below the signed UV area of the map
 /// the mesh carries (sanitized and repaired; a repair keeps the area) has an explanation other
-/// than MapRefined, MapCoarsened (which explain the scale, not a loss), HoleClosed (which adds
-/// quads) or SheetsSeparated (which removes none); and once that map has no flipped or
+/// than MapRefined, MapCoarsened (which explain the scale, not a loss), HoleClosed and HoleFilled
+/// (which add quads) or SheetsSeparated (which removes none); and once that map has no flipped or
 /// degenerate triangle left (Report::flipped_after_repair == 0) and nothing is explained, the
 /// quad count is that area, rounded. The promise is for maps without boundaries or whose
 /// boundaries lie on iso-lines; the caller decides that it applies.
@@ -173,7 +174,8 @@ inline std::string area_inconsistency(const Result& r) {
     bool explained = false;
     for (const Defect& d : r.report.explanations)
         explained = explained || (d.kind != DefectKind::MapRefined && d.kind != DefectKind::MapCoarsened &&
-                                  d.kind != DefectKind::HoleClosed && d.kind != DefectKind::SheetsSeparated);
+                                  d.kind != DefectKind::HoleClosed && d.kind != DefectKind::HoleFilled &&
+                                  d.kind != DefectKind::SheetsSeparated);
     const std::string about = std::to_string(quads) + " quads on a map of signed UV area " +
                               std::to_string(r.report.signed_uv_area) + " (rung " + r.report.rung + ", grid scale " +
                               std::to_string(r.mesh.grid_scale) + ", " + std::to_string(r.report.flipped_after_repair) +

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <algorithm>
 #include <random>
@@ -609,6 +610,101 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
             EXPECT_TRUE(detail::close_holes(in, notched).empty()) << layout.name << " face " << f;
             break;
         }
+    }
+}
+
+/// `mesh`'s positions and faces alone (no provenance), its vertices no face uses left out.
+QuadMesh compacted(const QuadMesh& mesh) {
+    QuadMesh bare;
+    std::vector<int> index(mesh.positions.size(), -1);
+    for (const auto& f : mesh.faces) {
+        bare.faces.push_back(f);
+        for (int& v : bare.faces.back()) {
+            int& i = index[static_cast<std::size_t>(v)];
+            if (i < 0) {
+                i = static_cast<int>(bare.positions.size());
+                bare.positions.push_back(mesh.positions[static_cast<std::size_t>(v)]);
+            }
+            v = i;
+        }
+    }
+    return bare;
+}
+
+/// Whether `mesh`'s faces, without its provenance, make an all-quad, manifold, consistently
+/// oriented surface of the input's topology (the checker's first part, locating nothing), its
+/// vertices no face uses left out.
+bool topology_kept(const Input& in, const QuadMesh& mesh) {
+    VerifyOptions topology_only;
+    topology_only.locate = false;
+    return verify(in, compacted(mesh), topology_only).valid;
+}
+
+TEST(FillHoles, AHoleNoGridLaysOutIsFilledFromItsRimAndTheCheckerStillJudgesIt) {
+    // The four faces round an interior vertex taken out: the rim of eight vertices encloses a grid
+    // point with no vertex, so no cells close it; fill_holes joins rim vertices with three quads
+    // (no new vertex), whatever the order of the mesh's faces. The surface is whole again, but
+    // the map requires the cells round that grid point (no fold there): the checker rejects the
+    // mesh, and the last resort keeps nothing. A hole that cells close is closed by them alone.
+    for (const LayoutMesh& made : layout_meshes()) {
+        const QuadLayout& layout = made.layout;
+        const Input& in = made.in;
+        const QuadMesh& mesh = made.mesh;
+        const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
+        std::size_t centre = SIZE_MAX;
+        for (std::size_t v = 0; v < around.size() && centre == SIZE_MAX; ++v) {
+            bool inner = around[v].size() == 4;
+            for (const std::size_t f : around[v])
+                for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() == 4;
+            if (inner) centre = v;
+        }
+        ASSERT_NE(centre, SIZE_MAX) << layout.name;
+        const QuadMesh holed = without_faces(mesh, around[centre]);
+        ASSERT_FALSE(topology_kept(in, holed)) << layout.name;
+        QuadMesh filled = holed;
+        const std::vector<Defect> done = detail::fill_holes(in, filled);
+        ASSERT_EQ(done.size(), 1u) << layout.name;
+        EXPECT_EQ(done[0].kind, DefectKind::HoleFilled) << layout.name;
+        EXPECT_EQ(filled.positions.size(), mesh.positions.size()) << layout.name;
+        ASSERT_EQ(filled.faces.size(), holed.faces.size() + 3) << layout.name;
+        EXPECT_EQ(filled.face_uvs.size(), filled.faces.size()) << layout.name;
+        // Every corner of the patch is a vertex of the rim the explanation names (eight of them).
+        std::set<int> rim;
+        const std::size_t at = done[0].message.find("output vertices ");
+        ASSERT_NE(at, std::string::npos) << done[0].message;
+        std::istringstream named(done[0].message.substr(at + 16));
+        for (int v = 0; named >> v;) rim.insert(v);
+        EXPECT_EQ(rim.size(), 8u) << done[0].message;
+        EXPECT_EQ(rim.count(static_cast<int>(centre)), 0u) << done[0].message;
+        for (std::size_t f = holed.faces.size(); f < filled.faces.size(); ++f)
+            for (const int v : filled.faces[f])
+                EXPECT_EQ(rim.count(v), 1u) << layout.name << ": vertex " << v << " is not on " << done[0].message;
+        EXPECT_TRUE(topology_kept(in, filled)) << layout.name;
+        // The same patch whatever the order of the faces round it.
+        QuadMesh reversed = holed;
+        std::reverse(reversed.faces.begin(), reversed.faces.end());
+        std::reverse(reversed.face_uvs.begin(), reversed.face_uvs.end());
+        (void)detail::fill_holes(in, reversed);
+        EXPECT_EQ(face_set(reversed), face_set(filled)) << layout.name;
+        // The map requires the cells the patch does not follow: the grid point inside has no
+        // vertex (the mesh judged without its provenance, the vertex no face uses left out).
+        const std::vector<Violation> judged = verify(in, compacted(filled)).violations;
+        EXPECT_TRUE(std::any_of(judged.begin(), judged.end(),
+                                [](const Violation& v) { return v.kind == ViolationKind::GridPointNotCovered; }))
+            << layout.name << ": " << judged.size() << " violations";
+        Result attempt;
+        attempt.mesh = holed;
+        attempt.check = verify(in, holed);
+        ASSERT_FALSE(attempt.check.valid) << layout.name;
+        EXPECT_FALSE(detail::fill_holes_if_accepted(in, Options{}, attempt)) << layout.name;
+        EXPECT_EQ(face_set(attempt.mesh), face_set(holed)) << layout.name;
+        EXPECT_FALSE(attempt.check.valid) << layout.name;
+        // One face out: its cell closes the hole, and nothing is filled.
+        QuadMesh one = without_faces(mesh, {around[centre][0]});
+        const std::vector<Defect> closed = detail::fill_holes(in, one);
+        ASSERT_EQ(closed.size(), 1u) << layout.name;
+        EXPECT_EQ(closed[0].kind, DefectKind::HoleClosed) << layout.name;
+        EXPECT_EQ(face_set(one), face_set(mesh)) << layout.name;
     }
 }
 

@@ -210,6 +210,21 @@ def test_best_effort_returns_the_mesh_closest_to_valid(shared_dir):
         qex.extract(V, F, UV, best_effort="yes please")
 
 
+def test_fill_holes_is_the_last_resort_and_can_be_turned_off(shared_dir):
+    """decimated-knight_miq_18 leaves a hole round a fold between pinned singularities at every
+    scale: filled from its rim (HoleFilled) the mesh is valid; with fill_holes=False it is not."""
+    V, F, UV = qex.read_obj(shared_dir / "miq-more" / "decimated-knight_miq_18_param.obj")
+    r = qex.extract(V, F, UV)
+    assert r.valid
+    kinds = [d["kind"] for d in r.report["explanations"]]
+    assert "HoleFilled" in kinds and "FoldPinnedBySingularities" in kinds
+    off = qex.extract(V, F, UV, fill_holes=False)
+    assert not off.valid
+    assert "HoleFilled" not in [d["kind"] for d in off.report["explanations"]]
+    with pytest.raises(TypeError, match="fill_holes"):
+        qex.extract(V, F, UV, fill_holes="sometimes")
+
+
 def test_hostile_numbers_are_refused_cleanly():
     """Indices, sizes and options at the edges: ValueError (or TypeError for a wrong type), never a
     silent truncation, wrap or crash, from the package and from its compiled half called directly."""

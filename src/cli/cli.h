@@ -52,9 +52,10 @@ CLI::Validator finite_number();
 // The subcommands, each in its own file: its options (add_*), then its run (run_*).
 struct ExtractArgs {
     std::string in_path, out_path, vval_path, report_path, features_path;
-    std::string layout_path; ///< --layout: the mesh's quad layout as JSON
+    std::string layout_path;      ///< --layout: the mesh's quad layout as JSON
     std::string certificate_path; ///< --certificate: the repaired map beside the mesh (qex::Certificate)
     bool poly = false, quiet = false, snap_boundary = false, round_seams = false, best_effort = false;
+    bool no_fill_holes = false;
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
     int max_coarsening = Options{}.max_coarsening;
@@ -86,8 +87,8 @@ struct DrawArgs {
     long long around = -1;
     double radius = 6.0;
     bool png = false;
-    bool layout = false; ///< with --quads: draw the mesh's quad layout instead of its defects
-    int grid_scale = 0; ///< with --quads: the scale to judge the mesh at (0: the report's, else 1)
+    bool layout = false;          ///< with --quads: draw the mesh's quad layout instead of its defects
+    int grid_scale = 0;           ///< with --quads: the scale to judge the mesh at (0: the report's, else 1)
     std::string certificate_path; ///< with --quads: judge the mesh on qex extract's certificate
 };
 CLI::App* add_draw(CLI::App& app, DrawArgs& a);

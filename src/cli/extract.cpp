@@ -52,9 +52,10 @@ int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, cons
         return kIo;
     }
     if (!a.quiet)
-        std::printf("qex: certificate: %zu repaired triangles, grid scale %d -> %s (judge the mesh on it with `qex "
-                    "check --param MAP --certificate %s`)\n",
-                    c.repaired.size(), c.grid_scale, a.certificate_path.c_str(), a.certificate_path.c_str());
+        std::printf(
+            "qex: certificate: %zu repaired triangles, grid scale %d -> %s (judge the mesh on it with `qex "
+            "check --param MAP --certificate %s`)\n",
+            c.repaired.size(), c.grid_scale, a.certificate_path.c_str(), a.certificate_path.c_str());
     return kOk;
 }
 
@@ -110,6 +111,7 @@ int run_extract(const ExtractArgs& a) {
     options.max_refinement = a.max_refinement;
     options.max_coarsening = a.max_coarsening;
     options.best_effort = a.best_effort;
+    options.fill_holes = !a.no_fill_holes;
     options.on_stage = [&progress](const char* stage, int grid_scale) {
         progress.detail(std::string("stage ") + stage + " done" +
                         (grid_scale > 1 ? " (map refined x" + std::to_string(grid_scale) + ")" : ""));
@@ -185,6 +187,9 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract->add_flag("--best-effort", a.best_effort,
                       "when no attempt gives a valid mesh, write the one closest to valid (fewest checker violations, "
                       "ties to the smallest grid scale), every violation located in the report (exit code stays 5)");
+    extract->add_flag("--no-fill-holes", a.no_fill_holes,
+                      "no last resort: where no attempt gives a valid mesh, do not fill holes whose rims lay out in no "
+                      "grid with quads joining their rim vertices (such quads follow no cells of the map)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));

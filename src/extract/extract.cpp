@@ -72,6 +72,8 @@ Result extract(const Input& input, const Options& options) {
     std::vector<CollapsedHandle> handles = find_collapsed_handles(input, options.max_refinement);
     if (refinement_can_help(options, !handles.empty(), result))
         extract_refined(input, options, memo, !handles.empty(), result);
+    else if (options.fill_holes) // the last resort, which extract_refined tries after every scale
+        (void)fill_holes_if_accepted(input, options, result);
     name_collapsed_handles(input, options, std::move(handles), result);
     return result;
 }

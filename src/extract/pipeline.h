@@ -46,6 +46,7 @@ enum class Stage : int {
     place_on_given_map,  ///< ladder/place_on_given_map.cpp: last-resort rungs move the mesh back
     separate_sheets,     ///< ladder/separate_sheets.cpp: a rejected mesh's edges joining two sheets, cut
     close_holes,         ///< ladder/close_holes.cpp: a rejected mesh's holes closed by the cells their rims enclose
+    fill_holes,          ///< ladder/fill_holes.cpp: last resort, holes no grid lays out filled from their rims
     check,               ///< src/verify/: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;
@@ -67,6 +68,7 @@ inline constexpr const char* kStageNames[] = {"validate",
                                               "place_on_given_map",
                                               "separate_sheets",
                                               "close_holes",
+                                              "fill_holes",
                                               "check"};
 
 static_assert(sizeof(kStageNames) / sizeof(kStageNames[0]) == kNumStages, "one name per stage");

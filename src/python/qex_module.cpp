@@ -151,6 +151,8 @@ void set_option(qex::Options& o, const std::string& k, const py::handle& value) 
         o.fallback_ladder = value.cast<bool>();
     else if (k == "best_effort")
         o.best_effort = value.cast<bool>();
+    else if (k == "fill_holes")
+        o.fill_holes = value.cast<bool>();
     else
         throw py::type_error("extract() got an unexpected option '" + k + "'");
 }
@@ -425,8 +427,9 @@ py::dict layout_of(const qex::QuadMesh& mesh) {
 } // namespace
 
 PYBIND11_MODULE(_qex, m) {
-    m.doc() = "The compiled core of the qex package; use the functions of `qex` itself, which check the "
-              "arguments and document them (qex/_qex.pyi holds this module's types).";
+    m.doc() =
+        "The compiled core of the qex package; use the functions of `qex` itself, which check the "
+        "arguments and document them (qex/_qex.pyi holds this module's types).";
     py::class_<qex::QuadMesh>(m, "QuadMesh", "The extracted mesh as the library holds it (for verify and write_obj).")
         .def_property_readonly(
             "num_faces", [](const qex::QuadMesh& q) { return q.faces.size(); }, "The number of faces.")

@@ -115,23 +115,23 @@ std::vector<std::vector<int>> cells_inside(const std::vector<int>& rim, const st
 
 } // namespace
 
-std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
-    std::vector<Defect> closed;
-    if (mesh.provenance.size() != mesh.positions.size()) return closed;
+Holes find_holes(const Input& input, const QuadMesh& mesh) {
+    Holes holes;
+    if (mesh.provenance.size() != mesh.positions.size()) return holes;
     const auto nv = mesh.positions.size();
     std::vector<std::uint64_t> half; // the faces' half-edges, sorted
     half.reserve(4 * mesh.faces.size());
     std::vector<int> corners(nv, 0);
     for (const auto& f : mesh.faces) {
-        if (f.size() != 4) return closed; // only holes in an all-quad mesh
+        if (f.size() != 4) return holes; // only holes in an all-quad mesh
         for (std::size_t i = 0; i < 4; ++i) {
-            if (f[i] < 0 || static_cast<std::size_t>(f[i]) >= nv) return closed;
+            if (f[i] < 0 || static_cast<std::size_t>(f[i]) >= nv) return holes;
             half.push_back(edge_key(f[i], f[(i + 1) % 4]));
             ++corners[static_cast<std::size_t>(f[i])];
         }
     }
     std::sort(half.begin(), half.end());
-    if (std::adjacent_find(half.begin(), half.end()) != half.end()) return closed; // not manifold
+    if (std::adjacent_find(half.begin(), half.end()) != half.end()) return holes; // not manifold
     // The hole's rim runs against the faces' boundary edges: b -> a for a face's a -> b.
     std::vector<int> rim_next(nv, -1);
     std::vector<char> pinched(nv, 0);
@@ -143,18 +143,17 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
             rim_next[static_cast<std::size_t>(b)] = a;
         }
     TriMesh g = make_mesh(input);
-    if (build_topology(g, "input").code != ErrorCode::None) return closed;
+    if (build_topology(g, "input").code != ErrorCode::None) return holes;
     // Every vertex has four quarter turns, or a vertex on an input vertex has as many as that
     // vertex's fan winds: a singularity's valence, unless a fold-over left in its fan changes the
-    // count. One reading is tried first, the other where a rim does not close with it.
+    // count.
     const std::vector<int> fan_turns = fan_quarter_turns(input, mesh.map_uvs);
-    const std::vector<int> regular(nv, 4);
-    std::vector<int> wound(nv, 4);
+    holes.wound.assign(nv, 4);
     for (std::size_t v = 0; v < nv; ++v) {
         const Provenance& p = mesh.provenance[v];
         if (p.kind == QVertexKind::Vertex && p.element >= 0 && static_cast<std::size_t>(p.element) < fan_turns.size() &&
             fan_turns[static_cast<std::size_t>(p.element)] > 0)
-            wound[v] = fan_turns[static_cast<std::size_t>(p.element)];
+            holes.wound[v] = fan_turns[static_cast<std::size_t>(p.element)];
     }
     std::vector<char> seen(nv, 0);
     for (std::size_t start = 0; start < nv; ++start) {
@@ -169,23 +168,39 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
                      !on_input_boundary(g, mesh.provenance[static_cast<std::size_t>(v)]);
             if (rim_next[static_cast<std::size_t>(v)] < 0) break;
         }
-        if (!simple || rim.size() < 4 || rim.size() > kMaxRim ||
-            rim_next[static_cast<std::size_t>(rim.back())] != rim[0])
-            continue;
-        const std::vector<int>& first = wound_first ? wound : regular;
-        const std::vector<int>& second = wound_first ? regular : wound;
-        std::vector<std::vector<int>> cells = cells_inside(rim, corners, first);
-        if (cells.empty()) cells = cells_inside(rim, corners, second);
+        if (simple && rim.size() >= 4 && rim.size() <= kMaxRim &&
+            rim_next[static_cast<std::size_t>(rim.back())] == rim[0])
+            holes.rims.push_back(std::move(rim));
+    }
+    holes.corners = std::move(corners);
+    return holes;
+}
+
+std::string rim_description(const std::vector<int>& rim) {
+    std::string through;
+    for (const int v : rim) through += " " + std::to_string(v);
+    return "its rim through output vertices" + through;
+}
+
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
+    std::vector<Defect> closed;
+    const Holes holes = find_holes(input, mesh);
+    // One reading of the rim vertices' quarter turns is tried first, the other where a rim does
+    // not close with it.
+    const std::vector<int> regular(holes.corners.size(), 4);
+    const std::vector<int>& first = wound_first ? holes.wound : regular;
+    const std::vector<int>& second = wound_first ? regular : holes.wound;
+    for (const std::vector<int>& rim : holes.rims) {
+        std::vector<std::vector<int>> cells = cells_inside(rim, holes.corners, first);
+        if (cells.empty()) cells = cells_inside(rim, holes.corners, second);
         if (cells.empty()) continue;
         for (const auto& face : cells) {
             mesh.faces.push_back(face);
             mesh.face_uvs.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
         }
         const Provenance& p = mesh.provenance[static_cast<std::size_t>(rim[0])];
-        std::string through;
-        for (const int v : rim) through += " " + std::to_string(v);
         closed.push_back({DefectKind::HoleClosed,
-                          "a hole the face walks left (its rim through output vertices" + through + ") was closed by " +
+                          "a hole the face walks left (" + rim_description(rim) + ") was closed by " +
                               std::to_string(cells.size()) + " unit cell" + (cells.size() == 1 ? "" : "s") +
                               " of the grid, laid out from the faces round its rim (the face walks that ran open "
                               "there stay listed among the defects)",

@@ -83,6 +83,22 @@ std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool lar
 /// vertex split, it then its copies (`groups`).
 std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups);
 
+/// The holes of an all-quad, manifold mesh with provenance (none otherwise): those away from the
+/// input's boundary whose rims are simple loops of 4 to 16 of its vertices.
+struct Holes {
+    /// Each rim with the hole on its left (the faces' boundary edges reversed), from its vertex of
+    /// smallest index: a face of rim vertices in this order is oriented as the mesh.
+    std::vector<std::vector<int>> rims;
+    std::vector<int> corners; ///< per vertex of the mesh: the faces it is a corner of
+    /// Per vertex of the mesh: the quarter turns round it as the fan of the input vertex it lies
+    /// on winds in the map the mesh carries (a singularity's valence), 4 elsewhere or unread.
+    std::vector<int> wound;
+};
+Holes find_holes(const Input& input, const QuadMesh& mesh);
+
+/// "its rim through output vertices ...", for explanations.
+std::string rim_description(const std::vector<int>& rim);
+
 /// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
 /// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
 /// faces leave each rim vertex (four each, or as many as the fan of the input vertex it lies on
@@ -91,6 +107,15 @@ std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std:
 /// explanation (HoleClosed) per hole closed. A candidate only: the caller keeps it if the checker
 /// accepts the result.
 std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
+
+/// Last resort, for a mesh no scale's attempt made valid: fills each hole of find_holes() whose rim
+/// has an even number of vertices and lays out in no grid (close_holes) with quads that join rim
+/// vertices, no new vertex: of every such quadrangulation whose diagonals are no edges of the
+/// mesh, the one that leaves the rim vertices' face counts nearest their quarter turns
+/// (Holes::wound), then with the shortest diagonals (squared, in space). Returns one explanation
+/// (HoleFilled) per hole filled. A candidate only: the caller keeps it if the checker accepts the
+/// result, which it does only where the map decides nothing (a fold-over no fold-free map removes).
+std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh);
 
 // ============================================================================ scales
 
@@ -170,6 +195,14 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
 /// square, or a fault of the carried map, its certificate or the mesh's size.
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
                       Result& attempt);
+
+/// Stage fill_holes, the last resort, on an attempt (at the scale of `input`) that no rung made
+/// valid: its holes filled (fill_holes), kept if the checker accepts the mesh so, as a mended
+/// mesh must be accepted (against the map it carries and the given map; everywhere after a
+/// relaxed rung). Then the attempt is valid: its explanations gain the filled holes, its
+/// located checker violations go (its extraction defects stay). False, and nothing changed
+/// but the stage's time, otherwise.
+bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt);
 
 // ============================================================================ refinement (refine.cpp)
 

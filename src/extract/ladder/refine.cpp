@@ -202,6 +202,20 @@ void take_refined(Result& closest, int scale, std::vector<Defect> failed, const 
     result = std::move(closest);
 }
 
+/// `refined`, valid at `scale`, in place of `result` (the map's own scale, invalid).
+void take_valid_refined(Result&& refined, int scale, Result& result) {
+    refined.mesh.grid_scale = scale;
+    refined.report.grid_scale = scale;
+    refined.report.refinements_tried = result.report.refinements_tried;
+    refined.report.stage_seconds = std::move(result.report.stage_seconds);
+    refined.report.explanations.insert(refined.report.explanations.begin(), refinement_explanation(result, scale));
+    // Seams rounded at scale 1 (Options::round_inconsistent_seams) are the refined map's too,
+    // rounded there without a check: their explanations carry over.
+    for (const Defect& d : result.report.explanations)
+        if (d.kind == DefectKind::SeamRounded) refined.report.explanations.push_back(d);
+    result = std::move(refined);
+}
+
 } // namespace
 
 bool refinement_can_help(const Options& options, bool handle_collapsed, const Result& result) {
@@ -220,6 +234,8 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
     std::vector<Defect> failed; // per refinement tried
     Result closest;             // best effort: the refined attempt closest to valid so far
     int closest_scale = 1;
+    Result filled; // the first refined attempt that fill_holes made valid
+    int filled_scale = 0;
     std::string tried = "the map's own scale: " + std::to_string(result.check.violations.size());
     for (int scale = 2; scale <= options.max_refinement; scale *= 2) {
         if (std::abs(result.report.signed_uv_area) * scale * scale > kMaxRefinedQuads) break;
@@ -228,22 +244,17 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
         // The map at scale 1 passed the seam check (or this would not run).
         Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo});
         ++result.report.refinements_tried;
+        // The last resort, kept for the end: the smallest scale whose holes, filled, pass.
+        const bool filled_here = options.fill_holes && refined.ok() && !refined.check.valid && filled_scale == 0 &&
+                                 fill_holes_if_accepted(scaled, options, refined);
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;
-        if (refined.check.valid) {
-            refined.mesh.grid_scale = scale;
-            refined.report.grid_scale = scale;
-            refined.report.refinements_tried = result.report.refinements_tried;
-            refined.report.stage_seconds = std::move(result.report.stage_seconds);
-            refined.report.explanations.insert(refined.report.explanations.begin(),
-                                               refinement_explanation(result, scale));
-            // Seams rounded at scale 1 (Options::round_inconsistent_seams) are the refined map's
-            // too, rounded there without a check: their explanations carry over.
-            for (const Defect& d : result.report.explanations)
-                if (d.kind == DefectKind::SeamRounded) refined.report.explanations.push_back(d);
-            result = std::move(refined);
-            return;
+        if (filled_here) {
+            filled = std::move(refined);
+            filled_scale = scale;
+            continue;
         }
+        if (refined.check.valid) return take_valid_refined(std::move(refined), scale, result);
         failed.push_back(refinement_failure(refined, scale));
         if (!options.best_effort) continue;
         tried += "; x" + std::to_string(scale) + ": " + std::to_string(refined.check.violations.size());
@@ -255,6 +266,10 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
             closest = std::move(refined), closest_scale = scale;
         if (stop) break;
     }
+    // No scale gives a valid mesh as extracted: the last resort, holes filled, at the smallest
+    // scale where that passes.
+    if (options.fill_holes && fill_holes_if_accepted(input, options, result)) return;
+    if (filled_scale > 0) return take_valid_refined(std::move(filled), filled_scale, result);
     if (closest_scale > 1) return take_refined(closest, closest_scale, std::move(failed), tried, result);
     result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());
     if (options.best_effort)

@@ -174,6 +174,7 @@ def extract(
     repair_fold_overs: Optional[bool] = None,
     fallback_ladder: Optional[bool] = None,
     best_effort: Optional[bool] = None,
+    fill_holes: Optional[bool] = None,
 ) -> Result:
     """Extract the quad mesh of a triangle mesh carrying an integer-grid map.
 
@@ -215,6 +216,11 @@ def extract(
         When no attempt gives a valid mesh, return the one closest to valid (default False): the
         fewest checker violations, ties to the smallest grid scale; ``valid`` stays False and
         ``report["defects"]`` locates each violation, a collapsed handle first.
+    fill_holes : bool, optional
+        The last resort when no attempt gives a valid mesh (default True): holes whose rims lay
+        out in no grid are filled with quads joining their rim vertices, kept only if the checker
+        then accepts the mesh (``HoleFilled`` among ``report["explanations"]``: those quads follow
+        no cells of the map). False: such a map stays invalid.
 
     The options are the fields of ``qex::Options`` (``include/qex/extract.h``); None, or leaving
     one out, keeps the library's default.
@@ -258,6 +264,7 @@ def extract(
         "repair_fold_overs": repair_fold_overs,
         "fallback_ladder": fallback_ladder,
         "best_effort": best_effort,
+        "fill_holes": fill_holes,
     }
     options = {k: v for k, v in given.items() if v is not None}
     V, F, UV = _map(V, F, UV)

@@ -1,0 +1,153 @@
+// Stage fill_holes (not in the paper): the last resort for a mesh that no rung at any scale made
+// valid. Where a fold-over's singularities stay at their grid points, a map can leave a hole whose
+// rim lays out in no grid: the fans of its rim vertices wind too little or too much to give the
+// quarter turns a flat patch of cells needs (decimated-knight_miq_18 at x2: ten rim vertices
+// past singularities of valence 6, 5 and 6 whose folded fans wind 0 to 2 quarter turns, round a
+// flipped triangle between three singularities). No mesh that follows the map exists there, so
+// no face can follow it: the hole is filled with quads that join its rim vertices, and the
+// checker decides whether the map leaves that region undecided (a fold-over judged on the
+// surface) or requires cells there, which such quads do not give.
+#include "ladder.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+
+namespace qex::detail {
+namespace {
+
+std::uint64_t undirected_key(int a, int b) {
+    const auto lo = static_cast<std::uint32_t>(std::min(a, b)), hi = static_cast<std::uint32_t>(std::max(a, b));
+    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+/// The quadrangulations of one rim (a polygon of an even number of vertices) by diagonals, none
+/// an edge of the mesh: each split of a side (i, j) of the polygon (positions on the rim, i < j)
+/// into the quad (i, a, b, j) and the three polygons it leaves, searched depth first; the best by
+/// (valence deviation, squared diagonal length), the first found among equals.
+class RimQuadrangulation {
+public:
+    RimQuadrangulation(const std::vector<int>& rim, const Holes& holes, const QuadMesh& mesh,
+                       const std::vector<std::uint64_t>& edges)
+        : rim_(rim), holes_(holes), mesh_(mesh), edges_(edges), n_(static_cast<int>(rim.size())) {}
+
+    /// The best quadrangulation's quads, as rim vertices in rim order; empty if there is none.
+    std::vector<std::vector<int>> best() {
+        std::vector<std::pair<int, int>> pending{{0, n_ - 1}};
+        search(pending);
+        std::vector<std::vector<int>> faces;
+        for (const auto& q : best_)
+            faces.push_back({rim_[static_cast<std::size_t>(q[0])], rim_[static_cast<std::size_t>(q[1])],
+                             rim_[static_cast<std::size_t>(q[2])], rim_[static_cast<std::size_t>(q[3])]});
+        return faces;
+    }
+
+private:
+    bool rim_side(int i, int j) const { return j - i == 1 || (i == 0 && j == n_ - 1); }
+
+    /// Whether positions i < j may be joined: a side of the rim, or a diagonal that is no edge of
+    /// the mesh (the mesh would not stay manifold).
+    bool joinable(int i, int j) const {
+        if (rim_side(i, j)) return true;
+        const std::uint64_t key = undirected_key(rim_[static_cast<std::size_t>(i)], rim_[static_cast<std::size_t>(j)]);
+        return !std::binary_search(edges_.begin(), edges_.end(), key);
+    }
+
+    double length2(int i, int j) const {
+        const auto& p = mesh_.positions[static_cast<std::size_t>(rim_[static_cast<std::size_t>(i)])];
+        const auto& q = mesh_.positions[static_cast<std::size_t>(rim_[static_cast<std::size_t>(j)])];
+        return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+    }
+
+    void search(std::vector<std::pair<int, int>>& pending) {
+        if (pending.empty()) return judge();
+        const auto [i, j] = pending.back();
+        pending.pop_back();
+        if (j - i == 1) {
+            search(pending);
+        } else {
+            for (int a = i + 1; a < j; a += 2)
+                for (int b = a + 1; b < j; b += 2) {
+                    if (!joinable(i, a) || !joinable(a, b) || !joinable(b, j)) continue;
+                    quads_.push_back({i, a, b, j});
+                    pending.insert(pending.end(), {{i, a}, {a, b}, {b, j}});
+                    search(pending);
+                    pending.resize(pending.size() - 3);
+                    quads_.pop_back();
+                }
+        }
+        pending.emplace_back(i, j);
+    }
+
+    /// The rim vertices' face counts against their quarter turns, then the diagonals' lengths.
+    void judge() {
+        std::vector<int> faces(static_cast<std::size_t>(n_), 0);
+        double diagonals = 0.0;
+        for (const auto& q : quads_)
+            for (std::size_t k = 0; k < 4; ++k) {
+                ++faces[static_cast<std::size_t>(q[k])];
+                const int a = std::min(q[k], q[(k + 1) % 4]), b = std::max(q[k], q[(k + 1) % 4]);
+                if (!rim_side(a, b)) diagonals += 0.5 * length2(a, b); // each diagonal is a side of two quads
+            }
+        std::int64_t deviation = 0;
+        for (int i = 0; i < n_; ++i) {
+            const auto v = static_cast<std::size_t>(rim_[static_cast<std::size_t>(i)]);
+            deviation += std::abs(holes_.corners[v] + faces[static_cast<std::size_t>(i)] - holes_.wound[v]);
+        }
+        if (best_.empty() || deviation < best_deviation_ ||
+            (deviation == best_deviation_ && diagonals < best_diagonals_)) {
+            best_ = quads_;
+            best_deviation_ = deviation;
+            best_diagonals_ = diagonals;
+        }
+    }
+
+    const std::vector<int>& rim_;
+    const Holes& holes_;
+    const QuadMesh& mesh_;
+    const std::vector<std::uint64_t>& edges_;
+    const int n_;
+    std::vector<std::array<int, 4>> quads_, best_;
+    std::int64_t best_deviation_ = 0;
+    double best_diagonals_ = std::numeric_limits<double>::infinity();
+};
+
+} // namespace
+
+std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh) {
+    // The holes that lay out in the grid are closed by their cells first; the rest are filled.
+    std::vector<Defect> done = close_holes(input, mesh);
+    const Holes holes = find_holes(input, mesh);
+    if (holes.rims.empty()) return done;
+    std::vector<std::uint64_t> edges;
+    edges.reserve(4 * mesh.faces.size());
+    for (const auto& f : mesh.faces)
+        for (std::size_t k = 0; k < f.size(); ++k) edges.push_back(undirected_key(f[k], f[(k + 1) % f.size()]));
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const std::vector<int>& rim : holes.rims) {
+        if (rim.size() % 2 != 0) continue; // a quad patch without new vertices has an even rim
+        const std::vector<std::vector<int>> faces = RimQuadrangulation(rim, holes, mesh, edges).best();
+        if (faces.empty()) continue;
+        for (const auto& face : faces) {
+            mesh.faces.push_back(face);
+            mesh.face_uvs.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+        }
+        const Provenance& p = mesh.provenance[static_cast<std::size_t>(rim[0])];
+        done.push_back({DefectKind::HoleFilled,
+                        "a hole the face walks left (" + rim_description(rim) +
+                            ") lays out in no grid from the faces round its rim (their quarter turns do not close "
+                            "once round unit cells of its vertices): it was filled with " +
+                            std::to_string(faces.size()) + " quad" + (faces.size() == 1 ? "" : "s") +
+                            " joining rim vertices, which follow no cells of the map; the checker found no cell the "
+                            "map requires there (a fold-over judged on the surface)",
+                        p.chart_triangle,
+                        -1,
+                        {p.grid[0], p.grid[1]},
+                        std::nullopt});
+    }
+    return done;
+}
+
+} // namespace qex::detail
