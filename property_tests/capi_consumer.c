@@ -164,6 +164,16 @@ int main(int argc, char** argv) {
     qex_options_init_size(&options, offsetof(qex_options, best_effort));
     CHECK(options.best_effort == 7);
     expect_valid("square, options without best_effort", qex_extract(square, 4, two, 2, square_uv, &options), 4);
+    /* fill_holes (on by default, the last resort) changes nothing for a map with a valid mesh
+     * either; a caller whose struct ends before it gets the default. */
+    qex_options_init(&options);
+    CHECK(options.fill_holes == 1);
+    options.fill_holes = 0;
+    expect_valid("square, no last resort", qex_extract(square, 4, two, 2, square_uv, &options), 4);
+    options.fill_holes = 7; /* past the caller's struct: not read */
+    qex_options_init_size(&options, offsetof(qex_options, fill_holes));
+    CHECK(options.fill_holes == 7);
+    expect_valid("square, options without fill_holes", qex_extract(square, 4, two, 2, square_uv, &options), 4);
 
     if (argc >= 2) {
         double *pos, *uv;

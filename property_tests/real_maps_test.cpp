@@ -741,6 +741,13 @@ TEST(RealMaps, AHoleRoundAFoldBetweenPinnedSingularitiesIsFilledAsTheLastResort)
     bare.grid_scale = r.mesh.grid_scale;
     const VerifyResult located = verify(in, bare);
     EXPECT_TRUE(located.valid) << (located.violations.empty() ? "" : located.violations[0].message);
+    // The same mesh whatever the input's order (the patch is chosen on the canonical numbering).
+    Input shuffled = in;
+    transforms::shuffle(shuffled, 11);
+    const Result s = extract(shuffled);
+    ASSERT_TRUE(s.ok()) << s.error.message;
+    EXPECT_EQ(s.mesh.faces, r.mesh.faces);
+    EXPECT_EQ(s.mesh.positions, r.mesh.positions);
 }
 
 /// kitten_miq_10 is valid with its map refined x2, and the repair of its own scale, reused there,

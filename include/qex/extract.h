@@ -109,11 +109,13 @@ struct Options {
     /// that none can give a valid mesh, and stops at the first attempt whose only violations are
     /// the topology that handle loses. Without it, nothing changes.
     bool best_effort = false;
-    /// The last resort, when no attempt at any scale gives a valid mesh: holes whose rims lay out
-    /// in no grid are filled with quads joining their rim vertices, at the smallest scale where
-    /// the checker then accepts the mesh (DefectKind::HoleFilled: those quads follow no cells of
-    /// the map, which the checker allows only where the map requires none, as round a fold-over
-    /// between pinned singularities). Off: such a map ends invalid. Needs fallback_ladder.
+    /// The last resort, when no attempt at any scale gives a valid mesh: holes that no cells of the
+    /// grid close (their rims lay out in none, or round grid points with no vertex) are filled
+    /// with quads joining their rim vertices, at the smallest scale where the checker then accepts
+    /// the mesh (DefectKind::HoleFilled: those quads follow no cells of the map; the checker
+    /// rejects them where the map requires cells, and judges them by topology and footprint where
+    /// it judges a fold-over on the surface only, as round a fold between pinned singularities).
+    /// Off: such a map ends invalid. Needs fallback_ladder.
     bool fill_holes = true;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own
@@ -197,12 +199,12 @@ enum class DefectKind {
     /// its UV area and its corners (input vertices, `grid` the first one's grid point).
     FoldPinnedBySingularities,
     /// The last resort, once no attempt at any scale gave a valid mesh: a hole that face walks
-    /// left, whose rim lays out in no grid (HoleClosed could not close it: its rim vertices' fans
-    /// wind so that no patch of unit cells fits, as round a fold between pinned singularities), was
-    /// filled with quads joining its rim vertices (no new vertex), and the checker accepted the
-    /// mesh so, against the map it carries and the given map (where a map requires cells, such
-    /// quads fail). These quads follow no cells of the map; names the rim's output vertices and how
-    /// many quads. The mesh is at the smallest scale where this made it valid.
+    /// left and no cells of the grid close (HoleClosed could not: its rim lays out in no grid, as
+    /// where its vertices' fans wind round a fold between pinned singularities, or round a grid
+    /// point with no vertex) was filled with quads joining its rim vertices (no new vertex), and
+    /// the checker accepted the mesh so, against the map it carries and the given map. These quads
+    /// follow no cells of the map; names the rim's output vertices and how many quads. The mesh is
+    /// at the smallest scale (but coarsened ones) where this made it valid.
     HoleFilled,
 };
 const char* to_string(DefectKind kind);

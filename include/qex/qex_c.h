@@ -46,6 +46,7 @@ typedef struct qex_options {
     int64_t max_qvertices;   /* refuse maps that need more output vertices (default 10,000,000) */
     const int32_t* valences; /* optional: num_vertices cross-field valences (4 regular), or NULL */
     int best_effort;         /* no valid mesh: return the attempt closest to valid (default 0); still invalid */
+    int fill_holes;          /* last resort: fill holes no grid cells close from their rims (default 1; HoleFilled) */
 } qex_options;
 
 typedef struct qex_result qex_result; /* opaque */

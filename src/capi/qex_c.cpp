@@ -62,6 +62,7 @@ qex::Options to_options(const qex_options* o, int64_t num_vertices, std::vector<
     if (o->struct_size >= offsetof(qex_options, valences) + sizeof c.valences && c.valences)
         valences.assign(c.valences, c.valences + num_vertices);
     options.best_effort = c.best_effort != 0; // the default where the caller's struct ends before it
+    options.fill_holes = c.fill_holes != 0;
     return options;
 }
 
@@ -157,8 +158,8 @@ qex_verdict* run_check(const double* positions, int64_t num_vertices, const int3
     mesh.faces.resize(static_cast<std::size_t>(num_quads));
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) mesh.faces[f].assign(quads + 4 * f, quads + 4 * f + 4);
     // The oracle's one entry (qex/check.h), as `qex check` and Python's qex.check judge.
-    const qex::MeshCheck c = certificate_path ? qex::check_mesh(in, mesh, certificate)
-                                              : qex::check_mesh(in, std::move(mesh), grid_scale);
+    const qex::MeshCheck c =
+        certificate_path ? qex::check_mesh(in, mesh, certificate) : qex::check_mesh(in, std::move(mesh), grid_scale);
     auto v = std::make_unique<qex_verdict>();
     v->ok = c.map_ok();
     v->error_code = qex::to_string(c.error.code);
@@ -224,6 +225,7 @@ void qex_options_init_size(qex_options* options, size_t struct_size) {
     o.max_qvertices = d.max_qvertices;
     o.valences = nullptr;
     o.best_effort = d.best_effort;
+    o.fill_holes = d.fill_holes;
     std::memcpy(options, &o, o.struct_size);
     options->struct_size = struct_size;
 }

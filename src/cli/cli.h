@@ -97,7 +97,7 @@ int run_draw(const DrawArgs& a);
 struct BatchArgs {
     std::string input, out_dir, summary_path, format = "obj";
     int jobs = 0;
-    bool quiet = false, force = false, snap_boundary = false, best_effort = false;
+    bool quiet = false, force = false, snap_boundary = false, best_effort = false, no_fill_holes = false;
     std::string self; ///< this program, run once per map
 };
 CLI::App* add_batch(CLI::App& app, BatchArgs& a);

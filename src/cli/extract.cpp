@@ -188,8 +188,8 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
                       "when no attempt gives a valid mesh, write the one closest to valid (fewest checker violations, "
                       "ties to the smallest grid scale), every violation located in the report (exit code stays 5)");
     extract->add_flag("--no-fill-holes", a.no_fill_holes,
-                      "no last resort: where no attempt gives a valid mesh, do not fill holes whose rims lay out in no "
-                      "grid with quads joining their rim vertices (such quads follow no cells of the map)");
+                      "no last resort: where no attempt gives a valid mesh, do not fill holes that no grid cells close "
+                      "with quads joining their rim vertices (such quads follow no cells of the map)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));

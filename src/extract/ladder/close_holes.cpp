@@ -173,6 +173,7 @@ Holes find_holes(const Input& input, const QuadMesh& mesh) {
             holes.rims.push_back(std::move(rim));
     }
     holes.corners = std::move(corners);
+    holes.half = std::move(half);
     return holes;
 }
 
@@ -182,34 +183,42 @@ std::string rim_description(const std::vector<int>& rim) {
     return "its rim through output vertices" + through;
 }
 
-std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
-    std::vector<Defect> closed;
-    const Holes holes = find_holes(input, mesh);
+Defect patch_hole(QuadMesh& mesh, const std::vector<int>& rim, const std::vector<std::vector<int>>& faces,
+                  DefectKind kind, const std::string& what) {
+    for (const auto& face : faces) {
+        mesh.faces.push_back(face);
+        mesh.face_uvs.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    }
+    const Provenance& p = mesh.provenance[static_cast<std::size_t>(rim[0])];
+    return {kind, what, p.chart_triangle, -1, {p.grid[0], p.grid[1]}, std::nullopt};
+}
+
+std::vector<char> close_rims(const Holes& holes, QuadMesh& mesh, bool wound_first, std::vector<Defect>& done) {
+    std::vector<char> closed(holes.rims.size(), 0);
     // One reading of the rim vertices' quarter turns is tried first, the other where a rim does
     // not close with it.
     const std::vector<int> regular(holes.corners.size(), 4);
     const std::vector<int>& first = wound_first ? holes.wound : regular;
     const std::vector<int>& second = wound_first ? regular : holes.wound;
-    for (const std::vector<int>& rim : holes.rims) {
+    for (std::size_t r = 0; r < holes.rims.size(); ++r) {
+        const std::vector<int>& rim = holes.rims[r];
         std::vector<std::vector<int>> cells = cells_inside(rim, holes.corners, first);
         if (cells.empty()) cells = cells_inside(rim, holes.corners, second);
         if (cells.empty()) continue;
-        for (const auto& face : cells) {
-            mesh.faces.push_back(face);
-            mesh.face_uvs.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
-        }
-        const Provenance& p = mesh.provenance[static_cast<std::size_t>(rim[0])];
-        closed.push_back({DefectKind::HoleClosed,
-                          "a hole the face walks left (" + rim_description(rim) + ") was closed by " +
-                              std::to_string(cells.size()) + " unit cell" + (cells.size() == 1 ? "" : "s") +
-                              " of the grid, laid out from the faces round its rim (the face walks that ran open "
-                              "there stay listed among the defects)",
-                          p.chart_triangle,
-                          -1,
-                          {p.grid[0], p.grid[1]},
-                          std::nullopt});
+        closed[r] = 1;
+        done.push_back(patch_hole(mesh, rim, cells, DefectKind::HoleClosed,
+                                  "a hole the face walks left (" + rim_description(rim) + ") was closed by " +
+                                      std::to_string(cells.size()) + " unit cell" + (cells.size() == 1 ? "" : "s") +
+                                      " of the grid, laid out from the faces round its rim (the face walks that ran "
+                                      "open there stay listed among the defects)"));
     }
     return closed;
+}
+
+std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
+    std::vector<Defect> done;
+    (void)close_rims(find_holes(input, mesh), mesh, wound_first, done);
+    return done;
 }
 
 } // namespace qex::detail

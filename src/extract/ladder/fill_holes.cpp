@@ -1,12 +1,12 @@
 // Stage fill_holes (not in the paper): the last resort for a mesh that no rung at any scale made
-// valid. Where a fold-over's singularities stay at their grid points, a map can leave a hole whose
-// rim lays out in no grid: the fans of its rim vertices wind too little or too much to give the
-// quarter turns a flat patch of cells needs (decimated-knight_miq_18 at x2: ten rim vertices
-// past singularities of valence 6, 5 and 6 whose folded fans wind 0 to 2 quarter turns, round a
-// flipped triangle between three singularities). No mesh that follows the map exists there, so
-// no face can follow it: the hole is filled with quads that join its rim vertices, and the
-// checker decides whether the map leaves that region undecided (a fold-over judged on the
-// surface) or requires cells there, which such quads do not give.
+// valid. Where a fold-over's singularities stay at their grid points, a map can leave a hole that
+// close_holes cannot close: its rim lays out in no grid, the fans of its rim vertices winding too
+// little or too much for the quarter turns a flat patch of cells needs (decimated-knight_miq_18 at
+// x2: ten rim vertices past singularities of valence 6, 5 and 6 whose folded fans wind 0 to 2
+// quarter turns, round a flipped triangle between three singularities). No mesh that follows the
+// map exists there, so no face can follow it: the hole is filled with quads that join its rim
+// vertices, and the checker decides whether the map leaves that region undecided (a fold-over
+// judged on the surface) or requires cells there, which such quads do not give.
 #include "ladder.h"
 
 #include <algorithm>
@@ -17,9 +17,8 @@
 namespace qex::detail {
 namespace {
 
-std::uint64_t undirected_key(int a, int b) {
-    const auto lo = static_cast<std::uint32_t>(std::min(a, b)), hi = static_cast<std::uint32_t>(std::max(a, b));
-    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+std::uint64_t half_edge(int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
 /// The quadrangulations of one rim (a polygon of an even number of vertices) by diagonals, none
@@ -28,9 +27,8 @@ std::uint64_t undirected_key(int a, int b) {
 /// (valence deviation, squared diagonal length), the first found among equals.
 class RimQuadrangulation {
 public:
-    RimQuadrangulation(const std::vector<int>& rim, const Holes& holes, const QuadMesh& mesh,
-                       const std::vector<std::uint64_t>& edges)
-        : rim_(rim), holes_(holes), mesh_(mesh), edges_(edges), n_(static_cast<int>(rim.size())) {}
+    RimQuadrangulation(const std::vector<int>& rim, const Holes& holes, const QuadMesh& mesh)
+        : rim_(rim), holes_(holes), mesh_(mesh), n_(static_cast<int>(rim.size())) {}
 
     /// The best quadrangulation's quads, as rim vertices in rim order; empty if there is none.
     std::vector<std::vector<int>> best() {
@@ -50,8 +48,10 @@ private:
     /// the mesh (the mesh would not stay manifold).
     bool joinable(int i, int j) const {
         if (rim_side(i, j)) return true;
-        const std::uint64_t key = undirected_key(rim_[static_cast<std::size_t>(i)], rim_[static_cast<std::size_t>(j)]);
-        return !std::binary_search(edges_.begin(), edges_.end(), key);
+        const int a = rim_[static_cast<std::size_t>(i)], b = rim_[static_cast<std::size_t>(j)];
+        const auto& half = holes_.half;
+        return !std::binary_search(half.begin(), half.end(), half_edge(a, b)) &&
+               !std::binary_search(half.begin(), half.end(), half_edge(b, a));
     }
 
     double length2(int i, int j) const {
@@ -106,7 +106,6 @@ private:
     const std::vector<int>& rim_;
     const Holes& holes_;
     const QuadMesh& mesh_;
-    const std::vector<std::uint64_t>& edges_;
     const int n_;
     std::vector<std::array<int, 4>> quads_, best_;
     std::int64_t best_deviation_ = 0;
@@ -115,37 +114,23 @@ private:
 
 } // namespace
 
-std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh) {
-    // The holes that lay out in the grid are closed by their cells first; the rest are filled.
-    std::vector<Defect> done = close_holes(input, mesh);
+std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
+    // The holes whose rims lay out round cells of their vertices are closed by those cells first.
     const Holes holes = find_holes(input, mesh);
-    if (holes.rims.empty()) return done;
-    std::vector<std::uint64_t> edges;
-    edges.reserve(4 * mesh.faces.size());
-    for (const auto& f : mesh.faces)
-        for (std::size_t k = 0; k < f.size(); ++k) edges.push_back(undirected_key(f[k], f[(k + 1) % f.size()]));
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const std::vector<int>& rim : holes.rims) {
-        if (rim.size() % 2 != 0) continue; // a quad patch without new vertices has an even rim
-        const std::vector<std::vector<int>> faces = RimQuadrangulation(rim, holes, mesh, edges).best();
+    std::vector<Defect> done;
+    const std::vector<char> closed = close_rims(holes, mesh, wound_first, done);
+    for (std::size_t r = 0; r < holes.rims.size(); ++r) {
+        const std::vector<int>& rim = holes.rims[r];
+        if (closed[r] || rim.size() % 2 != 0) continue; // a patch of quads without new vertices has an even rim
+        const std::vector<std::vector<int>> faces = RimQuadrangulation(rim, holes, mesh).best();
         if (faces.empty()) continue;
-        for (const auto& face : faces) {
-            mesh.faces.push_back(face);
-            mesh.face_uvs.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
-        }
-        const Provenance& p = mesh.provenance[static_cast<std::size_t>(rim[0])];
-        done.push_back({DefectKind::HoleFilled,
-                        "a hole the face walks left (" + rim_description(rim) +
-                            ") lays out in no grid from the faces round its rim (their quarter turns do not close "
-                            "once round unit cells of its vertices): it was filled with " +
-                            std::to_string(faces.size()) + " quad" + (faces.size() == 1 ? "" : "s") +
-                            " joining rim vertices, which follow no cells of the map; the checker found no cell the "
-                            "map requires there (a fold-over judged on the surface)",
-                        p.chart_triangle,
-                        -1,
-                        {p.grid[0], p.grid[1]},
-                        std::nullopt});
+        done.push_back(patch_hole(mesh, rim, faces, DefectKind::HoleFilled,
+                                  "a hole the face walks left (" + rim_description(rim) +
+                                      ") is closed by no cells of the grid (its rim lays out in none from the faces "
+                                      "round it, or round a grid point with no vertex): it was filled with " +
+                                      std::to_string(faces.size()) + " quad" + (faces.size() == 1 ? "" : "s") +
+                                      " joining rim vertices, which follow no cells of the map, and the checker "
+                                      "accepted the mesh so"));
     }
     return done;
 }

@@ -93,11 +93,23 @@ struct Holes {
     /// Per vertex of the mesh: the quarter turns round it as the fan of the input vertex it lies
     /// on winds in the map the mesh carries (a singularity's valence), 4 elsewhere or unread.
     std::vector<int> wound;
+    /// The faces' half-edges (a -> b as (a << 32) | b), sorted.
+    std::vector<std::uint64_t> half;
 };
 Holes find_holes(const Input& input, const QuadMesh& mesh);
 
 /// "its rim through output vertices ...", for explanations.
 std::string rim_description(const std::vector<int>& rim);
+
+/// Puts `faces` (of rim vertices, oriented as the mesh) into the hole of `mesh` that `rim` bounds,
+/// each with unit-square local UVs; returns the explanation of `kind` saying `what`, placed at the
+/// rim's first vertex (its chart triangle and grid point).
+Defect patch_hole(QuadMesh& mesh, const std::vector<int>& rim, const std::vector<std::vector<int>>& faces,
+                  DefectKind kind, const std::string& what);
+
+/// close_holes on the holes found (find_holes on `mesh` as it was): adds an explanation per hole
+/// closed to `done`, and returns per rim whether it was closed.
+std::vector<char> close_rims(const Holes& holes, QuadMesh& mesh, bool wound_first, std::vector<Defect>& done);
 
 /// For a mesh the checker rejected: closes each hole away from the input's boundary whose rim (a
 /// simple loop of at most 16 vertices) encloses, laid out in the grid from the quarter turns its
@@ -108,14 +120,16 @@ std::string rim_description(const std::vector<int>& rim);
 /// accepts the result.
 std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
-/// Last resort, for a mesh no scale's attempt made valid: fills each hole of find_holes() whose rim
-/// has an even number of vertices and lays out in no grid (close_holes) with quads that join rim
-/// vertices, no new vertex: of every such quadrangulation whose diagonals are no edges of the
-/// mesh, the one that leaves the rim vertices' face counts nearest their quarter turns
-/// (Holes::wound), then with the shortest diagonals (squared, in space). Returns one explanation
-/// (HoleFilled) per hole filled. A candidate only: the caller keeps it if the checker accepts the
-/// result, which it does only where the map decides nothing (a fold-over no fold-free map removes).
-std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh);
+/// Last resort, for a mesh no scale's attempt made valid: closes the holes of find_holes() that
+/// close_holes closes (with `wound_first` as there), then fills each other one whose rim has an
+/// even number of vertices (its rim lays out in no grid, or round grid points with no vertex)
+/// with quads that join rim vertices, no new vertex: of every such quadrangulation whose
+/// diagonals are no edges of the mesh, the one that leaves the rim vertices' face counts nearest
+/// their quarter turns (Holes::wound), then with the shortest diagonals (squared, in space), the
+/// first found from the rim's vertex of smallest index among equals. Returns one explanation per
+/// hole (HoleClosed, HoleFilled). A candidate only: the caller keeps it if the checker accepts
+/// the result.
+std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
 // ============================================================================ scales
 

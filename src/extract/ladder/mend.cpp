@@ -111,27 +111,35 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
 bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt) {
     if (attempt.check.valid || beyond_mending(attempt.check.violations)) return false;
     StageTimer timer(attempt.report);
-    QuadMesh filled = attempt.mesh;
-    std::vector<Defect> explanations = fill_holes(input, filled);
-    timer.done(Stage::fill_holes);
-    // Holes closed by their cells alone were tried when the rung's mesh was mended.
-    const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
-                                        [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
-    if (!any_filled) return false;
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
-    VerifyResult check;
-    const bool ok = accepted(input, filled, relaxed_rung(attempt.report.rung), verify_options, check);
-    timer.done(Stage::fill_holes);
-    if (!ok) return false;
-    keep(std::move(filled), std::move(check), std::move(explanations), attempt);
-    // The violations located on the input are gone with them; the extraction's defects stay.
-    auto& defects = attempt.report.defects;
-    defects.erase(std::remove_if(defects.begin(), defects.end(),
-                                 [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
-                  defects.end());
-    attempt.report.check_violations = 0;
-    return true;
+    const bool relaxed = relaxed_rung(attempt.report.rung);
+    // The holes that cells close, read as in close_holes_if_accepted: regular first, then as their
+    // fans wind where that gives other faces.
+    std::vector<std::vector<int>> first_faces;
+    for (const bool wound_first : {false, true}) {
+        QuadMesh filled = attempt.mesh;
+        std::vector<Defect> explanations = fill_holes(input, filled, wound_first);
+        timer.done(Stage::fill_holes);
+        // Holes closed by their cells alone were tried when the rung's mesh was mended.
+        const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
+                                            [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
+        if (!any_filled || (wound_first && filled.faces == first_faces)) continue;
+        if (!wound_first) first_faces = filled.faces;
+        VerifyResult check;
+        const bool ok = accepted(input, filled, relaxed, verify_options, check);
+        timer.done(Stage::fill_holes);
+        if (!ok) continue;
+        keep(std::move(filled), std::move(check), std::move(explanations), attempt);
+        // The violations located on the input are gone with them; the extraction's defects stay.
+        auto& defects = attempt.report.defects;
+        defects.erase(std::remove_if(defects.begin(), defects.end(),
+                                     [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
+                      defects.end());
+        attempt.report.check_violations = 0;
+        return true;
+    }
+    return false;
 }
 
 } // namespace qex::detail

@@ -268,6 +268,7 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
     }
     // No scale gives a valid mesh as extracted: the last resort, holes filled, at the smallest
     // scale where that passes.
+    StageTimer::hook_scale = 1;
     if (options.fill_holes && fill_holes_if_accepted(input, options, result)) return;
     if (filled_scale > 0) return take_valid_refined(std::move(filled), filled_scale, result);
     if (closest_scale > 1) return take_refined(closest, closest_scale, std::move(failed), tried, result);

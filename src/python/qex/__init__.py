@@ -217,8 +217,8 @@ def extract(
         fewest checker violations, ties to the smallest grid scale; ``valid`` stays False and
         ``report["defects"]`` locates each violation, a collapsed handle first.
     fill_holes : bool, optional
-        The last resort when no attempt gives a valid mesh (default True): holes whose rims lay
-        out in no grid are filled with quads joining their rim vertices, kept only if the checker
+        The last resort when no attempt gives a valid mesh (default True): holes that no grid
+        cells close are filled with quads joining their rim vertices, kept only if the checker
         then accepts the mesh (``HoleFilled`` among ``report["explanations"]``: those quads follow
         no cells of the map). False: such a map stays invalid.
 
