@@ -570,13 +570,57 @@ std::optional<std::array<std::int64_t, 2>> corner_grid(const Input& in, std::int
     return std::array<std::int64_t, 2>{std::llround(uv[0] * scale), std::llround(uv[1] * scale)};
 }
 
+/// A proof that a fold-over's region has no fold-free map (AnglesLeaveNoRoom,
+/// RegionAreaNotPositive) placed on the region's first triangle, near its first corner's grid
+/// point at the mesh's grid scale, and stating what proves it: a vertex's angle outside what its
+/// corners can take (0 to 2 quarter turns each), a sum of angles a radian or more off, or an area
+/// that is not positive.
+void expect_region_proof(const Input& in, const Result& r, const Defect& d) {
+    ASSERT_GE(d.input_element, 0) << d.message;
+    ASSERT_LT(d.input_element, static_cast<std::int64_t>(in.triangles.size())) << d.message;
+    const auto first = static_cast<int>(in.triangles[static_cast<std::size_t>(d.input_element)][0]);
+    const auto g = corner_grid(in, d.input_element, first, r.mesh.grid_scale);
+    ASSERT_TRUE(g.has_value());
+    EXPECT_LE(std::abs(d.grid[0] - (*g)[0]) + std::abs(d.grid[1] - (*g)[1]), 2) << d.message;
+    int rings = 0, triangles = 0, singularities = 0, from = -1;
+    ASSERT_EQ(std::sscanf(d.message.c_str() + d.message.find("within "),
+                          "within %d rings (%d triangles, %d singularities inside, from input triangle %d)", &rings,
+                          &triangles, &singularities, &from),
+              4)
+        << d.message;
+    EXPECT_EQ(from, d.input_element) << d.message;
+    EXPECT_GT(triangles, 0) << d.message;
+    if (d.kind == DefectKind::RegionAreaNotPositive) {
+        double area = 1.0;
+        ASSERT_EQ(std::sscanf(d.message.c_str() + d.message.find("signed UV area of "), "signed UV area of %lf", &area),
+                  1)
+            << d.message;
+        EXPECT_LE(area, 0.0) << d.message;
+        return;
+    }
+    double q = 0.0;
+    if (const std::size_t at = d.message.find(" miss "); at != std::string::npos) {
+        ASSERT_EQ(std::sscanf(d.message.c_str() + at, " miss %lf quarter turns", &q), 1) << d.message;
+        EXPECT_GE(std::abs(q), 1.0 / (0.5 * M_PI) - 0.01) << d.message << ": within the angles' rounding";
+        return;
+    }
+    int corners = 0;
+    const std::size_t at = d.message.find("from input triangle ");
+    ASSERT_EQ(
+        std::sscanf(d.message.c_str() + at, "from input triangle %*d) %lf quarter turns for %d corners", &q, &corners),
+        2)
+        << d.message;
+    EXPECT_GT(corners, 0) << d.message;
+    EXPECT_TRUE(q <= 0.0 || q >= 2.0 * corners) << d.message << ": room for positive triangles";
+}
+
 /// Every proof among r's explanations placed and stated as it must be, each once, before the
 /// folds it backs: a RimShortOfSingularity names a triangle with a corner at its singularity,
 /// whose grid point (at the mesh's grid scale) is its `grid`, and a rim short of the quarter turns
 /// it needs by whole turns; a FoldPinnedBySingularities names a triangle flipped in the map as
 /// given, its corners, and one corner's grid point. Returns how many of each there are.
-std::array<int, 2> expect_proofs_placed(const Input& in, const Result& r) {
-    std::array<int, 2> count{0, 0};
+std::array<int, 4> expect_proofs_placed(const Input& in, const Result& r) {
+    std::array<int, 4> count{0, 0, 0, 0};
     const int k = r.mesh.grid_scale;
     const std::vector<std::int8_t> sign = uv_orientations(in);
     std::set<std::int64_t> seen_vertices, seen_triangles;
@@ -584,6 +628,12 @@ std::array<int, 2> expect_proofs_placed(const Input& in, const Result& r) {
     for (std::size_t i = 0; i < r.report.explanations.size(); ++i) {
         const Defect& d = r.report.explanations[i];
         if (d.kind == DefectKind::FoldOverNotRepaired) first_fold = std::min(first_fold, i);
+        if (d.kind == DefectKind::AnglesLeaveNoRoom || d.kind == DefectKind::RegionAreaNotPositive) {
+            last_proof = i;
+            ++count[d.kind == DefectKind::AnglesLeaveNoRoom ? 2 : 3];
+            expect_region_proof(in, r, d);
+            continue;
+        }
         const bool rim = d.kind == DefectKind::RimShortOfSingularity;
         if (!rim && d.kind != DefectKind::FoldPinnedBySingularities) continue;
         last_proof = i;
@@ -760,6 +810,27 @@ TEST(RealMaps, AProofOfARefinedMeshIsPlacedAtItsScale) {
     ASSERT_TRUE(r.check.valid);
     ASSERT_GT(r.mesh.grid_scale, 1) << "kitten_miq_10 is valid at its own scale now: pick another map";
     EXPECT_GT(expect_proofs_placed(in, r)[0], 0) << "no RimShortOfSingularity on kitten_miq_10 refined";
+}
+
+/// Regions the repair's room certificate refuses are proofs too, named where a fold-over's region
+/// has no fold-free map: on duck_miq_28 (angles that miss whole turns among several
+/// singularities) and face_miq_10 (a region of negative signed UV area, a vertex whose triangles
+/// outside leave it no room), placed, stated, and before the folds they back.
+TEST(RealMaps, ARegionTheRoomCertificateRefusesIsNamedAsTheProof) {
+    int regions = 0, areas = 0;
+    for (const auto& [folder, name] : {std::pair<const char*, const char*>{"paper", "duck_miq_28"},
+                                       std::pair<const char*, const char*>{"miq-more", "face_miq_10"}}) {
+        Input in;
+        if (const std::string why = read_real_map(folder, name, in); !why.empty()) GTEST_SKIP() << why;
+        const Result r = first_rung(in);
+        ASSERT_TRUE(r.ok()) << r.error.message;
+        const std::array<int, 4> count = expect_proofs_placed(in, r);
+        regions += count[2];
+        areas += count[3];
+        EXPECT_GT(count[2] + count[3], 0) << name << ": no region proved";
+    }
+    EXPECT_GT(regions, 0) << "no AnglesLeaveNoRoom";
+    EXPECT_GT(areas, 0) << "no RegionAreaNotPositive";
 }
 
 /// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the

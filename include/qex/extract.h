@@ -198,6 +198,19 @@ enum class DefectKind {
     /// so no fold-free map keeps them at their grid points. Names the triangle (`input_element`),
     /// its UV area and its corners (input vertices, `grid` the first one's grid point).
     FoldPinnedBySingularities,
+    /// Stage repair's room certificate proves a fold-over's region has no fold-free map that keeps
+    /// every vertex's winding, its rim and singularities as the map gives them: a fixed vertex
+    /// whose triangles outside the region leave it an angle positive triangles cannot fill (at
+    /// most 0, or at least half a turn per corner), or angles that sum, over the fixed vertices,
+    /// other than half a turn per triangle (Gauss-Bonnet; where whole turns are missing among
+    /// several singularities, with their valences as the map counts them). Names the region
+    /// (rings, triangles, singularities; `input_element` its triangle of smallest input index,
+    /// `grid` near that triangle's first corner), the vertex and the quarter turns.
+    AnglesLeaveNoRoom,
+    /// A fold-over's region whose signed UV area is not positive: moving its free vertices keeps
+    /// the sum, so no map of it with its rim and singularities as given is fold-free. Names the
+    /// region as AnglesLeaveNoRoom does, and its area.
+    RegionAreaNotPositive,
     /// The last resort, once no attempt at any scale gave a valid mesh: a hole that face walks
     /// left and no cells of the grid close (HoleClosed could not: its rim lays out in no grid, as
     /// where its vertices' fans wind round a fold between pinned singularities, or round a grid

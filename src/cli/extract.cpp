@@ -70,10 +70,16 @@ int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& res
                   << (defects[i].violation ? std::string(" ") + qex::to_string(*defects[i].violation) : "") << ": "
                   << defects[i].message << "\n";
     print_violations(check);
-    // What the map itself forbids, before what the attempts found.
-    for (const qex::Defect& d : result.report.explanations)
-        if (d.kind == qex::DefectKind::FoldPinnedBySingularities || d.kind == qex::DefectKind::RimShortOfSingularity)
-            std::cerr << "  " << qex::to_string(d.kind) << ": " << d.message << "\n";
+    // What the map itself forbids, before what the attempts found (the first ten; the report has
+    // them all).
+    std::size_t proofs = 0;
+    for (const qex::Defect& d : result.report.explanations) {
+        if (d.kind != qex::DefectKind::FoldPinnedBySingularities && d.kind != qex::DefectKind::RimShortOfSingularity &&
+            d.kind != qex::DefectKind::AnglesLeaveNoRoom && d.kind != qex::DefectKind::RegionAreaNotPositive)
+            continue;
+        if (++proofs <= 10) std::cerr << "  " << qex::to_string(d.kind) << ": " << d.message << "\n";
+    }
+    if (proofs > 10) std::cerr << "  ... and " << proofs - 10 << " more proofs (the report's explanations)\n";
     for (const qex::Defect& d : result.report.explanations)
         if (d.kind == qex::DefectKind::RefinementFailed) std::cerr << "  RefinementFailed: " << d.message << "\n";
     for (const qex::Defect& d : result.report.explanations)

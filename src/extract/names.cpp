@@ -46,6 +46,8 @@ const char* to_string(DefectKind k) {
         case DefectKind::BestEffortMesh: return "BestEffortMesh";
         case DefectKind::RimShortOfSingularity: return "RimShortOfSingularity";
         case DefectKind::FoldPinnedBySingularities: return "FoldPinnedBySingularities";
+        case DefectKind::AnglesLeaveNoRoom: return "AnglesLeaveNoRoom";
+        case DefectKind::RegionAreaNotPositive: return "RegionAreaNotPositive";
         case DefectKind::HoleFilled: return "HoleFilled";
         case DefectKind::SeamRounded: return "SeamRounded";
         case DefectKind::SingularitiesMerged: return "SingularitiesMerged";

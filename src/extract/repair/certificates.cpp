@@ -146,12 +146,24 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
         int corners = 0;
         fan_angles(m, v, marks, inside, outside, corners);
         const double left = marks.target(m, v) - outside;
-        if (!(left > 0.0 && left < M_PI * corners)) return false;
+        if (!(left > 0.0 && left < M_PI * corners)) {
+            // A proof, clear of the angles' rounding: every corner inside lies in (0, pi).
+            const double margin = 1e-9 * (1.0 + std::abs(left));
+            marks.room_proved = !(left > -margin && left < M_PI * corners + margin);
+            marks.room_vertex = v;
+            marks.room_left = left;
+            marks.room_corners = corners;
+            return false;
+        }
         sum += left;
     }
     const double missing = M_PI * static_cast<double>(r.faces.size()) - sum;
     if (open) return true;
     if (std::abs(missing) < 1.0) return rim_leaves_room(m, r, marks);
+    // What fails below is a proof with the valences as counted: in an orientation-preserving map
+    // that keeps every winding the angles sum to pi per triangle.
+    marks.room_missing = missing;
+    marks.room_proved = true;
     if (valences_given) return false; // the user's valences stand
     // Whole turns missing: they belong to singularities inside the region (Algorithm 8 finds no
     // flipped run in a fan squeezed by the fold, Figure 2 (d)).
@@ -170,6 +182,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     // is not known (giving one each to those counted below valence 3 admitted regions of up to
     // 3,400 free vertices that did not untangle, and cost fertility_miq_5 8 s).
     if (inner.size() != 1) return false;
+    // Its valence corrected: what fails below proves nothing (the bound is not the exact one).
+    marks.room_proved = false;
     const double angle = target_angle(m, inner[0]) + 2.0 * M_PI * turns;
     if (!(angle > 1.0 && angle < M_PI * m.fan_size[inner[0]])) return false;
     marks.cone = inner[0];

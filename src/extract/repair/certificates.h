@@ -33,6 +33,14 @@ struct RegionMarks {
     /// (admits_embedding): that singularity, and the angle the rim turns about it.
     int rim_cone = -1;
     double rim_angle = 0.0;
+    /// Set when admits_embedding proves that no orientation-preserving map of the region keeps
+    /// every vertex's winding: a fixed vertex (working index) whose fixed triangles leave the
+    /// region an angle (`room_left`) outside (0, pi per region corner, `room_corners`); or, with
+    /// `room_vertex` -1, the angles the fixed vertices leave it summing to `room_missing` less than
+    /// pi per triangle (by a radian or more).
+    bool room_proved = false;
+    int room_vertex = -1, room_corners = 0;
+    double room_left = 0.0, room_missing = 0.0;
 
     /// What v's angles sum to in an embedding of the region's map.
     double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }
@@ -52,7 +60,8 @@ struct RegionMarks {
         for (const FreeFan& fan : r.fans) vertex[fan.vertex] = 0;
         for (const int v : fixed) vertex[v] = 0;
         fixed.clear();
-        cone = rim_cone = -1;
+        cone = rim_cone = room_vertex = -1;
+        room_proved = false;
     }
 };
 

@@ -7,10 +7,25 @@
 #include <array>
 #include <cstdint>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace qex::detail {
 namespace repair_impl {
+
+namespace {
+
+/// A number of quarter turns for a message: to two decimals, whole ones without.
+std::string quarter_turns(double q) {
+    char text[32];
+    if (std::abs(q - std::nearbyint(q)) < 0.005)
+        std::snprintf(text, sizeof text, "%.0f", q);
+    else
+        std::snprintf(text, sizeof text, "%.2f", q);
+    return text;
+}
+
+} // namespace
 
 std::string RegionFailure::text() const {
     const std::string where = "within " + std::to_string(radius) + " rings (a region of " +
@@ -23,9 +38,17 @@ std::string RegionFailure::text() const {
                    " the region's signed UV area is not positive: no orientation-preserving map of it "
                    "exists";
         case Why::NoRoom:
-            return where +
-                   " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
-                   "whole turns missing among several singularities)";
+            if (!proof)
+                return where +
+                       " the angles its fixed vertices leave the region admit no embedding (Gauss-Bonnet, or "
+                       "whole turns missing among several singularities)";
+            if (cone >= 0)
+                return where + " input vertex " + std::to_string(vertex) + " leaves it " + quarter_turns(amount) +
+                       " quarter turns for " + std::to_string(corners) +
+                       " corners, which positive triangles cannot fill (between 0 and 2 per corner)";
+            return where + " the angles its fixed vertices leave it miss " + quarter_turns(amount) +
+                   " quarter turns of the 2 per triangle that positive triangles take, among " +
+                   std::to_string(singularities) + " singularities inside (Gauss-Bonnet)";
         case Why::RimShort:
             return where + " its rim turns " + std::to_string(winds) +
                    " quarter turns about the grid point of input vertex " + std::to_string(vertex) +
@@ -57,19 +80,27 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
         fan_angles(m, v, marks, inside, outside, corners);
         f.singularities += m.map.singular[v] && !m.on_boundary[v] && corners == m.fan_size[v];
     }
-    double area2 = 0.0;
+    double area2 = 0.0, magnitude = 0.0;
     for (const int t : r.faces) {
         const Vec2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
-        area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        const double twice = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        area2 += twice;
+        magnitude += std::abs(twice);
         if (!positive(m, t)) {
             ++f.inverted;
             if (f.triangle < 0 || m.input_triangle[t] < f.triangle) f.triangle = m.input_triangle[t];
         }
+        if (f.first_face < 0 || m.input_triangle[t] < m.input_triangle[f.first_face]) f.first_face = t;
     }
     if (!(area2 > 0.0)) {
         f.why = RegionFailure::Why::AreaNotPositive;
+        f.amount = 0.5 * area2;
+        // Moving free vertices keeps the sum (each one's fan has its rim fixed): a proof where
+        // the sum is clear of its rounding.
+        f.proof = area2 < -1e-12 * magnitude;
     } else if (!admitted && marks.rim_cone >= 0) {
         f.why = RegionFailure::Why::RimShort;
+        f.proof = true;
         f.vertex = m.input_vertex[marks.rim_cone];
         f.cone = marks.rim_cone;
         f.singular = true;
@@ -77,6 +108,15 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
         f.target = static_cast<int>(std::lround(marks.target(m, marks.rim_cone) / (0.5 * M_PI)));
     } else if (!admitted) {
         f.why = RegionFailure::Why::NoRoom;
+        f.proof = marks.room_proved;
+        if (marks.room_vertex >= 0) {
+            f.cone = marks.room_vertex;
+            f.vertex = m.input_vertex[marks.room_vertex];
+            f.amount = marks.room_left / (0.5 * M_PI);
+            f.corners = marks.room_corners;
+        } else {
+            f.amount = marks.room_missing / (0.5 * M_PI);
+        }
     } else if (f.inverted > 0) {
         f.why = RegionFailure::Why::Inverted;
     } else {
@@ -104,7 +144,9 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
 void FailureLog::record(const Region& r, const RegionFailure& f) {
     for (const FreeFan& fan : r.fans) {
         failure_of[fan.vertex] = static_cast<int>(failures.size());
-        if (f.why == RegionFailure::Why::RimShort) proof_of[fan.vertex] = static_cast<int>(failures.size());
+        if (f.proof)
+            (f.why == RegionFailure::Why::RimShort ? proof_of : room_proof_of)[fan.vertex] =
+                static_cast<int>(failures.size());
     }
     failures.push_back(f);
 }
@@ -125,13 +167,14 @@ std::string FailureLog::reason(const TriMesh& m, const std::vector<int>& group) 
 void FailureLog::proofs(const TriMesh& m, const std::vector<int>& group, std::vector<char>& seen,
                         std::vector<int>& out) const {
     seen.resize(failures.size(), 0);
-    for (const int f : group)
-        for (const int v : m.tri[f]) {
-            const int p = proof_of[v];
-            if (p < 0 || seen[static_cast<std::size_t>(p)]) continue;
-            seen[static_cast<std::size_t>(p)] = 1;
-            out.push_back(p);
-        }
+    for (const std::vector<int>* of : {&proof_of, &room_proof_of})
+        for (const int f : group)
+            for (const int v : m.tri[f]) {
+                const int p = (*of)[v];
+                if (p < 0 || seen[static_cast<std::size_t>(p)]) continue;
+                seen[static_cast<std::size_t>(p)] = 1;
+                out.push_back(p);
+            }
 }
 
 namespace {
@@ -148,9 +191,11 @@ Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
         return {DefectKind::RimShortOfSingularity,
                 "the singularity at input vertex " + std::to_string(m.input_vertex[p.element]) + " (grid point (" +
                     std::to_string(g[0]) + ", " + std::to_string(g[1]) + ") of input triangle " + std::to_string(t) +
-                    ") needs " + std::to_string(p.target) + " quarter turns round it, but the rim of the fold-over's "
-                    "region round it (within " + std::to_string(p.radius) + " rings, " + std::to_string(p.triangles) +
-                    " triangles) turns " + std::to_string(p.winds) +
+                    ") needs " + std::to_string(p.target) +
+                    " quarter turns round it, but the rim of the fold-over's "
+                    "region round it (within " +
+                    std::to_string(p.radius) + " rings, " + std::to_string(p.triangles) + " triangles) turns " +
+                    std::to_string(p.winds) +
                     " about its grid point, fewer: no fold-free map of the region with its rim as the map gives it "
                     "keeps the singularity at its grid point",
                 t,
@@ -158,13 +203,42 @@ Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
                 g,
                 std::nullopt};
     }
+    if (p.kind == DefectKind::AnglesLeaveNoRoom || p.kind == DefectKind::RegionAreaNotPositive) {
+        const int t = p.element;
+        const std::string region = "the region of the fold-over's repair within " + std::to_string(p.radius) +
+                                   " rings (" + std::to_string(p.triangles) + " triangles, " +
+                                   std::to_string(p.singularities) + " singularities inside, from input triangle " +
+                                   std::to_string(m.input_triangle[t]) + ")";
+        std::string why;
+        if (p.kind == DefectKind::RegionAreaNotPositive)
+            why = region + " has a signed UV area of " + std::to_string(p.amount) +
+                  ", which moving its free vertices does not change: no map of it with its rim and singularities "
+                  "as the map gives them is fold-free";
+        else if (p.vertex >= 0)
+            why = "input vertex " + std::to_string(m.input_vertex[p.vertex]) + " (" +
+                  (m.map.singular[p.vertex] ? "a singularity of valence " + std::to_string(m.map.valence[p.vertex])
+                                            : std::string("a regular vertex")) +
+                  ") leaves " + region + " " + quarter_turns(p.amount) + " quarter turns for " +
+                  std::to_string(p.corners) +
+                  " corners, besides the angles of its triangles outside the region: positive triangles give "
+                  "each corner between 0 and 2, so no fold-free map of the region keeps the vertex's winding";
+        else
+            why = "the angles the fixed vertices of " + region + " leave it miss " + quarter_turns(p.amount) +
+                  " quarter turns of the 2 per triangle that positive triangles take (Gauss-Bonnet): no fold-free "
+                  "map of the region keeps every vertex's winding with the singularities' valences as the map "
+                  "counts them";
+        return {p.kind, why, m.input_triangle[t], -1, grid_point(m.uv[3 * t]), std::nullopt};
+    }
     const int t = p.element;
     const Point2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
     const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     std::string corners;
     for (int k = 0; k < 3; ++k)
-        corners += (k == 0 ? "" : k == 1 ? ", " : " and ") + std::to_string(m.input_vertex[m.tri[t][k]]) +
-                   " (valence " + std::to_string(m.map.valence[m.tri[t][k]]) + ")";
+        corners += (k == 0   ? ""
+                    : k == 1 ? ", "
+                             : " and ") +
+                   std::to_string(m.input_vertex[m.tri[t][k]]) + " (valence " +
+                   std::to_string(m.map.valence[m.tri[t][k]]) + ")";
     return {DefectKind::FoldPinnedBySingularities,
             "input triangle " + std::to_string(m.input_triangle[t]) + " is flipped (UV area " + std::to_string(area) +
                 ") and its three corners are singularities, at input vertices " + corners +

@@ -313,11 +313,18 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         // A rim that turns about the grid point by fewer quarter turns than the singularity needs:
         // in a fold-free map of the region it turns by the angle and a full turn more for each
         // other preimage of the point inside (a rim turning more proves nothing).
-        for (const int p : proved)
-            if (const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
-                f.winds < f.target && m.fan_start[f.cone] >= 0)
+        for (const int p : proved) {
+            const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
+            if (f.why == RegionFailure::Why::RimShort && f.winds < f.target && m.fan_start[f.cone] >= 0)
                 out.proofs.push_back(
                     {DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
+            else if (f.why == RegionFailure::Why::NoRoom && f.first_face >= 0)
+                out.proofs.push_back({DefectKind::AnglesLeaveNoRoom, f.first_face, 0, 0, f.radius, f.triangles, f.cone,
+                                      f.corners, f.singularities, f.amount});
+            else if (f.why == RegionFailure::Why::AreaNotPositive && f.first_face >= 0)
+                out.proofs.push_back({DefectKind::RegionAreaNotPositive, f.first_face, 0, 0, f.radius, f.triangles, -1,
+                                      0, f.singularities, f.amount});
+        }
         out.unrepaired.push_back({group, log.reason(m, group)});
     }
     return out;

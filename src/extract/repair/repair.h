@@ -27,15 +27,22 @@ struct RepairOutcome {
     std::vector<Unrepaired> unrepaired;
     /// What proves that a fold-over left stays with the singularities at their grid points, each
     /// once, in the order of `unrepaired`: a rim short of its singularity's angle
-    /// (RimShortOfSingularity: `element` the singularity, working vertex) or a flipped triangle
-    /// between three singularities (FoldPinnedBySingularities: `element` the triangle). Kept as
-    /// their sources, so that a refinement reusing this outcome names them on its own map.
+    /// (RimShortOfSingularity: `element` the singularity, working vertex), a flipped triangle
+    /// between three singularities (FoldPinnedBySingularities: `element` the triangle), or a
+    /// region the room certificate proves has no fold-free map (AnglesLeaveNoRoom,
+    /// RegionAreaNotPositive: `element` its triangle of smallest input index). Kept as their
+    /// sources, so that a refinement reusing this outcome names them on its own map.
     struct Proof {
         DefectKind kind;
         int element = -1;
         int winds = 0, target = 0; ///< RimShortOfSingularity: quarter turns of the rim, and needed
-        int radius = 0;            ///< RimShortOfSingularity: the region, its rings and triangles
+        int radius = 0;            ///< the region (not FoldPinnedBySingularities): its rings and triangles
         std::size_t triangles = 0;
+        /// AnglesLeaveNoRoom: the fixed vertex (working index; -1 for the angles' sum), and the
+        /// quarter turns it leaves the region for `corners` corners, or the quarter turns the sum
+        /// misses among `singularities` singularities inside; RegionAreaNotPositive: the area.
+        int vertex = -1, corners = 0, singularities = 0;
+        double amount = 0.0;
     };
     std::vector<Proof> proofs;
 };
@@ -67,7 +74,7 @@ struct RepairLook {
     std::vector<int> near;
 };
 using LookBeforeLastRing = std::function<RepairLook(const TriMesh&, const RepairOutcome&)>;
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report, const LookBeforeLastRing& look = {});
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given, int threads,
+                     Report& report, const LookBeforeLastRing& look = {});
 
 } // namespace qex::detail
