@@ -624,6 +624,7 @@ std::array<int, 4> expect_proofs_placed(const Input& in, const Result& r) {
     const int k = r.mesh.grid_scale;
     const std::vector<std::int8_t> sign = uv_orientations(in);
     std::set<std::int64_t> seen_vertices, seen_triangles;
+    std::set<std::string> seen_regions;
     std::size_t last_proof = 0, first_fold = r.report.explanations.size();
     for (std::size_t i = 0; i < r.report.explanations.size(); ++i) {
         const Defect& d = r.report.explanations[i];
@@ -632,6 +633,7 @@ std::array<int, 4> expect_proofs_placed(const Input& in, const Result& r) {
             last_proof = i;
             ++count[d.kind == DefectKind::AnglesLeaveNoRoom ? 2 : 3];
             expect_region_proof(in, r, d);
+            EXPECT_TRUE(seen_regions.insert(d.message).second) << "named twice: " << d.message;
             continue;
         }
         const bool rim = d.kind == DefectKind::RimShortOfSingularity;
@@ -680,7 +682,9 @@ std::array<int, 4> expect_proofs_placed(const Input& in, const Result& r) {
             EXPECT_TRUE(placed) << d.message << ": its grid point is no corner's (grid scale " << k << ")";
         }
     }
-    if (count[0] + count[1] > 0) { EXPECT_LT(last_proof, first_fold) << "the proofs come before the folds they back"; }
+    if (count[0] + count[1] + count[2] + count[3] > 0) {
+        EXPECT_LT(last_proof, first_fold) << "the proofs come before the folds they back";
+    }
     return count;
 }
 
@@ -800,6 +804,36 @@ TEST(RealMaps, AHoleRoundAFoldBetweenPinnedSingularitiesIsFilledAsTheLastResort)
     EXPECT_EQ(s.mesh.positions, r.mesh.positions);
 }
 
+/// decimated-knight_miq_18 with its UVs x5 (no power of two: refinement cannot halve back to the
+/// x2 that the last resort makes valid): its repaired rung joins two sheets at an edge round the
+/// hole, and another rung has fewer violations. The last resort takes the first rung whose mesh
+/// lost only topology, separates the sheets and fills the hole: valid at that scale, both cuts and
+/// filling explained, judged without provenance too; without the last resort, invalid.
+TEST(RealMaps, TheLastResortSeparatesSheetsBeforeItFillsAHole) {
+    Input in;
+    if (const std::string why = read_real_map("miq-more", "decimated-knight_miq_18", in); !why.empty())
+        GTEST_SKIP() << why;
+    (void)transforms::scale_uvs(in, 5); // rounded where x5 is inexact, as igm_transform rounds
+    Options no_last_resort;
+    no_last_resort.fill_holes = false;
+    no_last_resort.max_refinement = 1;
+    EXPECT_FALSE(extract(in, no_last_resort).check.valid) << "valid without the last resort: pick another case";
+    Options own_scale;
+    own_scale.max_refinement = 1;
+    const Result r = extract(in, own_scale);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid) << (r.check.violations.empty() ? "" : r.check.violations[0].message);
+    EXPECT_EQ(r.mesh.grid_scale, 1);
+    EXPECT_EQ(result_inconsistency(in, r), "");
+    std::vector<DefectKind> mended;
+    for (const Defect& d : r.report.explanations)
+        if (d.kind == DefectKind::SheetsSeparated || d.kind == DefectKind::HoleFilled) mended.push_back(d.kind);
+    ASSERT_FALSE(mended.empty());
+    EXPECT_EQ(mended.front(), DefectKind::SheetsSeparated);
+    EXPECT_EQ(mended.back(), DefectKind::HoleFilled);
+    expect_bare_valid(in, r.mesh, "decimated-knight_miq_18 x5");
+}
+
 /// kitten_miq_10 is valid with its map refined x2, and the repair of its own scale, reused there,
 /// leaves a rim short of its singularity: the proof is named on the refined map.
 TEST(RealMaps, AProofOfARefinedMeshIsPlacedAtItsScale) {
@@ -817,7 +851,7 @@ TEST(RealMaps, AProofOfARefinedMeshIsPlacedAtItsScale) {
 /// singularities) and face_miq_10 (a region of negative signed UV area, a vertex whose triangles
 /// outside leave it no room), placed, stated, and before the folds they back.
 TEST(RealMaps, ARegionTheRoomCertificateRefusesIsNamedAsTheProof) {
-    int regions = 0, areas = 0;
+    int regions = 0, areas = 0, vertices = 0;
     for (const auto& [folder, name] : {std::pair<const char*, const char*>{"paper", "duck_miq_28"},
                                        std::pair<const char*, const char*>{"miq-more", "face_miq_10"}}) {
         Input in;
@@ -827,10 +861,13 @@ TEST(RealMaps, ARegionTheRoomCertificateRefusesIsNamedAsTheProof) {
         const std::array<int, 4> count = expect_proofs_placed(in, r);
         regions += count[2];
         areas += count[3];
+        for (const Defect& d : r.report.explanations)
+            vertices += d.kind == DefectKind::AnglesLeaveNoRoom && d.message.rfind("input vertex ", 0) == 0;
         EXPECT_GT(count[2] + count[3], 0) << name << ": no region proved";
     }
     EXPECT_GT(regions, 0) << "no AnglesLeaveNoRoom";
     EXPECT_GT(areas, 0) << "no RegionAreaNotPositive";
+    EXPECT_GT(vertices, 0) << "no AnglesLeaveNoRoom at a vertex";
 }
 
 /// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the

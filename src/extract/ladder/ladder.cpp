@@ -382,7 +382,7 @@ Result start_attempt(const Report& prepared, int r, int tried) {
 
 // ============================================================================ the ladder at one scale
 
-Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale) {
+Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale, Result* fillable) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
@@ -410,6 +410,10 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
         if (attempt.check.valid) return attempt;
+        // The last resort's other candidate: the first rung whose mesh lost only its topology
+        // (another rung may have fewer violations, of other kinds).
+        if (fillable && options.fill_holes && fillable->report.rung.empty() && topology_only(attempt.check.violations))
+            *fillable = attempt;
         // A repair that changed nothing had the map as given: the next rung would repeat it.
         const bool as_given = kLadder[r].untangle_rings == 0 && attempt.report.repaired_triangles == 0;
         if (as_given) given_map = attempt.mesh.map_uvs;

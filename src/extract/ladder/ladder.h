@@ -172,7 +172,11 @@ struct AtScale {
 
 /// The whole ladder on `input` at its own scale (`scale`: which attempt this is): the first
 /// rung whose mesh the checker accepts, else the one with the fewest violations, located.
-Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale = {});
+/// With `fillable` (and Options::fill_holes), the first rung's rejected attempt whose violations
+/// are topology_only() is copied there (its report's rung says which; none: its rung is empty),
+/// for the last resort once every scale failed.
+Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale = {},
+                        Result* fillable = nullptr);
 
 /// Whether the rung named `name` (Report::rung) relaxed the map: a last resort.
 bool relaxed_rung(const std::string& name);
@@ -211,12 +215,20 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
                       Result& attempt);
 
 /// Stage fill_holes, the last resort, on an attempt (at the scale of `input`) that no rung made
-/// valid: its holes filled (fill_holes), kept if the checker accepts the mesh so, as a mended
-/// mesh must be accepted (against the map it carries and the given map; everywhere after a
-/// relaxed rung). Then the attempt is valid: its explanations gain the filled holes, its
-/// located checker violations go (its extraction defects stay). False, and nothing changed
-/// but the stage's time, otherwise.
-bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt);
+/// valid, then on `other` (another rung's rejected mesh at that scale, if given and another
+/// rung): its holes filled (fill_holes), on the mesh as it is and, where sheets are joined at an
+/// edge, on each separation of them (separate_sheets); kept if the checker accepts the mesh so,
+/// as a mended mesh must be accepted (against the map it carries and the given map; everywhere
+/// after a relaxed rung). Then `attempt` becomes that mesh's attempt, valid: its explanations
+/// gain the cuts and filled holes, its located checker violations go (its extraction defects
+/// stay), and its report keeps `attempt`'s totals (stage times, rungs and refinements tried). False, and
+/// nothing changed but the stages' time, otherwise.
+bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other = nullptr);
+
+/// Whether a rejected mesh's violations are all of its topology (non-manifold edges and
+/// vertices, holes, Euler characteristic, boundary loops, components): what the last resort can
+/// mend.
+bool topology_only(const std::vector<Violation>& violations);
 
 // ============================================================================ refinement (refine.cpp)
 
@@ -237,9 +249,11 @@ bool refinement_can_help(const Options& options, bool handle_collapsed, const Re
 /// valid mesh, or adds to it one explanation per factor tried. With Options::best_effort, none
 /// valid: `result` becomes the attempt with the fewest violations (ties to the smaller scale),
 /// a BestEffortMesh explanation first; refinement stops, once `handle_collapsed`, at an attempt
-/// that loses only the surface's topology.
+/// that loses only the surface's topology. Before that, with Options::fill_holes and no scale
+/// valid, the last resort (fill_holes_if_accepted) at the smallest scale where it passes: the map's
+/// own (`result`, then `fillable`, its other candidate there), then each refinement tried.
 void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
-                     Result& result);
+                     const Result& fillable, Result& result);
 
 /// The explanation of a best-effort mesh (Options::best_effort): which attempt it is (`scale`,
 /// 1 for the map's own), its violations, and `tried`, the violations of each attempt.

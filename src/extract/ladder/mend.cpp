@@ -108,38 +108,93 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
     timer.done(Stage::close_holes);
 }
 
-bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt) {
-    if (attempt.check.valid || beyond_mending(attempt.check.violations)) return false;
-    StageTimer timer(attempt.report);
-    VerifyOptions verify_options;
-    verify_options.threads = options.threads;
-    const bool relaxed = relaxed_rung(attempt.report.rung);
-    // The holes that cells close, read as in close_holes_if_accepted: regular first, then as their
-    // fans wind where that gives other faces.
-    std::vector<std::vector<int>> first_faces;
-    for (const bool wound_first : {false, true}) {
-        QuadMesh filled = attempt.mesh;
-        std::vector<Defect> explanations = fill_holes(input, filled, wound_first);
-        timer.done(Stage::fill_holes);
-        // Holes closed by their cells alone were tried when the rung's mesh was mended.
-        const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
-                                            [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
-        if (!any_filled || (wound_first && filled.faces == first_faces)) continue;
-        if (!wound_first) first_faces = filled.faces;
-        VerifyResult check;
-        const bool ok = accepted(input, filled, relaxed, verify_options, check);
-        timer.done(Stage::fill_holes);
-        if (!ok) continue;
-        keep(std::move(filled), std::move(check), std::move(explanations), attempt);
-        // The violations located on the input are gone with them; the extraction's defects stay.
-        auto& defects = attempt.report.defects;
-        defects.erase(std::remove_if(defects.begin(), defects.end(),
-                                     [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
-                      defects.end());
-        attempt.report.check_violations = 0;
-        return true;
+namespace {
+
+/// Stage fill_holes on `candidate`'s mesh as it is, and, where the checker found sheets joined at
+/// an edge, on each separation of them (separate_sheets, the smaller end first, then the larger):
+/// the first that the checker accepts, filled, goes into `out` (a copy of `candidate`, its
+/// explanations added, its located violations dropped). The stages' time goes to `timer`.
+bool fill_candidate(const Input& input, const VerifyOptions& verify_options, const Result& candidate, StageTimer& timer,
+                    Result& out) {
+    if (candidate.check.valid || beyond_mending(candidate.check.violations)) return false;
+    const bool relaxed = relaxed_rung(candidate.report.rung);
+    const bool joined = std::any_of(candidate.check.violations.begin(), candidate.check.violations.end(),
+                                    [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
+    std::vector<std::pair<QuadMesh, std::vector<Defect>>> starts;
+    starts.emplace_back(candidate.mesh, std::vector<Defect>{});
+    for (const bool larger_end_first : {false, true}) {
+        if (!joined) break;
+        QuadMesh separated = candidate.mesh;
+        std::vector<Defect> cuts = separate_sheets(input, separated, larger_end_first);
+        timer.done(Stage::separate_sheets);
+        if (!cuts.empty()) starts.emplace_back(std::move(separated), std::move(cuts));
+    }
+    for (const auto& [mesh, done] : starts) {
+        // The holes that cells close, read as in close_holes_if_accepted: regular first, then as
+        // their fans wind where that gives other faces.
+        std::vector<std::vector<int>> first_faces;
+        for (const bool wound_first : {false, true}) {
+            QuadMesh filled = mesh;
+            std::vector<Defect> explanations = fill_holes(input, filled, wound_first);
+            timer.done(Stage::fill_holes);
+            // Holes closed by their cells alone were tried when the rung's mesh was mended.
+            const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
+                                                [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
+            if (!any_filled || (wound_first && filled.faces == first_faces)) continue;
+            if (!wound_first) first_faces = filled.faces;
+            VerifyResult check;
+            const bool ok = accepted(input, filled, relaxed, verify_options, check);
+            timer.done(Stage::fill_holes);
+            if (!ok) continue;
+            out = candidate;
+            explanations.insert(explanations.begin(), done.begin(), done.end());
+            keep(std::move(filled), std::move(check), std::move(explanations), out);
+            // The violations located on the input are gone with them; the extraction's defects stay.
+            auto& defects = out.report.defects;
+            defects.erase(std::remove_if(defects.begin(), defects.end(),
+                                         [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
+                          defects.end());
+            out.report.check_violations = 0;
+            return true;
+        }
     }
     return false;
+}
+
+} // namespace
+
+bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other) {
+    if (attempt.check.valid) return false;
+    VerifyOptions verify_options;
+    verify_options.threads = options.threads;
+    Result filled;
+    {
+        StageTimer timer(attempt.report);
+        if (!fill_candidate(input, verify_options, attempt, timer, filled) &&
+            (!other || other->report.rung == attempt.report.rung ||
+             !fill_candidate(input, verify_options, *other, timer, filled)))
+            return false;
+    }
+    // The attempt's report keeps the totals: the stages' times, the rungs and refinements tried.
+    filled.report.stage_seconds = std::move(attempt.report.stage_seconds);
+    filled.report.rungs_tried = attempt.report.rungs_tried;
+    filled.report.refinements_tried = attempt.report.refinements_tried;
+    attempt = std::move(filled);
+    return true;
+}
+
+bool topology_only(const std::vector<Violation>& violations) {
+    return !violations.empty() && std::all_of(violations.begin(), violations.end(), [](const Violation& v) {
+        switch (v.kind) {
+            case ViolationKind::NonManifoldEdge:
+            case ViolationKind::NonManifoldVertex:
+            case ViolationKind::Hole:
+            case ViolationKind::EulerMismatch:
+            case ViolationKind::BoundaryMismatch:
+            case ViolationKind::ComponentMismatch: return true;
+            default: return false;
+        }
+    });
 }
 
 } // namespace qex::detail

@@ -226,7 +226,7 @@ bool refinement_can_help(const Options& options, bool handle_collapsed, const Re
 // ============================================================================ the map refined
 
 void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
-                     Result& result) {
+                     const Result& fillable, Result& result) {
     // The map at twice, four times, ... its scale. Multiplying by two is exact; a map that would
     // leave the range integer transitions need comes back as an input error, and ends the
     // refinement with the scale-1 result.
@@ -242,11 +242,12 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
         for (auto& uv : scaled.uvs) uv = {2.0 * uv[0], 2.0 * uv[1]};
         StageTimer::hook_scale = scale;
         // The map at scale 1 passed the seam check (or this would not run).
-        Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo});
+        Result other; // the last resort's other candidate at this scale
+        Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo}, &other);
         ++result.report.refinements_tried;
         // The last resort, kept for the end: the smallest scale whose holes, filled, pass.
         const bool filled_here = options.fill_holes && refined.ok() && !refined.check.valid && filled_scale == 0 &&
-                                 fill_holes_if_accepted(scaled, options, refined);
+                                 fill_holes_if_accepted(scaled, options, refined, &other);
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;
         if (filled_here) {
@@ -269,7 +270,7 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
     // No scale gives a valid mesh as extracted: the last resort, holes filled, at the smallest
     // scale where that passes.
     StageTimer::hook_scale = 1;
-    if (options.fill_holes && fill_holes_if_accepted(input, options, result)) return;
+    if (options.fill_holes && fill_holes_if_accepted(input, options, result, &fillable)) return;
     if (filled_scale > 0) return take_valid_refined(std::move(filled), filled_scale, result);
     if (closest_scale > 1) return take_refined(closest, closest_scale, std::move(failed), tried, result);
     result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());

@@ -26,6 +26,17 @@ double signed_angle(const Vec2& u, const Vec2& p, const Vec2& w) {
 /// edge's triangle (the grid point carried there through the region's transitions, which turn
 /// about it and fix it). False where the sum would prove nothing: the region is not a disk
 /// (Euler characteristic 1), or a rim edge passes through the grid point or nearly so.
+/// Whether a triangle of v's fan outside the region is degenerate (exactly, UV area 0): its angle
+/// at v is a convention then, and a sum over it proves nothing.
+bool outside_degenerate(const TriMesh& m, int v, const RegionMarks& marks) {
+    for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) {
+        const int f = TriMesh::face(h);
+        if (!marks.face[f] && orient2d(m.uv[3 * f], m.uv[3 * f + 1], m.uv[3 * f + 2]) == Orientation::Collinear)
+            return true;
+    }
+    return false;
+}
+
 bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks, int cone, double& angle) {
     std::unordered_map<int, std::size_t> local; // region triangle -> index into `at`
     for (std::size_t t = 0; t < r.faces.size(); ++t) local[r.faces[t]] = t;
@@ -149,7 +160,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
         if (!(left > 0.0 && left < M_PI * corners)) {
             // A proof, clear of the angles' rounding: every corner inside lies in (0, pi).
             const double margin = 1e-9 * (1.0 + std::abs(left));
-            marks.room_proved = !(left > -margin && left < M_PI * corners + margin);
+            marks.room_proved =
+                !(left > -margin && left < M_PI * corners + margin) && !outside_degenerate(m, v, marks);
             marks.room_vertex = v;
             marks.room_left = left;
             marks.room_corners = corners;
@@ -163,7 +175,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     // What fails below is a proof with the valences as counted: in an orientation-preserving map
     // that keeps every winding the angles sum to pi per triangle.
     marks.room_missing = missing;
-    marks.room_proved = true;
+    marks.room_proved = std::none_of(marks.fixed.begin(), marks.fixed.end(),
+                                     [&](int v) { return outside_degenerate(m, v, marks); });
     if (valences_given) return false; // the user's valences stand
     // Whole turns missing: they belong to singularities inside the region (Algorithm 8 finds no
     // flipped run in a fan squeezed by the fold, Figure 2 (d)).

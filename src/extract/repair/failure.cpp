@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace qex::detail {
@@ -83,9 +84,9 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
     double area2 = 0.0, magnitude = 0.0;
     for (const int t : r.faces) {
         const Vec2 &a = m.uv[3 * t], &b = m.uv[3 * t + 1], &c = m.uv[3 * t + 2];
-        const double twice = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        area2 += twice;
-        magnitude += std::abs(twice);
+        const double p1 = (b[0] - a[0]) * (c[1] - a[1]), p2 = (b[1] - a[1]) * (c[0] - a[0]);
+        area2 += p1 - p2;
+        magnitude += std::abs(p1) + std::abs(p2);
         if (!positive(m, t)) {
             ++f.inverted;
             if (f.triangle < 0 || m.input_triangle[t] < f.triangle) f.triangle = m.input_triangle[t];
@@ -96,8 +97,11 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
         f.why = RegionFailure::Why::AreaNotPositive;
         f.amount = 0.5 * area2;
         // Moving free vertices keeps the sum (each one's fan has its rim fixed): a proof where
-        // the sum is clear of its rounding.
-        f.proof = area2 < -1e-12 * magnitude;
+        // the sum is clear of its rounding (each product within a few units in the last place,
+        // the sum of n terms within n).
+        const double eps = std::numeric_limits<double>::epsilon();
+        f.proof = area2 < -(static_cast<double>(r.faces.size()) + 8.0) * eps * magnitude;
+        if (f.proof) f.faces = r.faces;
     } else if (!admitted && marks.rim_cone >= 0) {
         f.why = RegionFailure::Why::RimShort;
         f.proof = true;
@@ -144,9 +148,11 @@ RegionFailure describe_failure(const TriMesh& m, const Region& r, const RegionMa
 void FailureLog::record(const Region& r, const RegionFailure& f) {
     for (const FreeFan& fan : r.fans) {
         failure_of[fan.vertex] = static_cast<int>(failures.size());
-        if (f.proof)
-            (f.why == RegionFailure::Why::RimShort ? proof_of : room_proof_of)[fan.vertex] =
-                static_cast<int>(failures.size());
+        if (f.proof && f.why == RegionFailure::Why::RimShort) proof_of[fan.vertex] = static_cast<int>(failures.size());
+        // A refusal proves the fold stays only while no larger region was admitted: a later
+        // failure of another kind takes it back.
+        room_proof_of[fan.vertex] =
+            f.proof && f.why != RegionFailure::Why::RimShort ? static_cast<int>(failures.size()) : -1;
     }
     failures.push_back(f);
 }
@@ -210,13 +216,19 @@ Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
                                    std::to_string(p.singularities) + " singularities inside, from input triangle " +
                                    std::to_string(m.input_triangle[t]) + ")";
         std::string why;
-        if (p.kind == DefectKind::RegionAreaNotPositive)
-            why = region + " has a signed UV area of " + std::to_string(p.amount) +
+        if (p.kind == DefectKind::RegionAreaNotPositive) {
+            double area = 0.0; // on m's map: a refinement reusing the repair names it at its scale
+            for (const int f : p.faces) {
+                const Point2 &a = m.uv[3 * f], &b = m.uv[3 * f + 1], &c = m.uv[3 * f + 2];
+                area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+            }
+            why = region + " has a signed UV area of " + std::to_string(area) +
                   ", which moving its free vertices does not change: no map of it with its rim and singularities "
                   "as the map gives them is fold-free";
-        else if (p.vertex >= 0)
+        } else if (p.vertex >= 0)
             why = "input vertex " + std::to_string(m.input_vertex[p.vertex]) + " (" +
-                  (m.map.singular[p.vertex] ? "a singularity of valence " + std::to_string(m.map.valence[p.vertex])
+                  (m.map.singular[p.vertex] ? "a singularity of valence " + std::to_string(m.map.valence[p.vertex]) +
+                                                  " as the map counts it"
                                             : std::string("a regular vertex")) +
                   ") leaves " + region + " " + quarter_turns(p.amount) + " quarter turns for " +
                   std::to_string(p.corners) +

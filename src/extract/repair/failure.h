@@ -38,6 +38,9 @@ struct RegionFailure {
     /// the fixed vertices leave miss of half a turn per triangle.
     double amount = 0.0;
     int corners = 0;
+    /// AreaNotPositive, proved: the region's triangles (working indices), so that its area is
+    /// named on the map of the scale extracted.
+    std::vector<int> faces;
 
     /// The failure in words, for the report.
     std::string text() const;

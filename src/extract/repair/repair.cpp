@@ -323,7 +323,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
                                       f.corners, f.singularities, f.amount});
             else if (f.why == RegionFailure::Why::AreaNotPositive && f.first_face >= 0)
                 out.proofs.push_back({DefectKind::RegionAreaNotPositive, f.first_face, 0, 0, f.radius, f.triangles, -1,
-                                      0, f.singularities, f.amount});
+                                      0, f.singularities, f.amount, f.faces});
         }
         out.unrepaired.push_back({group, log.reason(m, group)});
     }

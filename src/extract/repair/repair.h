@@ -40,9 +40,11 @@ struct RepairOutcome {
         std::size_t triangles = 0;
         /// AnglesLeaveNoRoom: the fixed vertex (working index; -1 for the angles' sum), and the
         /// quarter turns it leaves the region for `corners` corners, or the quarter turns the sum
-        /// misses among `singularities` singularities inside; RegionAreaNotPositive: the area.
+        /// misses among `singularities` singularities inside; RegionAreaNotPositive: the area where
+        /// repaired (named from `faces` on the map of the scale extracted).
         int vertex = -1, corners = 0, singularities = 0;
         double amount = 0.0;
+        std::vector<int> faces; ///< RegionAreaNotPositive: the region's triangles (working indices)
     };
     std::vector<Proof> proofs;
 };
