@@ -17,9 +17,6 @@
 namespace qex::detail {
 namespace {
 
-/// The longest rim closed: a hole of a few cells, not a missing region of the map.
-constexpr std::size_t kMaxRim = 16;
-
 std::uint64_t edge_key(int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
@@ -115,7 +112,7 @@ std::vector<std::vector<int>> cells_inside(const std::vector<int>& rim, const st
 
 } // namespace
 
-Holes find_holes(const Input& input, const QuadMesh& mesh) {
+Holes find_holes(const Input& input, const QuadMesh& mesh, std::size_t max_rim) {
     Holes holes;
     if (mesh.provenance.size() != mesh.positions.size()) return holes;
     const auto nv = mesh.positions.size();
@@ -168,7 +165,7 @@ Holes find_holes(const Input& input, const QuadMesh& mesh) {
                      !on_input_boundary(g, mesh.provenance[static_cast<std::size_t>(v)]);
             if (rim_next[static_cast<std::size_t>(v)] < 0) break;
         }
-        if (simple && rim.size() >= 4 && rim.size() <= kMaxRim &&
+        if (simple && rim.size() >= 4 && rim.size() <= max_rim &&
             rim_next[static_cast<std::size_t>(rim.back())] == rim[0])
             holes.rims.push_back(std::move(rim));
     }

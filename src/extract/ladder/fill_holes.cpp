@@ -61,6 +61,7 @@ private:
     }
 
     void search(std::vector<std::pair<int, int>>& pending) {
+        if (judged_ >= kMaxJudged) return; // past the budget: the best found so far stands
         if (pending.empty()) return judge();
         const auto [i, j] = pending.back();
         pending.pop_back();
@@ -82,6 +83,7 @@ private:
 
     /// The rim vertices' face counts against their quarter turns, then the diagonals' lengths.
     void judge() {
+        ++judged_;
         std::vector<int> faces(static_cast<std::size_t>(n_), 0);
         double diagonals = 0.0;
         for (const auto& q : quads_)
@@ -109,6 +111,10 @@ private:
     const int n_;
     std::vector<std::array<int, 4>> quads_, best_;
     std::int64_t best_deviation_ = 0;
+    /// The quadrangulations judged, and the most judged: all of them up to 18 rim vertices
+    /// (43,263), the first of the search's order beyond (20 have 246,675).
+    static constexpr std::size_t kMaxJudged = 100'000;
+    std::size_t judged_ = 0;
     double best_diagonals_ = std::numeric_limits<double>::infinity();
 };
 
@@ -116,7 +122,7 @@ private:
 
 std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_first) {
     // The holes whose rims lay out round cells of their vertices are closed by those cells first.
-    const Holes holes = find_holes(input, mesh);
+    const Holes holes = find_holes(input, mesh, kMaxFilledRim);
     std::vector<Defect> done;
     const std::vector<char> closed = close_rims(holes, mesh, wound_first, done);
     for (std::size_t r = 0; r < holes.rims.size(); ++r) {

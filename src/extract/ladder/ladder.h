@@ -83,8 +83,13 @@ std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool lar
 /// vertex split, it then its copies (`groups`).
 std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std::vector<std::vector<int>>& groups);
 
+/// The longest rim close_holes closes: a hole of a few cells, not a missing region of the map.
+inline constexpr std::size_t kMaxClosedRim = 16;
+/// The longest rim fill_holes fills (its search over quadrangulations is bounded too).
+inline constexpr std::size_t kMaxFilledRim = 24;
+
 /// The holes of an all-quad, manifold mesh with provenance (none otherwise): those away from the
-/// input's boundary whose rims are simple loops of 4 to 16 of its vertices.
+/// input's boundary whose rims are simple loops of 4 to `max_rim` of its vertices.
 struct Holes {
     /// Each rim with the hole on its left (the faces' boundary edges reversed), from its vertex of
     /// smallest index: a face of rim vertices in this order is oriented as the mesh.
@@ -96,7 +101,7 @@ struct Holes {
     /// The faces' half-edges (a -> b as (a << 32) | b), sorted.
     std::vector<std::uint64_t> half;
 };
-Holes find_holes(const Input& input, const QuadMesh& mesh);
+Holes find_holes(const Input& input, const QuadMesh& mesh, std::size_t max_rim = kMaxClosedRim);
 
 /// "its rim through output vertices ...", for explanations.
 std::string rim_description(const std::vector<int>& rim);
@@ -120,15 +125,16 @@ std::vector<char> close_rims(const Holes& holes, QuadMesh& mesh, bool wound_firs
 /// accepts the result.
 std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
-/// Last resort, for a mesh no scale's attempt made valid: closes the holes of find_holes() that
-/// close_holes closes (with `wound_first` as there), then fills each other one whose rim has an
-/// even number of vertices (its rim lays out in no grid, or round grid points with no vertex)
-/// with quads that join rim vertices, no new vertex: of every such quadrangulation whose
-/// diagonals are no edges of the mesh, the one that leaves the rim vertices' face counts nearest
-/// their quarter turns (Holes::wound), then with the shortest diagonals (squared, in space), the
-/// first found from the rim's vertex of smallest index among equals. Returns one explanation per
-/// hole (HoleClosed, HoleFilled). A candidate only: the caller keeps it if the checker accepts
-/// the result.
+/// Last resort, for a mesh no scale's attempt made valid: closes the holes of find_holes() (rims
+/// of up to kMaxFilledRim vertices) that close_holes closes (with `wound_first` as there), then
+/// fills each other one whose rim has an even number of vertices (its rim lays out in no grid, or
+/// round grid points with no vertex) with quads that join rim vertices, no new vertex: of every
+/// such quadrangulation whose diagonals are no edges of the mesh (up to a budget: past 18 rim
+/// vertices, the first ones of the search's order), the one that leaves the rim vertices' face
+/// counts nearest their quarter turns (Holes::wound), then with the shortest diagonals (squared,
+/// in space), the first found from the rim's vertex of smallest index among equals. Returns one
+/// explanation per hole (HoleClosed, HoleFilled). A candidate only: the caller keeps it if the
+/// checker accepts the result.
 std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
 // ============================================================================ scales
