@@ -542,6 +542,18 @@ std::vector<LayoutMesh> layout_meshes() {
     return out;
 }
 
+/// The first vertex with four faces whose faces' corners all have four faces too (away from
+/// singularities and the boundary), given the faces round each vertex; SIZE_MAX if none.
+std::size_t inner_vertex(const QuadMesh& mesh, const std::vector<std::vector<std::size_t>>& around) {
+    for (std::size_t v = 0; v < around.size(); ++v) {
+        bool inner = around[v].size() == 4;
+        for (const std::size_t f : around[v])
+            for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() == 4;
+        if (inner) return v;
+    }
+    return SIZE_MAX;
+}
+
 TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
     // A valid mesh with one face, or two faces side by side, taken out: the hole is closed by
     // exactly those faces (the checker passes the mesh again). A hole round a vertex (its four
@@ -552,13 +564,7 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
         const QuadMesh& mesh = made.mesh;
         // An interior vertex with four faces, none on the input's boundary, and two faces sharing an edge.
         const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
-        std::size_t centre = SIZE_MAX;
-        for (std::size_t v = 0; v < around.size() && centre == SIZE_MAX; ++v) {
-            bool inner = around[v].size() == 4;
-            for (const std::size_t f : around[v])
-                for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() == 4;
-            if (inner) centre = v;
-        }
+        const std::size_t centre = inner_vertex(mesh, around);
         ASSERT_NE(centre, SIZE_MAX) << layout.name;
         const std::size_t a = around[centre][0];
         std::size_t b = SIZE_MAX; // a neighbour of a across an edge at the centre
@@ -651,13 +657,7 @@ TEST(FillHoles, AHoleNoCellsCloseIsFilledFromItsRimAndTheCheckerStillJudgesIt) {
         const Input& in = made.in;
         const QuadMesh& mesh = made.mesh;
         const std::vector<std::vector<std::size_t>> around = faces_around(mesh);
-        std::size_t centre = SIZE_MAX;
-        for (std::size_t v = 0; v < around.size() && centre == SIZE_MAX; ++v) {
-            bool inner = around[v].size() == 4;
-            for (const std::size_t f : around[v])
-                for (const int u : mesh.faces[f]) inner = inner && around[static_cast<std::size_t>(u)].size() == 4;
-            if (inner) centre = v;
-        }
+        const std::size_t centre = inner_vertex(mesh, around);
         ASSERT_NE(centre, SIZE_MAX) << layout.name;
         const QuadMesh holed = without_faces(mesh, around[centre]);
         ASSERT_FALSE(topology_kept(in, holed)) << layout.name;
