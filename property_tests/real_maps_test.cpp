@@ -1,5 +1,6 @@
 // Real parametrizations from ../shared (skipped with a message where absent): the paper's six
 // maps must extract to valid quad meshes; the 25 MIQ maps must end valid or with located defects.
+#include "ladder/ladder.h"
 #include "map_transforms.h"
 #include "pipeline.h"
 #include "result_checks.h"
@@ -868,6 +869,31 @@ TEST(RealMaps, ARegionTheRoomCertificateRefusesIsNamedAsTheProof) {
     EXPECT_GT(regions, 0) << "no AnglesLeaveNoRoom";
     EXPECT_GT(areas, 0) << "no RegionAreaNotPositive";
     EXPECT_GT(vertices, 0) << "no AnglesLeaveNoRoom at a vertex";
+}
+
+/// cheburashka_miq_20's mesh comes from a relaxed rung; the repaired rung before it proved a region
+/// has no fold-free map. Those proofs hold of the map, so the relaxed mesh's report carries them,
+/// the same as the repaired rung named them, first among its explanations.
+TEST(RealMaps, ALaterRungsMeshCarriesTheRepairsProofs) {
+    Input in;
+    if (const std::string why = read_real_map("miq", "cheburashka_miq_20", in); !why.empty()) GTEST_SKIP() << why;
+    const Result r = extract(in);
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    ASSERT_TRUE(r.check.valid);
+    ASSERT_TRUE(detail::relaxed_rung(r.report.rung)) << r.report.rung << ": pick another case";
+    const auto proofs_of = [](const Result& x) {
+        std::vector<std::string> out;
+        for (const Defect& d : x.report.explanations)
+            if (detail::is_proof(d.kind)) out.push_back(std::string(to_string(d.kind)) + ": " + d.message);
+        return out;
+    };
+    const std::vector<std::string> carried = proofs_of(r), named = proofs_of(first_rung(in));
+    ASSERT_FALSE(named.empty()) << "the repaired rung proves nothing: pick another case";
+    EXPECT_EQ(carried, named);
+    const std::array<int, 4> count = expect_proofs_placed(in, r);
+    EXPECT_EQ(static_cast<std::size_t>(count[0] + count[1] + count[2] + count[3]), named.size());
+    ASSERT_FALSE(r.report.explanations.empty());
+    EXPECT_TRUE(detail::is_proof(r.report.explanations.front().kind));
 }
 
 /// cheburashka_miq_40: next to a fold-over the repair leaves, two traces claim one q-port and the

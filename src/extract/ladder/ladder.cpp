@@ -395,6 +395,7 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
     Result best;
     std::size_t best_violations = SIZE_MAX;
     std::vector<std::array<double, 2>> given_map; // the as-given rung's sanitized map
+    std::vector<Defect> proofs;                   // what the repair proved, for a later rung's mesh
     for (int r = first; r < rungs; ++r) {
         // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
         // rather than every run paying for a copy. Preparing succeeded once, so it does again.
@@ -409,7 +410,16 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
         if (!run_rung(std::move(m), input, options, kLadder[r], attempt, scale)) return attempt;
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
-        if (attempt.check.valid) return attempt;
+        if (attempt.check.valid) {
+            // A later rung's mesh: the repair's proofs say why the certified rung could not
+            // remove the folds (they hold of the map, whichever rung's mesh stands).
+            auto& explanations = attempt.report.explanations;
+            explanations.insert(explanations.begin(), proofs.begin(), proofs.end());
+            return attempt;
+        }
+        if (kLadder[r].repair)
+            for (const Defect& d : attempt.report.explanations)
+                if (is_proof(d.kind)) proofs.push_back(d);
         // The last resort's other candidate: the first rung whose mesh lost only its topology
         // (another rung may have fewer violations, of other kinds).
         if (fillable && options.fill_holes && fillable->report.rung.empty() && topology_only(attempt.check.violations))

@@ -49,6 +49,12 @@ struct RepairOutcome {
     std::vector<Proof> proofs;
 };
 
+/// Whether explanations of this kind are proofs the repair names (RepairOutcome::Proof).
+inline bool is_proof(DefectKind k) {
+    return k == DefectKind::RimShortOfSingularity || k == DefectKind::FoldPinnedBySingularities ||
+           k == DefectKind::AnglesLeaveNoRoom || k == DefectKind::RegionAreaNotPositive;
+}
+
 /// The proofs first, then one explanation (FoldOverNotRepaired) per fold-over the repair left,
 /// with its UV area and places in m (the map of the scale being extracted).
 void explain_unrepaired(const TriMesh& m, const RepairOutcome& outcome, Report& report);
