@@ -110,12 +110,14 @@ struct Options {
     /// the topology that handle loses. Without it, nothing changes.
     bool best_effort = false;
     /// The last resort, when no attempt at any scale gives a valid mesh: holes that no cells of the
-    /// grid close (their rims lay out in none, or round grid points with no vertex) are filled
-    /// with quads joining their rim vertices, at the smallest scale where the checker then accepts
-    /// the mesh (DefectKind::HoleFilled: those quads follow no cells of the map; the checker
-    /// rejects them where the map requires cells, and judges them by topology and footprint where
-    /// it judges a fold-over on the surface only, as round a fold between pinned singularities).
-    /// Off: such a map ends invalid. Needs fallback_ladder.
+    /// grid close (their rims lay out in none, or round grid points with no vertex; rims of up to
+    /// 24 vertices) are filled with quads joining their rim vertices, in the mesh each scale gave
+    /// or in the first rung's there that lost only its topology, its sheets joined at an edge
+    /// separated first where they are (DefectKind::SheetsSeparated); at the smallest scale where
+    /// the checker then accepts the mesh (DefectKind::HoleFilled: those quads follow no cells of
+    /// the map; the checker rejects them where the map requires cells, and judges them by topology
+    /// and footprint where it judges a fold-over on the surface only, as round a fold between
+    /// pinned singularities). Off: such a map ends invalid. Needs fallback_ladder.
     bool fill_holes = true;
     /// Called on the calling thread each time a pipeline stage finishes, with the stage's name
     /// (the README's stage table) and the refinement factor being tried (1 at the map's own

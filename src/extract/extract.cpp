@@ -49,7 +49,8 @@ Result extract(const Input& input, const Options& options) {
     RepairMemo memo;
     const bool may_refine = options.fallback_ladder && options.max_refinement >= 2;
     Result fillable; // the last resort's other candidate at the map's own scale
-    Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr}, &fillable);
+    Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr},
+                                     options.fallback_ladder && options.fill_holes ? &fillable : nullptr);
     if (!result.ok()) return result;
     if (!options.fallback_ladder) {
         name_collapsed_handles(input, options, std::nullopt, result);

@@ -410,18 +410,19 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
         if (!run_rung(std::move(m), input, options, kLadder[r], attempt, scale)) return attempt;
         judge(input, options, kLadder[r], given_map, attempt);
         prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
-        if (attempt.check.valid) {
-            // A later rung's mesh: the repair's proofs say why the certified rung could not
-            // remove the folds (they hold of the map, whichever rung's mesh stands).
-            auto& explanations = attempt.report.explanations;
-            explanations.insert(explanations.begin(), proofs.begin(), proofs.end());
-            return attempt;
-        }
-        if (kLadder[r].repair)
+        // A later rung's mesh: the repair's proofs say why the certified rung could not remove the
+        // folds (they hold of the map, whichever rung's mesh stands or is mended).
+        if (kLadder[r].repair) {
             for (const Defect& d : attempt.report.explanations)
                 if (is_proof(d.kind)) proofs.push_back(d);
-        // The last resort's other candidate: the first rung whose mesh lost only its topology
-        // (another rung may have fewer violations, of other kinds).
+        } else {
+            auto& explanations = attempt.report.explanations;
+            explanations.insert(explanations.begin(), proofs.begin(), proofs.end());
+        }
+        if (attempt.check.valid) return attempt;
+        // The last resort's other candidate: the first rung whose mesh lost only its topology,
+        // with a hole or sheets joined at an edge (what it mends; another rung may have fewer
+        // violations, of other kinds).
         if (fillable && options.fill_holes && fillable->report.rung.empty() && topology_only(attempt.check.violations))
             *fillable = attempt;
         // A repair that changed nothing had the map as given: the next rung would repeat it.

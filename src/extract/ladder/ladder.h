@@ -126,11 +126,12 @@ std::vector<char> close_rims(const Holes& holes, QuadMesh& mesh, bool wound_firs
 std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
 
 /// Last resort, for a mesh no scale's attempt made valid: closes the holes of find_holes() (rims
-/// of up to kMaxFilledRim vertices) that close_holes closes (with `wound_first` as there), then
-/// fills each other one whose rim has an even number of vertices (its rim lays out in no grid, or
-/// round grid points with no vertex) with quads that join rim vertices, no new vertex: of every
-/// such quadrangulation whose diagonals are no edges of the mesh (up to a budget: past 18 rim
-/// vertices, the first ones of the search's order), the one that leaves the rim vertices' face
+/// of up to kMaxFilledRim vertices) that cells close, as close_holes closes them (with
+/// `wound_first` as there), then fills each other one whose rim has an even number of vertices (its
+/// rim lays out in no grid, or round grid points with no vertex) with quads that join rim vertices,
+/// no new vertex: of every such quadrangulation whose diagonals are no edges of the mesh (up to a
+/// budget of quadrangulations and of search steps: past 18 rim vertices, the first ones of the
+/// search's order, which all share the quads at the rim's last vertex), the one that leaves the rim vertices' face
 /// counts nearest their quarter turns (Holes::wound), then with the shortest diagonals (squared,
 /// in space), the first found from the rim's vertex of smallest index among equals. Returns one
 /// explanation per hole (HoleClosed, HoleFilled). A candidate only: the caller keeps it if the
@@ -232,8 +233,8 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
 bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other = nullptr);
 
 /// Whether a rejected mesh's violations are all of its topology (non-manifold edges and
-/// vertices, holes, Euler characteristic, boundary loops, components): what the last resort can
-/// mend.
+/// vertices, holes, Euler characteristic, boundary loops, components), a hole or an edge joining
+/// sheets among them: what the last resort can mend.
 bool topology_only(const std::vector<Violation>& violations);
 
 // ============================================================================ refinement (refine.cpp)

@@ -137,7 +137,8 @@ bool fill_candidate(const Input& input, const VerifyOptions& verify_options, con
             QuadMesh filled = mesh;
             std::vector<Defect> explanations = fill_holes(input, filled, wound_first);
             timer.done(Stage::fill_holes);
-            // Holes closed by their cells alone were tried when the rung's mesh was mended.
+            // Holes closed by their cells alone were tried when the rung's mesh was mended (rims
+            // of up to kMaxClosedRim; longer ones closed so are judged only beside a filled one).
             const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
                                                 [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
             if (!any_filled || (wound_first && filled.faces == first_faces)) continue;
@@ -171,7 +172,7 @@ bool fill_holes_if_accepted(const Input& input, const Options& options, Result& 
     {
         StageTimer timer(attempt.report);
         if (!fill_candidate(input, verify_options, attempt, timer, filled) &&
-            (!other || other->report.rung == attempt.report.rung ||
+            (!other || other->report.rung.empty() || other->report.rung == attempt.report.rung ||
              !fill_candidate(input, verify_options, *other, timer, filled)))
             return false;
     }
@@ -184,17 +185,20 @@ bool fill_holes_if_accepted(const Input& input, const Options& options, Result& 
 }
 
 bool topology_only(const std::vector<Violation>& violations) {
-    return !violations.empty() && std::all_of(violations.begin(), violations.end(), [](const Violation& v) {
-        switch (v.kind) {
-            case ViolationKind::NonManifoldEdge:
-            case ViolationKind::NonManifoldVertex:
-            case ViolationKind::Hole:
-            case ViolationKind::EulerMismatch:
-            case ViolationKind::BoundaryMismatch:
-            case ViolationKind::ComponentMismatch: return true;
-            default: return false;
-        }
+    const bool mendable = std::any_of(violations.begin(), violations.end(), [](const Violation& v) {
+        return v.kind == ViolationKind::Hole || v.kind == ViolationKind::NonManifoldEdge;
     });
+    return mendable && std::all_of(violations.begin(), violations.end(), [](const Violation& v) {
+               switch (v.kind) {
+                   case ViolationKind::NonManifoldEdge:
+                   case ViolationKind::NonManifoldVertex:
+                   case ViolationKind::Hole:
+                   case ViolationKind::EulerMismatch:
+                   case ViolationKind::BoundaryMismatch:
+                   case ViolationKind::ComponentMismatch: return true;
+                   default: return false;
+               }
+           });
 }
 
 } // namespace qex::detail

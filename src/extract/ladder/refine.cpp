@@ -243,7 +243,8 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
         StageTimer::hook_scale = scale;
         // The map at scale 1 passed the seam check (or this would not run).
         Result other; // the last resort's other candidate at this scale
-        Result refined = extract_at_scale(scaled, options, AtScale{scale, true, &memo}, &other);
+        Result refined =
+            extract_at_scale(scaled, options, AtScale{scale, true, &memo}, filled_scale == 0 ? &other : nullptr);
         ++result.report.refinements_tried;
         // The last resort, kept for the end: the smallest scale whose holes, filled, pass.
         const bool filled_here = options.fill_holes && refined.ok() && !refined.check.valid && filled_scale == 0 &&
