@@ -21,27 +21,62 @@ std::uint64_t half_edge(int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-/// The quadrangulations of one rim (a polygon of an even number of vertices) by diagonals, none
-/// an edge of the mesh: each split of a side (i, j) of the polygon (positions on the rim, i < j)
-/// into the quad (i, a, b, j) and the three polygons it leaves, searched depth first; the best by
-/// (valence deviation, squared diagonal length), the first found among equals.
+/// The best quadrangulation of one rim (a polygon of an even number of vertices, positions 0 to
+/// n - 1 on the rim) by diagonals, none an edge of the mesh: the one whose rim vertices' face
+/// counts come nearest their quarter turns (the sum of the differences), then with the shortest
+/// diagonals (squared, in space), the first of the dynamic programme's order among equals.
+/// Exact, by a dynamic programme over the polygons a side (i, j), i < j, cuts off: the quad
+/// (i, a, b, j) on that side leaves the polygons on (i, a), (a, b) and (b, j), and every vertex
+/// strictly inside (i, j) takes all its faces there, so its difference is settled there; a
+/// polygon's table holds, per count of faces at its ends i and j, the best cost of its inside.
 class RimQuadrangulation {
 public:
     RimQuadrangulation(const std::vector<int>& rim, const Holes& holes, const QuadMesh& mesh)
-        : rim_(rim), holes_(holes), mesh_(mesh), n_(static_cast<int>(rim.size())) {}
+        : rim_(rim),
+          holes_(holes),
+          mesh_(mesh),
+          n_(static_cast<int>(rim.size())),
+          counts_(n_ / 2 + 1),
+          table_(static_cast<std::size_t>(n_ * n_)),
+          reached_(static_cast<std::size_t>(n_ * n_)) {}
 
     /// The best quadrangulation's quads, as rim vertices in rim order; empty if there is none.
     std::vector<std::vector<int>> best() {
-        std::vector<std::pair<int, int>> pending{{0, n_ - 1}};
-        search(pending);
+        for (int length = 1; length < n_; length += 2)
+            for (int i = 0; i + length < n_; ++i) solve(i, i + length);
+        const std::vector<Entry>& top = at(0, n_ - 1);
+        int chosen = -1;
+        Cost best;
+        for (int k = 0; k < static_cast<int>(top.size()); ++k) {
+            if (!top[static_cast<std::size_t>(k)].set) continue;
+            Cost c = top[static_cast<std::size_t>(k)].cost;
+            c.deviation += difference(0, k / counts_) + difference(n_ - 1, k % counts_);
+            if (chosen < 0 || better(c, best)) chosen = k, best = c;
+        }
         std::vector<std::vector<int>> faces;
-        for (const auto& q : best_)
-            faces.push_back({rim_[static_cast<std::size_t>(q[0])], rim_[static_cast<std::size_t>(q[1])],
-                             rim_[static_cast<std::size_t>(q[2])], rim_[static_cast<std::size_t>(q[3])]});
+        if (chosen >= 0) emit(0, n_ - 1, chosen / counts_, chosen % counts_, faces);
         return faces;
     }
 
 private:
+    struct Cost {
+        std::int64_t deviation = 0;
+        double length = 0.0;
+    };
+    static bool better(const Cost& x, const Cost& y) {
+        return x.deviation < y.deviation || (x.deviation == y.deviation && x.length < y.length);
+    }
+    /// A polygon's best inside for counts (fi, fj) of faces at its ends: its cost, its side's quad
+    /// (i, a, b, j), and the counts its three polygons take at their ends.
+    struct Entry {
+        bool set = false;
+        Cost cost;
+        int a = -1, b = -1;
+        int ia = 0, ai = 0, ab = 0, ba = 0, bj = 0, jb = 0;
+    };
+
+    std::vector<Entry>& at(int i, int j) { return table_[static_cast<std::size_t>(i * n_ + j)]; }
+
     bool rim_side(int i, int j) const { return j - i == 1 || (i == 0 && j == n_ - 1); }
 
     /// Whether positions i < j may be joined: a side of the rim, or a diagonal that is no edge of
@@ -54,72 +89,96 @@ private:
                !std::binary_search(half.begin(), half.end(), half_edge(b, a));
     }
 
+    /// The squared length of the diagonal (i, j) in space; 0 for a side of the rim.
     double length2(int i, int j) const {
+        if (rim_side(i, j)) return 0.0;
         const auto& p = mesh_.positions[static_cast<std::size_t>(rim_[static_cast<std::size_t>(i)])];
         const auto& q = mesh_.positions[static_cast<std::size_t>(rim_[static_cast<std::size_t>(j)])];
         return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
     }
 
-    void search(std::vector<std::pair<int, int>>& pending) {
-        // Past the budget, of quadrangulations or of steps (diagonals that are edges of the mesh can
-        // leave most branches without one): the best found so far stands.
-        if (judged_ >= kMaxJudged || ++steps_ > kMaxSteps) return;
-        if (pending.empty()) return judge();
-        const auto [i, j] = pending.back();
-        pending.pop_back();
-        if (j - i == 1) {
-            search(pending);
-        } else {
-            for (int a = i + 1; a < j; a += 2)
-                for (int b = a + 1; b < j; b += 2) {
-                    if (!joinable(i, a) || !joinable(a, b) || !joinable(b, j)) continue;
-                    quads_.push_back({i, a, b, j});
-                    pending.insert(pending.end(), {{i, a}, {a, b}, {b, j}});
-                    search(pending);
-                    pending.resize(pending.size() - 3);
-                    quads_.pop_back();
-                }
-        }
-        pending.emplace_back(i, j);
+    /// How far rim position i's face count, with `added` faces of the patch, is from its quarter turns.
+    std::int64_t difference(int i, int added) const {
+        const auto v = static_cast<std::size_t>(rim_[static_cast<std::size_t>(i)]);
+        return std::abs(holes_.corners[v] + added - holes_.wound[v]);
     }
 
-    /// The rim vertices' face counts against their quarter turns, then the diagonals' lengths.
-    void judge() {
-        ++judged_;
-        std::vector<int> faces(static_cast<std::size_t>(n_), 0);
-        double diagonals = 0.0;
-        for (const auto& q : quads_)
-            for (std::size_t k = 0; k < 4; ++k) {
-                ++faces[static_cast<std::size_t>(q[k])];
-                const int a = std::min(q[k], q[(k + 1) % 4]), b = std::max(q[k], q[(k + 1) % 4]);
-                if (!rim_side(a, b)) diagonals += 0.5 * length2(a, b); // each diagonal is a side of two quads
+    /// The table of the polygon on (i, j), from those of the shorter ones.
+    void solve(int i, int j) {
+        std::vector<Entry>& out = at(i, j);
+        out.assign(static_cast<std::size_t>(counts_ * counts_), Entry{});
+        if (j - i == 1) {
+            out[0].set = true;
+            set_of(i, j).push_back(0);
+            return;
+        }
+        const int cells = counts_ * counts_;
+        std::vector<Cost> partial(static_cast<std::size_t>(cells));
+        std::vector<std::array<int, 2>> from(static_cast<std::size_t>(cells));
+        std::vector<char> reached(static_cast<std::size_t>(cells));
+        for (int a = i + 1; a < j; a += 2)
+            for (int b = a + 1; b < j; b += 2) {
+                if (!joinable(i, a) || !joinable(a, b) || !joinable(b, j)) continue;
+                const std::vector<int>&left = set_of(i, a), &middle = set_of(a, b), &right = set_of(b, j);
+                // The polygons on (i, a) and (a, b) joined first: a's faces are all there (the
+                // quad's and theirs), so per (count at i, count at b) only the best pair stays.
+                std::fill(reached.begin(), reached.end(), 0);
+                for (const int l : left)
+                    for (const int m : middle) {
+                        const int key = (l / counts_) * counts_ + m % counts_;
+                        Cost c = sum(entry(i, a, l).cost, entry(a, b, m).cost);
+                        c.deviation += difference(a, 1 + l % counts_ + m / counts_);
+                        if (reached[static_cast<std::size_t>(key)] &&
+                            !better(c, partial[static_cast<std::size_t>(key)]))
+                            continue;
+                        reached[static_cast<std::size_t>(key)] = 1;
+                        partial[static_cast<std::size_t>(key)] = c;
+                        from[static_cast<std::size_t>(key)] = {l, m};
+                    }
+                const double diagonals = length2(i, a) + length2(a, b) + length2(b, j);
+                for (int key = 0; key < cells; ++key) {
+                    if (!reached[static_cast<std::size_t>(key)]) continue;
+                    for (const int r : right) {
+                        const int fi = 1 + key / counts_, fj = 1 + r % counts_;
+                        if (fi >= counts_ || fj >= counts_) continue;
+                        Cost c = sum(partial[static_cast<std::size_t>(key)], entry(b, j, r).cost);
+                        c.deviation += difference(b, 1 + key % counts_ + r / counts_);
+                        c.length += diagonals;
+                        Entry& e = out[static_cast<std::size_t>(fi * counts_ + fj)];
+                        if (e.set && !better(c, e.cost)) continue;
+                        const auto [l, m] = from[static_cast<std::size_t>(key)];
+                        e = {true,        c,           a,           b,           l / counts_,
+                             l % counts_, m / counts_, m % counts_, r / counts_, r % counts_};
+                    }
+                }
             }
-        std::int64_t deviation = 0;
-        for (int i = 0; i < n_; ++i) {
-            const auto v = static_cast<std::size_t>(rim_[static_cast<std::size_t>(i)]);
-            deviation += std::abs(holes_.corners[v] + faces[static_cast<std::size_t>(i)] - holes_.wound[v]);
-        }
-        if (best_.empty() || deviation < best_deviation_ ||
-            (deviation == best_deviation_ && diagonals < best_diagonals_)) {
-            best_ = quads_;
-            best_deviation_ = deviation;
-            best_diagonals_ = diagonals;
-        }
+        for (int k = 0; k < cells; ++k)
+            if (out[static_cast<std::size_t>(k)].set) set_of(i, j).push_back(k);
+    }
+
+    static Cost sum(const Cost& x, const Cost& y) { return {x.deviation + y.deviation, x.length + y.length}; }
+    const Entry& entry(int i, int j, int k) { return at(i, j)[static_cast<std::size_t>(k)]; }
+    /// The counts the polygon on (i, j) can take, as indices into its table.
+    std::vector<int>& set_of(int i, int j) { return reached_[static_cast<std::size_t>(i * n_ + j)]; }
+
+    /// Appends the quads of the polygon on (i, j) with counts (fi, fj) at its ends, as rim vertices.
+    void emit(int i, int j, int fi, int fj, std::vector<std::vector<int>>& faces) {
+        if (j - i == 1) return;
+        const Entry e = at(i, j)[static_cast<std::size_t>(fi * counts_ + fj)];
+        faces.push_back({rim_[static_cast<std::size_t>(i)], rim_[static_cast<std::size_t>(e.a)],
+                         rim_[static_cast<std::size_t>(e.b)], rim_[static_cast<std::size_t>(j)]});
+        emit(i, e.a, e.ia, e.ai, faces);
+        emit(e.a, e.b, e.ab, e.ba, faces);
+        emit(e.b, j, e.bj, e.jb, faces);
     }
 
     const std::vector<int>& rim_;
     const Holes& holes_;
     const QuadMesh& mesh_;
     const int n_;
-    std::vector<std::array<int, 4>> quads_, best_;
-    std::int64_t best_deviation_ = 0;
-    /// The quadrangulations judged, and the most judged: all of them up to 18 rim vertices
-    /// (43,263), the first of the search's order beyond (20 have 246,675).
-    static constexpr std::size_t kMaxJudged = 100'000;
-    /// The search's steps, and the most taken (the 43,263 of 18 rim vertices take about 580,000).
-    static constexpr std::size_t kMaxSteps = 2'000'000;
-    std::size_t judged_ = 0, steps_ = 0;
-    double best_diagonals_ = std::numeric_limits<double>::infinity();
+    const int counts_;                      ///< the face counts a polygon's end can take: 0 to n / 2
+    std::vector<std::vector<Entry>> table_; ///< per polygon (i, j), i * n + j: counts -> best
+    std::vector<std::vector<int>> reached_; ///< per polygon: the counts it can take (set entries)
 };
 
 } // namespace

@@ -129,11 +129,10 @@ std::vector<Defect> close_holes(const Input& input, QuadMesh& mesh, bool wound_f
 /// of up to kMaxFilledRim vertices) that cells close, as close_holes closes them (with
 /// `wound_first` as there), then fills each other one whose rim has an even number of vertices (its
 /// rim lays out in no grid, or round grid points with no vertex) with quads that join rim vertices,
-/// no new vertex: of every such quadrangulation whose diagonals are no edges of the mesh (up to a
-/// budget of quadrangulations and of search steps: past 18 rim vertices, the first ones of the
-/// search's order, which all share the quads at the rim's last vertex), the one that leaves the rim vertices' face
-/// counts nearest their quarter turns (Holes::wound), then with the shortest diagonals (squared,
-/// in space), the first found from the rim's vertex of smallest index among equals. Returns one
+/// no new vertex: of every such quadrangulation whose diagonals are no edges of the mesh, the one
+/// that leaves the rim vertices' face counts nearest their quarter turns (Holes::wound), then with
+/// the shortest diagonals (squared, in space), exactly (a dynamic programme), the first of its
+/// order from the rim's vertex of smallest index among equals. Returns one
 /// explanation per hole (HoleClosed, HoleFilled). A candidate only: the caller keeps it if the
 /// checker accepts the result.
 std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_first = false);
