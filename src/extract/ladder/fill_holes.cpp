@@ -10,9 +10,9 @@
 #include "ladder.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstdlib>
-#include <limits>
 
 namespace qex::detail {
 namespace {
