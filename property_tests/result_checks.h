@@ -30,8 +30,7 @@ inline bool is_explanation_kind(DefectKind k) {
            k == DefectKind::SingularitiesMerged || k == DefectKind::HoleClosed || k == DefectKind::SheetsSeparated ||
            k == DefectKind::RefinementFailed || k == DefectKind::BestEffortMesh ||
            k == DefectKind::RimShortOfSingularity || k == DefectKind::FoldPinnedBySingularities ||
-           k == DefectKind::AnglesLeaveNoRoom || k == DefectKind::RegionAreaNotPositive ||
-           k == DefectKind::HoleFilled;
+           k == DefectKind::AnglesLeaveNoRoom || k == DefectKind::RegionAreaNotPositive || k == DefectKind::HoleFilled;
 }
 
 /// The violations extract() must have found on `r.mesh`, judged again here: the checker on the

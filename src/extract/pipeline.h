@@ -46,7 +46,7 @@ enum class Stage : int {
     place_on_given_map,  ///< ladder/place_on_given_map.cpp: last-resort rungs move the mesh back
     separate_sheets,     ///< ladder/separate_sheets.cpp: a rejected mesh's edges joining two sheets, cut
     close_holes,         ///< ladder/close_holes.cpp: a rejected mesh's holes closed by the cells their rims enclose
-    fill_holes,          ///< ladder/fill_holes.cpp: last resort, holes no grid lays out filled from their rims
+    fill_holes,          ///< ladder/fill_holes.cpp: last resort, holes no cells close filled from their rims
     check,               ///< src/verify/: the independent checker (qex::verify) judges the rung's mesh
 };
 inline constexpr int kNumStages = static_cast<int>(Stage::check) + 1;

@@ -160,8 +160,7 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
         if (!(left > 0.0 && left < M_PI * corners)) {
             // A proof, clear of the angles' rounding: every corner inside lies in (0, pi).
             const double margin = 1e-9 * (1.0 + std::abs(left));
-            marks.room_proved =
-                !(left > -margin && left < M_PI * corners + margin) && !outside_degenerate(m, v, marks);
+            marks.room_proved = !(left > -margin && left < M_PI * corners + margin) && !outside_degenerate(m, v, marks);
             marks.room_vertex = v;
             marks.room_left = left;
             marks.room_corners = corners;
@@ -175,8 +174,8 @@ bool admits_embedding(const TriMesh& m, const Region& r, bool valences_given, Re
     // What fails below is a proof with the valences as counted: in an orientation-preserving map
     // that keeps every winding the angles sum to pi per triangle.
     marks.room_missing = missing;
-    marks.room_proved = std::none_of(marks.fixed.begin(), marks.fixed.end(),
-                                     [&](int v) { return outside_degenerate(m, v, marks); });
+    marks.room_proved =
+        std::none_of(marks.fixed.begin(), marks.fixed.end(), [&](int v) { return outside_degenerate(m, v, marks); });
     if (valences_given) return false; // the user's valences stand
     // Whole turns missing: they belong to singularities inside the region (Algorithm 8 finds no
     // flipped run in a fan squeezed by the fold, Figure 2 (d)).

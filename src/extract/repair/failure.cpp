@@ -227,9 +227,9 @@ Defect proof_explanation(const TriMesh& m, const RepairOutcome::Proof& p) {
                   "as the map gives them is fold-free";
         } else if (p.vertex >= 0)
             why = "input vertex " + std::to_string(m.input_vertex[p.vertex]) + " (" +
-                  (m.map.singular[p.vertex] ? "a singularity of valence " + std::to_string(m.map.valence[p.vertex]) +
-                                                  " as the map counts it"
-                                            : std::string("a regular vertex")) +
+                  (m.map.singular[p.vertex]
+                       ? "a singularity of valence " + std::to_string(m.map.valence[p.vertex]) + " as the map counts it"
+                       : std::string("a regular vertex")) +
                   ") leaves " + region + " " + quarter_turns(p.amount) + " quarter turns for " +
                   std::to_string(p.corners) +
                   " corners, besides the angles of its triangles outside the region: positive triangles give "
