@@ -36,17 +36,25 @@ void keep(QuadMesh&& mended, VerifyResult&& check, std::vector<Defect>&& explana
 }
 
 /// Stage close_holes, on a mesh the checker rejected: the holes its face walks left, closed by the
-/// grid cells their rims enclose. Kept (with `done`, what was done to `mesh` before) only if it
-/// is then accepted(). `mesh` is read only before the result is kept, so it may be attempt.mesh.
-bool close_holes_if_accepted(const Input& input, const QuadMesh& mesh, bool relaxed,
-                             const VerifyOptions& verify_options, const std::vector<Defect>& done, Result& attempt) {
+/// grid cells their rims enclose; or, with `fill`, stage fill_holes (the last resort), and only
+/// where it filled a hole from its rim (holes cells close alone were tried when the rung's mesh
+/// was mended; longer rims closed so are judged only beside a filled one). Kept (with `done`,
+/// what was done to `mesh` before) only if it is then accepted(). `mesh` is read only before the
+/// result is kept, so it may be attempt.mesh.
+bool holes_closed_if_accepted(const Input& input, const QuadMesh& mesh, bool relaxed,
+                              const VerifyOptions& verify_options, const std::vector<Defect>& done, bool fill,
+                              Result& attempt) {
     // Rim vertices read as regular first; then, if that is rejected, as their fans wind (a
     // valence-3 and a valence-5 vertex on one rim cancel in the first reading).
     std::vector<std::vector<int>> first_faces; // the first reading's result, not judged twice
     for (const bool wound_first : {false, true}) {
         QuadMesh closed = mesh;
-        std::vector<Defect> explanations = close_holes(input, closed, wound_first);
-        if (explanations.empty() || (wound_first && closed.faces == first_faces)) continue;
+        std::vector<Defect> explanations =
+            fill ? fill_holes(input, closed, wound_first) : close_holes(input, closed, wound_first);
+        const bool changed = fill ? std::any_of(explanations.begin(), explanations.end(),
+                                                [](const Defect& d) { return d.kind == DefectKind::HoleFilled; })
+                                  : !explanations.empty();
+        if (!changed || (wound_first && closed.faces == first_faces)) continue;
         if (!wound_first) first_faces = closed.faces;
         VerifyResult check;
         if (!accepted(input, closed, relaxed, verify_options, check)) continue;
@@ -100,11 +108,11 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
             keep(std::move(separated), std::move(check), std::move(explanations), attempt);
             return;
         }
-        const bool closed = close_holes_if_accepted(input, separated, relaxed, verify_options, explanations, attempt);
+        const bool closed = holes_closed_if_accepted(input, separated, relaxed, verify_options, explanations, false, attempt);
         timer.done(Stage::close_holes);
         if (closed) return;
     }
-    (void)close_holes_if_accepted(input, attempt.mesh, relaxed, verify_options, {}, attempt);
+    (void)holes_closed_if_accepted(input, attempt.mesh, relaxed, verify_options, {}, false, attempt);
     timer.done(Stage::close_holes);
 }
 
@@ -129,35 +137,18 @@ bool fill_candidate(const Input& input, const VerifyOptions& verify_options, con
         timer.done(Stage::separate_sheets);
         if (!cuts.empty()) starts.emplace_back(std::move(separated), std::move(cuts));
     }
+    out = candidate;
     for (const auto& [mesh, done] : starts) {
-        // The holes that cells close, read as in close_holes_if_accepted: regular first, then as
-        // their fans wind where that gives other faces.
-        std::vector<std::vector<int>> first_faces;
-        for (const bool wound_first : {false, true}) {
-            QuadMesh filled = mesh;
-            std::vector<Defect> explanations = fill_holes(input, filled, wound_first);
-            timer.done(Stage::fill_holes);
-            // Holes closed by their cells alone were tried when the rung's mesh was mended (rims
-            // of up to kMaxClosedRim; longer ones closed so are judged only beside a filled one).
-            const bool any_filled = std::any_of(explanations.begin(), explanations.end(),
-                                                [](const Defect& d) { return d.kind == DefectKind::HoleFilled; });
-            if (!any_filled || (wound_first && filled.faces == first_faces)) continue;
-            if (!wound_first) first_faces = filled.faces;
-            VerifyResult check;
-            const bool ok = accepted(input, filled, relaxed, verify_options, check);
-            timer.done(Stage::fill_holes);
-            if (!ok) continue;
-            out = candidate;
-            explanations.insert(explanations.begin(), done.begin(), done.end());
-            keep(std::move(filled), std::move(check), std::move(explanations), out);
-            // The violations located on the input are gone with them; the extraction's defects stay.
-            auto& defects = out.report.defects;
-            defects.erase(std::remove_if(defects.begin(), defects.end(),
-                                         [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
-                          defects.end());
-            out.report.check_violations = 0;
-            return true;
-        }
+        const bool ok = holes_closed_if_accepted(input, mesh, relaxed, verify_options, done, true, out);
+        timer.done(Stage::fill_holes);
+        if (!ok) continue;
+        // The violations located on the input are gone with them; the extraction's defects stay.
+        auto& defects = out.report.defects;
+        defects.erase(std::remove_if(defects.begin(), defects.end(),
+                                     [](const Defect& d) { return d.kind == DefectKind::CheckerViolation; }),
+                      defects.end());
+        out.report.check_violations = 0;
+        return true;
     }
     return false;
 }
