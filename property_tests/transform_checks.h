@@ -82,11 +82,12 @@ inline std::string position_difference(const std::vector<std::array<double, 3>>&
     return out.str();
 }
 
-/// "" when `a` and `b` have as many vertices and faces, every vertex of `a` has its own vertex
-/// of `b` within `tol` (inf-norm; the sorted multisets of positions agree), and the faces are the
+/// "" when `a` and `b` have as many vertices and faces, every vertex i of `a` has its own vertex
+/// of `b` within its tolerance (`wide[i]` ? `wide_tol` : `tol`; inf-norm), and the faces are the
 /// same under that matching (up to the rotation of each face, and up to which of b's vertices
-/// within `tol` of each other a vertex is); else the first difference.
-inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double tol) {
+/// within `tol` of each other a vertex is); else the first difference. `wide` may be empty.
+inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double tol, double wide_tol,
+                                   const std::vector<char>& wide) {
     std::ostringstream out;
     if (a.positions.size() != b.positions.size()) {
         out << a.positions.size() << " vertices against " << b.positions.size();
@@ -104,10 +105,11 @@ inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double 
     std::vector<char> taken(b.positions.size(), 0);
     for (std::size_t i = 0; i < a.positions.size(); ++i) {
         const auto& p = a.positions[i];
-        auto it = std::lower_bound(by_x.begin(), by_x.end(), p[0] - tol,
+        const double own = i < wide.size() && wide[i] ? std::max(tol, wide_tol) : tol;
+        auto it = std::lower_bound(by_x.begin(), by_x.end(), p[0] - own,
                                    [&](int j, double x) { return b.positions[j][0] < x; });
-        double best = tol;
-        for (; it != by_x.end() && b.positions[*it][0] <= p[0] + tol; ++it) {
+        double best = own;
+        for (; it != by_x.end() && b.positions[*it][0] <= p[0] + own; ++it) {
             if (taken[*it]) continue;
             double d = 0.0;
             for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(p[k] - b.positions[*it][k]));
@@ -125,7 +127,7 @@ inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double 
             }
             out.precision(17);
             out << "vertex " << i << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") has no counterpart within "
-                << tol << " (the nearest is " << nearest << " away)";
+                << own << " (the nearest is " << nearest << " away)";
             return out.str();
         }
         taken[match[i]] = 1;
@@ -164,6 +166,42 @@ inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double 
         return out.str();
     }
     return {};
+}
+
+/// As above with one tolerance for every vertex.
+inline std::string mesh_difference(const QuadMesh& a, const QuadMesh& b, double tol) {
+    return mesh_difference(a, b, tol, tol, {});
+}
+
+/// The median length of the mesh's edges (each face side once per face).
+inline double median_edge_length(const QuadMesh& m) {
+    std::vector<double> lengths;
+    for (const auto& f : m.faces)
+        for (std::size_t k = 0; k < f.size(); ++k) {
+            const auto &p = m.positions[static_cast<std::size_t>(f[k])],
+                       &q = m.positions[static_cast<std::size_t>(f[(k + 1) % f.size()])];
+            lengths.push_back(std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+        }
+    if (lengths.empty()) return 0.0;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    return lengths[lengths.size() / 2];
+}
+
+/// Per vertex of `m`: placed by a repaired region (on an input triangle of the certificate, in
+/// `m`'s or in `other`'s). Input vertices keep their positions, so they are never placed by one.
+inline std::vector<char> placed_by_repair(const QuadMesh& m, const QuadMesh& other) {
+    std::vector<char> repaired, out(m.positions.size(), 0);
+    for (const QuadMesh* q : {&m, &other})
+        for (const std::int32_t t : q->map_repaired) {
+            if (static_cast<std::size_t>(t) >= repaired.size()) repaired.resize(static_cast<std::size_t>(t) + 1, 0);
+            repaired[static_cast<std::size_t>(t)] = 1;
+        }
+    for (std::size_t i = 0; i < m.provenance.size() && i < out.size(); ++i) {
+        const Provenance& p = m.provenance[i];
+        const auto t = static_cast<std::size_t>(p.element);
+        out[i] = p.kind != QVertexKind::Vertex && p.element >= 0 && t < repaired.size() && repaired[t];
+    }
+    return out;
 }
 
 } // namespace qex::testing

@@ -39,7 +39,8 @@ extern "C" {
 typedef struct qex_options {
     size_t struct_size;      /* sizeof(qex_options) as the caller knows it */
     int threads;             /* threads for the parallel loops: 0 every core, 1 serial (same output) */
-    int repair_fold_overs;   /* re-embed flipped regions before extraction (default 1) */
+    int repair_fold_overs;   /* re-embed flipped regions before extraction (default 1: certified; 0 is
+                                `qex extract --no-repair`: fast, uncertified) */
     int fallback_ladder;     /* retry on the map as given when the repaired map fails (default 1) */
     int snap_boundary;       /* snap every boundary edge to its closest integer iso-line (default 0) */
     int canonical_order;     /* sort output vertices and faces canonically (default 1) */

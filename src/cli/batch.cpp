@@ -82,6 +82,7 @@ bool start(Job& job, const BatchArgs& a, int threads) {
     if (a.snap_boundary) args.push_back("--snap-boundary");
     if (a.best_effort) args.push_back("--best-effort");
     if (a.no_fill_holes) args.push_back("--no-fill-holes");
+    if (a.no_repair) args.push_back("--no-repair");
     job.start = Clock::now();
     const pid_t pid = fork();
     if (pid < 0) return false;
@@ -246,6 +247,8 @@ CLI::App* add_batch(CLI::App& app, BatchArgs& a) {
         "passed to every extraction: a map with no valid mesh gets the one closest to valid (still failed)");
     batch->add_flag("--no-fill-holes", a.no_fill_holes,
                     "passed to every extraction: no last resort (holes no grid cells close are not filled)");
+    batch->add_flag("--no-repair", a.no_repair,
+                    "passed to every extraction: fast and uncertified, no re-embedding of fold-over regions");
     batch->add_flag("--force", a.force, "run every map, even those with a valid output already");
     batch->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
     return batch;

@@ -56,6 +56,7 @@ struct ExtractArgs {
     std::string certificate_path; ///< --certificate: the repaired map beside the mesh (qex::Certificate)
     bool poly = false, quiet = false, snap_boundary = false, round_seams = false, best_effort = false;
     bool no_fill_holes = false;
+    bool no_repair = false; ///< --no-repair: the paper's handling of fold-overs, fast and uncertified
     int threads = 0;
     int max_refinement = Options{}.max_refinement;
     int max_coarsening = Options{}.max_coarsening;
@@ -98,6 +99,7 @@ struct BatchArgs {
     std::string input, out_dir, summary_path, format = "obj";
     int jobs = 0;
     bool quiet = false, force = false, snap_boundary = false, best_effort = false, no_fill_holes = false;
+    bool no_repair = false;
     std::string self; ///< this program, run once per map
 };
 CLI::App* add_batch(CLI::App& app, BatchArgs& a);

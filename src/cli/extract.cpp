@@ -118,6 +118,7 @@ int run_extract(const ExtractArgs& a) {
     options.max_coarsening = a.max_coarsening;
     options.best_effort = a.best_effort;
     options.fill_holes = !a.no_fill_holes;
+    options.repair_fold_overs = !a.no_repair;
     options.on_stage = [&progress](const char* stage, int grid_scale) {
         progress.detail(std::string("stage ") + stage + " done" +
                         (grid_scale > 1 ? " (map refined x" + std::to_string(grid_scale) + ")" : ""));
@@ -196,6 +197,9 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
     extract->add_flag("--no-fill-holes", a.no_fill_holes,
                       "no last resort: where no attempt gives a valid mesh, do not fill holes that no grid cells close "
                       "with quads joining their rim vertices (such quads follow no cells of the map)");
+    extract->add_flag("--no-repair", a.no_repair,
+                      "fast and uncertified: no re-embedding of fold-over regions, the paper's local handling "
+                      "of them only (a mesh may have fewer quads than the map's area; the default is certified)");
     extract
         ->add_option("--threads", a.threads, "threads for the parallel loops (0: every core, 1: serial); same output")
         ->check(CLI::Range(0, 1024));

@@ -209,7 +209,9 @@ def extract(
     snap_boundary : bool, optional
         Treat every boundary edge as a feature edge (default False), as ``--snap-boundary``.
     repair_fold_overs : bool, optional
-        Re-embed the regions of flipped and degenerate triangles before extracting (default True).
+        Re-embed the regions of flipped and degenerate triangles before extracting (default True:
+        certified). False is ``--no-repair``: the paper's local handling of fold-overs only, fast
+        and uncertified (a mesh may have fewer quads than the map's area).
     fallback_ladder : bool, optional
         When the checker rejects the mesh, retry on the rungs of the fallback ladder (default True).
     best_effort : bool, optional
