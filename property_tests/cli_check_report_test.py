@@ -6,6 +6,8 @@ copy with one quad dropped and the edge between two other quads rotated: exit co
 cells no face covers named (GridCellNotCovered, with their corner vertices and their chart
 triangle), every violation with a place, and the SVG well-formed XML with a numbered mark on the
 map for every violation that has a place there. A report that cannot be written: exit code 2.
+The verdict carries the mesh's quality figures ("quality"), and the words one line of them: on the
+copy, one quad fewer, more irregular vertices, and the dropped quad's hole farther from the map.
 
 usage: cli_check_report_test.py QEX MAP WORKDIR
 """
@@ -63,6 +65,15 @@ assert coverage["required_cells"] == verdict["faces"], f"{coverage} for {verdict
 assert coverage["uncovered_cells"] == 0 and coverage["uncovered_grid_points"] == 0, coverage
 assert labels == [], f"marks on a valid mesh: {labels}"
 assert len(list(root.iter(SVG + "polygon"))) > 0, "no map drawn"
+quality = verdict["quality"]
+assert quality["computed"] and quality["quads"] == verdict["faces"] and quality["other_faces"] == 0, quality
+jacobian = quality["scaled_jacobian"]
+assert 0 < jacobian["min"] <= jacobian["p5"] <= jacobian["mean"] <= 1, jacobian
+assert quality["vertices"] == verdict["vertices"] and 0 < quality["irregular_vertex_share"] < 1, quality
+assert quality["distance"]["input_to_mesh"] < 0.05 and quality["distance"]["mesh_to_input"] < 0.05, quality
+words = run("check", "--param", map_path, mesh).stdout
+line = next((l for l in words.splitlines() if l.startswith("quality: scaled Jacobian min ")), None)
+assert line and "irregular vertices" in line and "of the bounding-box diagonal" in line, words
 
 # Drop one quad, and rotate the edge between two others (far from it): their cells have no face.
 lines, idx, faces = faces_of(mesh)
@@ -100,6 +111,10 @@ for x in violations:
     named.append(sorted(kinds["vertex"]))
 assert sorted(named) == sorted(sorted(c) for c in cells), f"cells named {named}, expected {cells}"
 assert verdict["located"]["coverage"]["uncovered_cells"] == 3
+broken_quality = verdict["quality"]
+assert broken_quality["quads"] == quality["quads"] - 1, broken_quality
+assert broken_quality["irregular_vertices"] > quality["irregular_vertices"], broken_quality
+assert broken_quality["distance"]["input_to_mesh"] > quality["distance"]["input_to_mesh"], broken_quality
 # Every violation with a place on the map (a grid cell or point, or an input triangle) is marked
 # there with its number.
 on_map = {"grid_cell", "grid_point", "input_triangle"}

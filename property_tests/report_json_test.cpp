@@ -1,6 +1,7 @@
 // qex::report_json equals the CLI's report: `report_json_test MAP REPORT` extracts MAP with the
 // library and compares with REPORT, the file `qex extract MAP --report REPORT` wrote, every field
-// but the wall times. Exit code 0: equal.
+// but the wall times; the CLI's "quality" too, measured again here (the same bits: figures of the
+// geometry alone). Exit code 0: equal.
 #include <qex/qex.h>
 #include <qex/report.h>
 
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     const qex::Result r = qex::extract(in);
-    nlohmann::json lib = nlohmann::json::parse(qex::report_json(r, 0.0, 0.0));
+    nlohmann::json lib = nlohmann::json::parse(qex::report_json(r, 0.0, 0.0, qex::mesh_quality(in, r.mesh), 0.0));
     // The stage names and their order are the same; only the times differ.
     bool same_stages = cli["stage_seconds"].size() == lib["stage_seconds"].size();
     for (auto it = cli["stage_seconds"].begin(); same_stages && it != cli["stage_seconds"].end(); ++it)

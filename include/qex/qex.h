@@ -8,11 +8,14 @@
 //   qex::VerifyResult v = qex::verify(in, r.mesh);   // independent exact checker
 //
 // The headers by concern: qex/mesh.h (the data), qex/extract.h (the extractor), qex/verify.h
-// (the checker, library qex::verify), qex/check.h (the oracle's entry for any extractor's mesh), qex/io.h (files), qex/openmesh.h (OpenMesh adapter).
+// (the checker, library qex::verify), qex/check.h (the oracle's entry for any extractor's mesh),
+// qex/quality.h (the mesh's quality figures, measured by qex::verify), qex/io.h (files),
+// qex/openmesh.h (OpenMesh adapter).
 #pragma once
 
 #include "qex/check.h"
 #include "qex/extract.h"
 #include "qex/io.h"
 #include "qex/mesh.h"
+#include "qex/quality.h"
 #include "qex/verify.h"

@@ -108,7 +108,8 @@ QEX_C_API int qex_verdict_valid(const qex_verdict* verdict); /* 1: the checker a
 /* Why the map or the call was refused, or "" (qex_result_error_code's names in error_code). */
 QEX_C_API const char* qex_verdict_error(const qex_verdict* verdict);
 QEX_C_API const char* qex_verdict_error_code(const qex_verdict* verdict);
-/* The verdict as JSON, the document `qex check --json` prints ("{}" when the map was refused). */
+/* The verdict as JSON, the document `qex check --json` prints, the mesh's quality figures under
+ * "quality" (qex/quality.h) ("{}" when the map was refused). */
 QEX_C_API const char* qex_verdict_json(const qex_verdict* verdict);
 QEX_C_API void qex_verdict_free(qex_verdict* verdict);
 

@@ -51,7 +51,11 @@ def against_cli(cli, tmp_path, map_path):
     QV, QF = read_quads(out)
     np.testing.assert_array_equal(r.positions, QV)  # shortest round-trip text: bitwise equal
     np.testing.assert_array_equal(r.quads, QF)
-    assert without_times(r.report) == without_times(json.loads(rep.read_text()))
+    # The CLI's report adds the mesh's quality figures, which `qex.check` measures too.
+    by_cli = json.loads(rep.read_text())
+    assert "quality" not in r.report
+    assert by_cli.pop("quality") == qex.check(V, F, UV, r.positions, r.quads)["quality"]
+    assert without_times(r.report) == without_times(by_cli)
     assert r.defects == r.report["defects"]
     mine = tmp_path / "py.obj"
     qex.write_obj(mine, r)
@@ -288,6 +292,11 @@ def test_check_is_the_oracle_of_arrays():
     verdict = qex.check(V, F, UV, moved, r.quads)
     assert not verdict["valid"]
     assert any(v["kind"] == "OffSurface" and v["element"] == 7 for v in verdict["violations"])
+    # The quality figures, as `qex check --json` prints them: the moved vertex is measured off
+    # the surface; the quads stay the same.
+    assert ok["quality"]["computed"] and ok["quality"]["quads"] == 54
+    assert ok["quality"]["distance"]["mesh_to_input"] < 1e-9 < verdict["quality"]["distance"]["mesh_to_input"]
+    assert verdict["quality"]["quads"] == 54 and 0 < ok["quality"]["scaled_jacobian"]["min"] <= 1
 
     verdict = qex.check(V, F, UV, r.positions, r.quads[1:])
     assert not verdict["valid"]

@@ -159,14 +159,15 @@ qex_verdict* run_check(const double* positions, int64_t num_vertices, const int3
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) mesh.faces[f].assign(quads + 4 * f, quads + 4 * f + 4);
     // The oracle's one entry (qex/check.h), as `qex check` and Python's qex.check judge.
     const qex::MeshCheck c =
-        certificate_path ? qex::check_mesh(in, mesh, certificate) : qex::check_mesh(in, std::move(mesh), grid_scale);
+        certificate_path ? qex::check_mesh(in, mesh, certificate) : qex::check_mesh(in, mesh, grid_scale);
     auto v = std::make_unique<qex_verdict>();
     v->ok = c.map_ok();
     v->error_code = qex::to_string(c.error.code);
     v->error = c.error.message;
     if (!v->ok) return v.release();
     v->valid = c.verdict.valid;
-    v->json = qex::verify_json(c.verdict);
+    // With the quality figures, as `qex check --json` prints the verdict.
+    v->json = qex::verify_json(c.verdict, qex::mesh_quality(in, mesh));
     return v.release();
 }
 

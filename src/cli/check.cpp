@@ -1,5 +1,5 @@
 // `qex check --param MAP MESH`: judges any quad mesh (OBJ or PLY) against a map with the
-// independent checker; the verdict in words or as JSON.
+// independent checker; the verdict, and the mesh's quality figures, in words or as JSON.
 #include "cli.h"
 #include "draw.h"
 #include "progress.h"
@@ -15,8 +15,24 @@
 namespace qex::cli {
 namespace {
 
+/// The quality figures in one line (percentages of the counts and of the input's diagonal).
+void print_quality(const qex::MeshQuality& q) {
+    if (!q.computed) {
+        std::printf("quality: not measured (a surface without area, a bad index or a non-finite position)\n");
+        return;
+    }
+    std::printf("quality: scaled Jacobian min %.3g, 5%% %.3g, mean %.3g (%lld quads", q.min_scaled_jacobian,
+                q.p5_scaled_jacobian, q.mean_scaled_jacobian, static_cast<long long>(q.quads));
+    if (q.other_faces > 0) std::printf(", %lld other faces skipped", static_cast<long long>(q.other_faces));
+    std::printf(
+        "); irregular vertices %.3g%% (%lld of %lld); distance input->mesh %.3g%%, mesh->input %.3g%% of the "
+        "bounding-box diagonal\n",
+        100 * q.irregular_vertex_share, static_cast<long long>(q.irregular_vertices),
+        static_cast<long long>(q.vertices), 100 * q.distance_input_to_mesh, 100 * q.distance_mesh_to_input);
+}
+
 /// The verdict in words, on stdout.
-void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
+void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v, const qex::MeshQuality& quality) {
     std::printf(
         "%s: %lld faces, %lld vertices, euler %lld (input %lld), boundary loops %lld (input %lld), "
         "components %lld (input %lld), input signed UV area %s\n",
@@ -78,6 +94,7 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v) {
             if (shown < v.fold_regions.size()) std::printf("  ... and %zu more\n", v.fold_regions.size() - shown);
         }
     }
+    print_quality(quality);
     print_violations(v);
     std::printf("%s\n", v.valid ? "VALID" : "INVALID");
 }
@@ -125,9 +142,11 @@ int run_check(const CheckArgs& a) {
         return kBadInput;
     }
     const qex::VerifyResult& v = c.verdict;
+    // Measured on the mesh and the map as given, whatever the grid scale or certificate.
+    const qex::MeshQuality quality = qex::mesh_quality(input, mesh);
     progress.stop();
     // The verdict to files first: a file that cannot be written is an error, whatever the verdict.
-    if (!a.report_path.empty() && !write_text(a.report_path, qex::verify_json(v) + "\n")) {
+    if (!a.report_path.empty() && !write_text(a.report_path, qex::verify_json(v, quality) + "\n")) {
         std::cerr << "qex: cannot write '" << a.report_path << "'\n";
         return kIo;
     }
@@ -142,10 +161,10 @@ int run_check(const CheckArgs& a) {
         }
     }
     if (a.json) {
-        std::cout << qex::verify_json(v) << "\n";
+        std::cout << qex::verify_json(v, quality) << "\n";
     } else {
         if (!a.certificate_path.empty()) print_certificate(a.certificate_path, v);
-        print_verdict(a.mesh_path, v);
+        print_verdict(a.mesh_path, v, quality);
     }
     return v.valid ? kOk : kRejected;
 }
@@ -154,7 +173,7 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
     auto* check = app.add_subcommand("check", "Judge a quad mesh (from any extractor) against an integer-grid map");
     check->add_option("--param", a.param_path, "the map: OBJ or PLY with per-corner UVs")->required();
     check->add_option("mesh", a.mesh_path, "the quad mesh (OBJ or PLY) to judge")->required();
-    check->add_flag("--json", a.json, "print the verdict as JSON");
+    check->add_flag("--json", a.json, "print the verdict (and the mesh's quality figures) as JSON");
     check->add_option("--report", a.report_path, "also write the JSON verdict to this file");
     check->add_option("--svg", a.svg_path,
                       "also draw the violations on the map (and on the mesh, up to 30,000 faces) into this SVG");

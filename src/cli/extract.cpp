@@ -30,8 +30,14 @@ int read_input(const ExtractArgs& a, qex::Input& input) {
     return kOk;
 }
 
-bool write_report(const std::string& path, const qex::Result& result, double read_seconds, double extract_seconds) {
-    return write_text(path, qex::report_json(result, read_seconds, extract_seconds) + "\n");
+/// The report with the mesh's quality figures. They are measured here, so that an extraction
+/// without --report does not spend the time.
+bool write_report(const std::string& path, const qex::Input& input, const qex::Result& result, double read_seconds,
+                  double extract_seconds) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const qex::MeshQuality quality = qex::mesh_quality(input, result.mesh);
+    const double quality_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return write_text(path, qex::report_json(result, read_seconds, extract_seconds, quality, quality_seconds) + "\n");
 }
 
 /// The certificate (the repaired map the mesh was extracted from) beside the mesh, with
@@ -134,7 +140,7 @@ int run_extract(const ExtractArgs& a) {
     }
     const auto t2 = std::chrono::steady_clock::now();
     const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
-    if (!a.report_path.empty() && !write_report(a.report_path, result, seconds(t1 - t0), seconds(t2 - t1))) {
+    if (!a.report_path.empty() && !write_report(a.report_path, input, result, seconds(t1 - t0), seconds(t2 - t1))) {
         std::cerr << "qex: cannot write report '" << a.report_path << "'\n";
         return kIo;
     }
@@ -184,7 +190,7 @@ CLI::App* add_extract(CLI::App& app, ExtractArgs& a) {
         ->required();
     extract->add_option("-o,--output", a.out_path, "output quad mesh, OBJ or PLY by extension (local UVs)")->required();
     extract->add_option("--valences", a.vval_path, "VVAL file with per-vertex cross-field valences");
-    extract->add_option("--report", a.report_path, "write a JSON report (counts, defects, timings, check)");
+    extract->add_option("--report", a.report_path, "write a JSON report (counts, defects, timings, check, quality)");
     extract->add_option("--features", a.features_path,
                         "feature edges to snap onto iso-lines: one 'i j' per line (0-based vertices), # comments");
     extract->add_flag("--snap-boundary", a.snap_boundary, "snap every boundary edge onto its closest iso-line");

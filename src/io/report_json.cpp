@@ -155,6 +155,28 @@ nlohmann::json report_object(const Report& r) {
     return j;
 }
 
+/// The quality figures (qex/quality.h); the distances are fractions of "diagonal".
+nlohmann::json quality_object(const MeshQuality& q) {
+    return {{"computed", q.computed},
+            {"quads", q.quads},
+            {"other_faces", q.other_faces},
+            {"scaled_jacobian",
+             {{"min", q.min_scaled_jacobian}, {"p5", q.p5_scaled_jacobian}, {"mean", q.mean_scaled_jacobian}}},
+            {"vertices", q.vertices},
+            {"irregular_vertices", q.irregular_vertices},
+            {"irregular_vertex_share", q.irregular_vertex_share},
+            {"diagonal", q.diagonal},
+            {"distance", {{"input_to_mesh", q.distance_input_to_mesh}, {"mesh_to_input", q.distance_mesh_to_input}}}};
+}
+
+/// The report, the verdict under "check", and the wall times under "seconds".
+nlohmann::json report_document(const Result& result, double read_seconds, double extract_seconds) {
+    nlohmann::json j = report_object(result.report);
+    j["check"] = verify_object(result.check);
+    j["seconds"] = {{"read", read_seconds}, {"extract_and_check", extract_seconds}};
+    return j;
+}
+
 // Messages name elements of the user's files; invalid UTF-8 in them is replaced, never thrown on.
 std::string dump(const nlohmann::json& j, int indent) {
     return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -164,10 +186,21 @@ std::string dump(const nlohmann::json& j, int indent) {
 
 std::string verify_json(const VerifyResult& verdict, int indent) { return dump(verify_object(verdict), indent); }
 
+std::string verify_json(const VerifyResult& verdict, const MeshQuality& quality, int indent) {
+    nlohmann::json j = verify_object(verdict);
+    j["quality"] = quality_object(quality);
+    return dump(j, indent);
+}
+
 std::string report_json(const Result& result, double read_seconds, double extract_seconds, int indent) {
-    nlohmann::json j = report_object(result.report);
-    j["check"] = verify_object(result.check);
-    j["seconds"] = {{"read", read_seconds}, {"extract_and_check", extract_seconds}};
+    return dump(report_document(result, read_seconds, extract_seconds), indent);
+}
+
+std::string report_json(const Result& result, double read_seconds, double extract_seconds, const MeshQuality& quality,
+                        double quality_seconds, int indent) {
+    nlohmann::json j = report_document(result, read_seconds, extract_seconds);
+    j["quality"] = quality_object(quality);
+    j["seconds"]["quality"] = quality_seconds;
     return dump(j, indent);
 }
 

@@ -301,6 +301,7 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
         if (!e.ok()) raise(certificate_path, e);
     }
     qex::MeshCheck c;
+    qex::MeshQuality quality;
     {
         py::gil_scoped_release unlocked;
         // The oracle's one entry (qex/check.h), as `qex check` and the C API judge.
@@ -313,9 +314,10 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
         o.threads = threads;
         c = certificate_path.empty() ? qex::check_mesh(in, mesh, grid_scale, o)
                                      : qex::check_mesh(in, mesh, certificate, o);
+        if (c.map_ok()) quality = qex::mesh_quality(in, mesh);
     }
     if (!c.map_ok()) reject(c.error);
-    return qex::verify_json(c.verdict);
+    return qex::verify_json(c.verdict, quality);
 }
 
 [[noreturn]] void raise(const std::string& path, const qex::IoError& e) {

@@ -1,8 +1,9 @@
 // The checker's internal interface between its files. Like every file in src/verify/, it
 // includes only the public headers and the checker's own files: the build fails otherwise
 // (CMakeLists.txt, "the checker's wall"). Nothing here includes CGAL: the files that use it
-// (map_check.cpp, signed_area.cpp, surface.cpp) keep it to themselves. Two checks have rooms of
-// their own behind this interface: coverage.h and face_cells.h.
+// (certificate.cpp, map_check.cpp, signed_area.cpp, surface.cpp, quality.cpp) keep it to
+// themselves. Two checks have rooms of their own behind this interface: coverage.h and
+// face_cells.h.
 #pragma once
 
 #include "grid.h"

@@ -357,7 +357,9 @@ def check(
     -------
     dict
         The verdict, as ``qex check --json`` prints it: ``valid``, ``violations`` (each with
-        ``kind``, ``element``, ``message``), ``undecided``, and the counts.
+        ``kind``, ``element``, ``message``), ``undecided``, the counts, and ``quality``: the
+        mesh's scaled Jacobians (``min``, ``p5``, ``mean``), irregular vertices and the distances
+        between it and the map (fractions of the map's bounding-box diagonal; qex/quality.h).
 
     Raises
     ------
