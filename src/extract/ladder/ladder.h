@@ -201,6 +201,11 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
 /// Adds `from`'s stage times to `to`'s, stage by stage.
 void add_stage_seconds(const Report& from, Report& to);
 
+// ============================================================================ a rung's stages (rung_stages.cpp)
+
+/// Stages generate_qvertices to merge_vertices on the map m: the output faces, flat, in `faces`.
+Error extract_mesh(const TriMesh& m, const Options& options, Result& result, StageTimer& timer, FaceWalks& faces);
+
 // ============================================================================ a rejected mesh mended (mend.cpp)
 
 /// The violations of `mesh` judged without its provenance against the given map, as
