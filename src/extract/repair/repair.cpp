@@ -30,7 +30,6 @@
 // This file is the stage's driver; the subsystem's files are listed in README.md beside it.
 #include "extract/repair/repair.h"
 
-#include "extract/repair/coarse.h"
 #include "extract/repair/dipoles.h"
 #include "extract/repair/failure.h"
 #include "extract/repair/open_cones.h"
@@ -331,9 +330,12 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
     return out;
 }
 
-/// The repair at m's own triangulation.
-RepairOutcome repair_here(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                          int threads, Report& report, const LookBeforeLastRing& look) {
+} // namespace
+} // namespace repair_impl
+
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
+                     int threads, Report& report, const LookBeforeLastRing& look) {
+    using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
     bad_triangles(m, pinned, seeds_faces, stuck);
@@ -363,26 +365,6 @@ RepairOutcome repair_here(TriMesh& m, const std::vector<std::array<int, 2>>& fea
     grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts, before_last);
     settle_merges(m, merges, attempts.reembedded, report);
     return outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
-}
-
-} // namespace
-} // namespace repair_impl
-
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report, const LookBeforeLastRing& look) {
-    using namespace repair_impl;
-    const RepairAt here = [&](TriMesh& t, Report& r, const LookBeforeLastRing& l) {
-        return repair_here(t, feature_edges, valences_given, threads, r, l);
-    };
-    // Rings, reach and unknowns are counted in vertices: on the map's coarsest triangulation, a
-    // subdivided map is repaired as the map it subdivides (coarse.h). Only with fold-overs.
-    std::vector<int> seeds_faces, stuck;
-    const std::vector<char> pinned = pinned_vertices(m, feature_edges);
-    bad_triangles(m, pinned, seeds_faces, stuck);
-    if (seeds_faces.empty() && stuck.empty()) return RepairOutcome{};
-    RepairOutcome out;
-    if (repair_coarse(m, pinned, here, report, look, out)) return out;
-    return here(m, report, look);
 }
 
 } // namespace qex::detail
