@@ -1,5 +1,5 @@
-# The README's snippets run as they are written: the ctypes one against libqex_c (no pybind11),
-# the Python one against the package.
+# The READMEs' snippets run as they are written: the ctypes one (src/capi/README.md) against
+# libqex_c (no pybind11), the Python one (README.md) against the package.
 import os
 import re
 import subprocess
@@ -10,10 +10,10 @@ import pytest
 from conftest import ROOT
 
 
-def snippet(marker):
-    text = (ROOT / "README.md").read_text()
+def snippet(marker, readme="README.md"):
+    text = (ROOT / readme).read_text()
     m = re.search(r"<!-- %s -->\s*```python\n(.*?)```" % re.escape(marker), text, re.S)
-    assert m, "README.md has no python block after <!-- %s -->" % marker
+    assert m, "%s has no python block after <!-- %s -->" % (readme, marker)
     return m.group(1)
 
 
@@ -23,7 +23,7 @@ def run(code, **env):
 
 
 def test_ctypes_snippet(c_library):
-    done = run(snippet("ctypes-snippet"), QEX_C_LIBRARY=str(c_library))
+    done = run(snippet("ctypes-snippet", "src/capi/README.md"), QEX_C_LIBRARY=str(c_library))
     assert done.returncode == 0, done.stderr
     assert "4 quads, valid: True" in done.stdout, done.stdout
 
