@@ -84,7 +84,9 @@ struct Options {
     /// once every quad is split into K x K. The mesh then carries QuadMesh::grid_scale = K, the
     /// report says so (Report::grid_scale, and an explanation naming what failed at scale 1), and
     /// the checker judges it against the map scaled by K. Needs fallback_ladder. Not tried past
-    /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse.
+    /// 200,000 quads (the map's signed UV area times K^2): a map that large is not too coarse;
+    /// nor past as many quads as the input has triangles, where a cell is smaller than a
+    /// triangle on average and a finer grid resolves nothing more.
     int max_refinement = 16;
     /// When the map gives no valid mesh at its own scale (fold-overs that cover many cells, as on
     /// a map whose UVs were multiplied to make the quads smaller), and the map is twice an

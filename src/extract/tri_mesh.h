@@ -6,6 +6,7 @@
 #include "grid_automorphism.h"
 #include "parallel.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -18,6 +19,18 @@ namespace qex::detail {
 /// whose values are below 2^52 (input validation) stay below 2^54.
 class TransitionTable {
 public:
+    TransitionTable() = default;
+    TransitionTable(TransitionTable&&) noexcept = default;
+    TransitionTable& operator=(TransitionTable&&) noexcept = default;
+    /// A deep copy (the ladder's later rungs each start from a copy of the prepared mesh).
+    TransitionTable(const TransitionTable& other) { *this = other; }
+    TransitionTable& operator=(const TransitionTable& other) {
+        if (this == &other) return *this;
+        data_.reset(other.size_ > 0 ? new Packed[other.size_] : nullptr);
+        size_ = other.size_;
+        std::copy(other.data_.get(), other.data_.get() + size_, data_.get());
+        return *this;
+    }
     /// n entries, not initialised: the caller writes every one (compute_transitions does).
     void allocate(std::size_t n) {
         if (n != size_) data_.reset(new Packed[n]);

@@ -11,6 +11,10 @@ namespace {
 /// The orientation of triangle t of `g` if it is not degenerate and holds x (closed), else 0.
 int holding_sign(const TriMesh& g, int t, const Point2& x) {
     const Point2 &a = g.uv[3 * t], &b = g.uv[3 * t + 1], &c = g.uv[3 * t + 2];
+    // Outside the triangle's bounding box (exact comparisons): outside the triangle. Most of a
+    // search's triangles are, and this spares them the four predicates.
+    for (std::size_t d = 0; d < 2; ++d)
+        if (x[d] < std::min({a[d], b[d], c[d]}) || x[d] > std::max({a[d], b[d], c[d]})) return 0;
     const int s = sign(orient2d(a, b, c));
     if (s == 0) return 0;
     const int o0 = sign(orient2d(a, b, x)), o1 = sign(orient2d(b, c, x)), o2 = sign(orient2d(c, a, x));

@@ -1,8 +1,8 @@
-// The fallback ladder at one scale: its rungs as data (kLadder: the order they are tried in), a
-// rung run through the pipeline's stages in the order of the stage table (pipeline.h), each timed
-// under its own name (from the map to the mesh: rung_stages.cpp), and the checker's verdict on the
-// rung's mesh (mended where it is rejected: mend.cpp).
-#include "ladder.h"
+// A rung of the fallback ladder (its rungs as data: rungs.h; the order they run in: at_scale.cpp):
+// its map, its run through the pipeline's stages in the order of the stage table (pipeline.h),
+// each timed under its own name (from the map to the mesh: rung_stages.cpp), and the checker's
+// verdict on the rung's mesh (mended where it is rejected: mend.cpp).
+#include "rungs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,48 +12,6 @@
 #include <string>
 
 namespace qex::detail {
-namespace {
-
-// ============================================================================ the rungs
-
-/// A rung of the fallback ladder: how it prepares the map before the pipeline's stages run on
-/// it. Each rung re-runs the pipeline from the validated, collapsed mesh.
-struct Rung {
-    const char* name;   ///< its name in Report::rung
-    bool repair;        ///< stage repair runs (certified: the mesh carries the repaired map)
-    int untangle_rings; ///< > 0: stage untangle relaxes the map first (uncertified)
-    int untangle_iterations;
-};
-
-/// The fallback ladder: its rungs in the order extract_at_scale tries them, until the checker
-/// accepts one's mesh. The certified rungs come first. Every later rung changes only the
-/// flipped and degenerate regions of the map, so on a map without any the first verdict stands.
-constexpr Rung kLadder[] = {
-    // 1. The sanitized map with its fold-over regions re-embedded (certified), then the paper's
-    //    method. First: on a map without fold-overs it is the paper's method on the map as given
-    //    (reported as the as-given rung), and on one with fold-overs the repair's certificate
-    //    lets the checker verify the mesh against the repaired map.
-    {"repaired", true, 0, 0},
-    // 2. The paper's method, and its local handling of fold-overs, on the map as given. Second:
-    //    where the repaired map's mesh is rejected, the paper's own handling may still give a
-    //    valid one. Skipped when the repair changed nothing (rung 1 was this rung); the first
-    //    rung without Options::repair_fold_overs.
-    {"as-given", false, 0, 0},
-    // 3, 4. Last resorts without a certificate: relax the folded regions (one ring, then three),
-    //    extract, and move the mesh back onto the given map, where the checker must accept it.
-    //    Last: they need the as-given rung's sanitized map to move the mesh onto, and their mesh
-    //    must pass the checker against it everywhere; one ring first, as it moves the fewest
-    //    vertices.
-    {"untangled-1", false, 1, 30},
-    {"untangled-3", false, 3, 100},
-};
-
-/// The as-given rung: the first without Options::repair_fold_overs, and the one whose sanitized
-/// map the relaxed rungs' meshes are moved onto and coarsening divides.
-constexpr int kAsGiven = 1;
-static_assert(!kLadder[kAsGiven].repair && kLadder[kAsGiven].untangle_rings == 0, "the map as given");
-
-} // namespace
 
 bool relaxed_rung(const std::string& name) {
     for (const Rung& r : kLadder)
@@ -114,16 +72,6 @@ void report_map(const TriMesh& m, Report& report) {
         area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     }
     report.signed_uv_area = 0.5 * area2;
-}
-
-/// Stages validate and collapse (Section 3): the input's, before any rung changes the map.
-Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Report& report) {
-    StageTimer timer(report);
-    if (Error e = validate(input, thread_count(options.threads), m); e.code != ErrorCode::None) return e;
-    timer.done(Stage::validate);
-    if (Error e = collapse(m, report.collapsed_edges); e.code != ErrorCode::None) return e;
-    timer.done(Stage::collapse);
-    return {};
 }
 
 /// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
@@ -187,8 +135,55 @@ std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int
     return certificate;
 }
 
-/// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
-/// input error (in result.error), which no rung can help.
+// ============================================================================ the repair's look before its last ring
+
+RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
+                       const Rung& rung, const Report& report) {
+    Result attempt;
+    attempt.report.signed_uv_area = report.signed_uv_area;
+    StageTimer timer(attempt.report);
+    FaceWalks faces;
+    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
+    set_faces(attempt.mesh, faces);
+    const std::int64_t area = std::llround(report.signed_uv_area);
+    const auto quads = static_cast<std::int64_t>(attempt.mesh.faces.size());
+    // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
+    // the last ring goes everywhere.
+    if (quads > area || !attempt.report.defects.empty()) return {};
+    RepairLook look;
+    if (quads == area) {
+        attempt.mesh.map_uvs = map_of(m, input);
+        attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
+        judge(input, options, rung, {}, attempt);
+        look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
+        return look;
+    }
+    // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
+    // that names none sends the last ring everywhere). Not judged here (the checker's memory on
+    // top of the repair's would raise the peak); the rung's mesh is judged as ever.
+    std::vector<int> working(input.triangles.size(), -1);
+    for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
+    for (const Defect& d : attempt.report.explanations) {
+        const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
+        if (f < 0) return {};
+        place_vertices(m, f, d.grid, look.near);
+    }
+    return look;
+}
+
+} // namespace
+
+// ============================================================================ a rung's steps, for at_scale.cpp
+
+Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Report& report) {
+    StageTimer timer(report);
+    if (Error e = validate(input, thread_count(options.threads), m); e.code != ErrorCode::None) return e;
+    timer.done(Stage::validate);
+    if (Error e = collapse(m, report.collapsed_edges); e.code != ErrorCode::None) return e;
+    timer.done(Stage::collapse);
+    return {};
+}
+
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
               const AtScale& scale) {
     Report& report = result.report;
@@ -214,11 +209,6 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     return true;
 }
 
-// ============================================================================ the verdict on a rung's mesh
-
-/// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh,
-/// against the map it carries (with the repair's certificate, which the checker verifies on its
-/// own). A relaxed rung's mesh is moved onto the given map and must pass there.
 void judge(const Input& input, const Options& options, const Rung& rung,
            const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
     StageTimer timer(attempt.report);
@@ -255,42 +245,6 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     timer.done(Stage::check);
 }
 
-RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report) {
-    Result attempt;
-    attempt.report.signed_uv_area = report.signed_uv_area;
-    StageTimer timer(attempt.report);
-    FaceWalks faces;
-    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
-    set_faces(attempt.mesh, faces);
-    const std::int64_t area = std::llround(report.signed_uv_area);
-    const auto quads = static_cast<std::int64_t>(attempt.mesh.faces.size());
-    // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
-    // the last ring goes everywhere.
-    if (quads > area || !attempt.report.defects.empty()) return {};
-    RepairLook look;
-    if (quads == area) {
-        attempt.mesh.map_uvs = map_of(m, input);
-        attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
-        judge(input, options, rung, {}, attempt);
-        look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
-        return look;
-    }
-    // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
-    // that names none sends the last ring everywhere). Not judged here (the checker's memory on
-    // top of the repair's would raise the peak); the rung's mesh is judged as ever.
-    std::vector<int> working(input.triangles.size(), -1);
-    for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
-    for (const Defect& d : attempt.report.explanations) {
-        const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
-        if (f < 0) return {};
-        place_vertices(m, f, d.grid, look.near);
-    }
-    return look;
-}
-
-/// A fresh result for rung `r`, with what stages validate and collapse reported, and the stage
-/// times so far (the rungs before it included).
 Result start_attempt(const Report& prepared, int r, int tried) {
     Result attempt;
     Report& report = attempt.report;
@@ -301,73 +255,6 @@ Result start_attempt(const Report& prepared, int r, int tried) {
     report.rung = kLadder[r].name;
     report.rungs_tried = tried;
     return attempt;
-}
-
-} // namespace
-
-// ============================================================================ the ladder at one scale
-
-Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale, Result* fillable) {
-    Result prepared;
-    prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
-    prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
-    TriMesh m;
-    if ((prepared.error = prepare_mesh(input, options, m, prepared.report)).code != ErrorCode::None) return prepared;
-    // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
-    // with the fewest violations is returned, its defects and violations in the report.
-    const int first = options.repair_fold_overs ? 0 : kAsGiven;
-    const int rungs = options.fallback_ladder ? static_cast<int>(std::size(kLadder)) : first + 1;
-    Result best;
-    std::size_t best_violations = SIZE_MAX;
-    std::vector<std::array<double, 2>> given_map; // the as-given rung's sanitized map
-    std::vector<Defect> proofs;                   // what the repair proved, for a later rung's mesh
-    for (int r = first; r < rungs; ++r) {
-        // The first rung takes the prepared mesh; a later rung (rarely needed) prepares it again
-        // rather than every run paying for a copy. Preparing succeeded once, so it does again.
-        // Its time, like every rung's, is added to the stages' totals.
-        if (r > first) {
-            Report again;
-            again.stage_seconds = std::move(prepared.report.stage_seconds);
-            (void)prepare_mesh(input, options, m, again);
-            prepared.report.stage_seconds = std::move(again.stage_seconds);
-        }
-        Result attempt = start_attempt(prepared.report, r, r - first + 1);
-        if (!run_rung(std::move(m), input, options, kLadder[r], attempt, scale)) return attempt;
-        judge(input, options, kLadder[r], given_map, attempt);
-        prepared.report.stage_seconds = attempt.report.stage_seconds; // this rung's and all before
-        // A later rung's mesh: the repair's proofs say why the certified rung could not remove the
-        // folds (they hold of the map, whichever rung's mesh stands or is mended).
-        if (kLadder[r].repair) {
-            for (const Defect& d : attempt.report.explanations)
-                if (is_proof(d.kind)) proofs.push_back(d);
-        } else {
-            auto& explanations = attempt.report.explanations;
-            explanations.insert(explanations.begin(), proofs.begin(), proofs.end());
-        }
-        if (attempt.check.valid) return attempt;
-        // The last resort's other candidate: the first rung whose mesh lost only its topology,
-        // with a hole or sheets joined at an edge (what it mends; another rung may have fewer
-        // violations, of other kinds).
-        if (fillable && options.fill_holes && fillable->report.rung.empty() && topology_only(attempt.check.violations))
-            *fillable = attempt;
-        // A repair that changed nothing had the map as given: the next rung would repeat it.
-        const bool as_given = kLadder[r].untangle_rings == 0 && attempt.report.repaired_triangles == 0;
-        if (as_given) given_map = attempt.mesh.map_uvs;
-        // The further rungs change only flipped or degenerate regions: without any, they would
-        // repeat this one.
-        const bool another_map = attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
-        if (attempt.check.violations.size() < best_violations) {
-            best_violations = attempt.check.violations.size();
-            best = std::move(attempt);
-        }
-        best.report.rungs_tried = r - first + 1;
-        if (!another_map) break;
-        if (kLadder[r].repair && as_given) ++r; // skip the as-given rung
-    }
-    best.report.stage_seconds = std::move(prepared.report.stage_seconds);
-    // No rung gave a valid mesh: locate every violation on the input through the provenance.
-    locate_violations(input, best);
-    return best;
 }
 
 bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, Report& report) {
