@@ -147,6 +147,7 @@ struct VerifyResult {
     std::int64_t faces = 0, vertices = 0, edges = 0, boundary_loops = 0, components = 0;
     std::int64_t euler = 0;
     std::int64_t input_euler = 0, input_boundary_loops = 0, input_components = 0;
+    std::int64_t input_triangles = 0; ///< the map's triangles (the undecided share's whole)
     /// Largest and summed |map_uvs - input uvs| (inf-norm per corner; 0 without a map) over the
     /// triangles the repair left alone (sanitization's displacement), and the largest over those
     /// it repaired (QuadMesh::map_repaired).
@@ -253,6 +254,11 @@ struct VerifyOptions {
     /// qex/check.h); off (`qex check --no-fold-regions`): the raw map judged everywhere, as the
     /// extractor's own gate for its relaxed rungs requires.
     bool fold_regions = true;
+    /// Located mode, strict on the map (`qex check --strict-map`): every check decided against
+    /// the raw map everywhere, fold-over regions and footprints too (fold_regions off), and what
+    /// would be undecided there is a violation. For a map without fold-overs, or to demand that
+    /// an extractor's mesh matches every singularity one by one and puts every face on a cell.
+    bool strict_map = false;
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;
@@ -268,6 +274,20 @@ struct VerifyOptions {
 /// its area, and every cell it covers once (away from fold-overs and the boundary) a face.
 /// Does not throw on malformed meshes.
 VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOptions& options = {});
+
+/// What a verdict left undecided, and where: the checks (VerifyResult::undecided), and the
+/// map's fold-over regions that hold them, with their triangles and their share of the map's.
+struct UndecidedShare {
+    std::int64_t checks = 0, regions = 0, triangles = 0;
+    double share = 0.0; ///< triangles / the map's triangles
+};
+UndecidedShare undecided_share(const VerifyResult& verdict);
+
+/// The verdict in one line, as every front end prints it: "VALID" when nothing was left
+/// undecided, else for example "VALID, 21 checks undecided in 1 fold-over region (12634
+/// triangles, 64.1% of the map)"; "INVALID (3 violations)", with the same tail where some checks
+/// were undecided.
+std::string verdict_line(const VerifyResult& verdict);
 
 /// qex extract's certificate: the repaired map a mesh of qex's own was extracted from, written
 /// beside it (`qex extract --certificate`, qex::write_certificate), so that the mesh, read back

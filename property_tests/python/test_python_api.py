@@ -239,7 +239,7 @@ def test_hostile_numbers_are_refused_cleanly():
         with pytest.raises(ValueError, match="integers"):
             qex._qex.extract(V, bad_F, UV.reshape(-1, 2), None, None, 0, {})
         with pytest.raises(ValueError, match="integers"):
-            qex._qex.check(V, F, UV.reshape(-1, 2), V, bad_F, 1e-3, 1e-6, True, 6, 1, True, 0, "")
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, bad_F, 1e-3, 1e-6, True, 6, 1, True, False, 0, "")
     with pytest.raises(ValueError, match="integers"):
         qex._qex.extract(V, F, UV.reshape(-1, 2), np.full(4, 4.0), None, 0, {})
     with pytest.raises(ValueError, match="integers"):
@@ -267,12 +267,12 @@ def test_hostile_numbers_are_refused_cleanly():
         with pytest.raises(ValueError, match="uv_tolerance"):
             qex.check(V, F, UV, V, [[0, 1, 2, 3]], uv_tolerance=tolerance)
         with pytest.raises(ValueError, match="uv_tolerance"):
-            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), tolerance, 1e-6, True, 6, 1, True, 0, "")
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), tolerance, 1e-6, True, 6, 1, True, False, 0, "")
     for tolerance in (float("inf"), float("nan"), -1.0):
         with pytest.raises(ValueError, match="distance_tolerance"):
             qex.check(V, F, UV, V, [[0, 1, 2, 3]], distance_tolerance=tolerance)
         with pytest.raises(ValueError, match="distance_tolerance"):
-            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), 1e-3, tolerance, True, 6, 1, True, 0, "")
+            qex._qex.check(V, F, UV.reshape(-1, 2), V, np.array([[0, 1, 2, 3]]), 1e-3, tolerance, True, 6, 1, True, False, 0, "")
 
 
 def test_check_is_the_oracle_of_arrays():

@@ -96,16 +96,18 @@ void print_verdict(const std::string& mesh_path, const qex::VerifyResult& v, con
     }
     print_quality(quality);
     print_violations(v);
-    std::printf("%s\n", v.valid ? "VALID" : "INVALID");
+    std::fflush(stderr); // the listing before the verdict, on a terminal and in a log alike
+    std::printf("%s\n", qex::verdict_line(v).c_str());
 }
 
 /// Where the mesh was judged, with --certificate: on the certificate (which holds against the
 /// map), or, when it does not hold, on the given map.
 void print_certificate(const std::string& path, const qex::VerifyResult& v) {
     if (v.on_certificate)
-        std::printf("judged on the certificate %s (%lld repaired triangles; it holds against the map): the located "
-                    "figures are the certificate map's\n",
-                    path.c_str(), static_cast<long long>(v.certificate_triangles));
+        std::printf(
+            "judged on the certificate %s (%lld repaired triangles; it holds against the map): the located "
+            "figures are the certificate map's\n",
+            path.c_str(), static_cast<long long>(v.certificate_triangles));
     else
         std::printf("the certificate %s does not hold against the map (CertificateMismatch): judged on the given map\n",
                     path.c_str());
@@ -209,6 +211,10 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
         "--no-fold-regions", [&a](std::int64_t) { a.options.fold_regions = false; },
         "judge vertices in the raw map's fold-over regions against its grid points too (a repaired map's mesh "
         "fails there)");
+    check->add_flag(
+        "--strict-map", [&a](std::int64_t) { a.options.strict_map = true; },
+        "decide every check against the raw map, in fold-over regions too: what would be undecided there is a "
+        "violation (every singularity matched one by one, every face on a grid cell)");
     check->add_flag(
         "--topology-only", [&a](std::int64_t) { a.options.locate = false; }, "skip locating the vertices on the map");
     return check;

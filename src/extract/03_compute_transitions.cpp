@@ -118,28 +118,26 @@ struct ByPosition {
     bool allows(int r) const { return fits == 0 || ((fits >> r) & 1u) != 0; }
 };
 
-/// Whether rotation r surely misses half-edge h's copies by more than kClearOfNoise noise
-/// bounds, whatever the translation: the ends' offsets differ by R^r d - d2 (d, d2 the copies'
-/// edge vectors), so the worse end is off by at least half of it. The margin covers the
-/// rounding of both this bound and seam_offset, so the rotations it rules out are exactly those
-/// the full fit would; it saves the fit for the three wrong rotations of almost every edge.
-bool surely_misses(const TriMesh& m, int h, int r, double bound) {
+/// What the positions of half-edge h's copies say of its rotation. A rotation whose copies' edge
+/// vectors (d rotated, d2) differ by more than twice kClearOfNoise noise bounds is ruled out
+/// without its fit: the ends' offsets differ by R^r d - d2 whatever the translation, so the worse
+/// end is off by at least half of it. The margin covers the rounding of this bound and of
+/// seam_offset, so the same rotations are ruled out as by the fit; it spares almost every edge
+/// the fit of its three wrong rotations.
+ByPosition by_position(const TriMesh& m, int h) {
     const int o = m.opp[h];
     const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
     const Point2 &a2 = m.uv[TriMesh::next(o)], &b2 = m.uv[o];
-    const Point2 d = GridAutomorphism::rotate(Point2{b[0] - a[0], b[1] - a[1]}, r);
-    const double gap = 0.5 * norm_inf({d[0] - (b2[0] - a2[0]), d[1] - (b2[1] - a2[1])});
     const double magnitude = std::max({norm_inf(a), norm_inf(b), norm_inf(a2), norm_inf(b2)});
+    const double bound = solver_noise_bound(magnitude, m.noise_scale); // seam_noise_bound
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    return gap > 2 * kClearOfNoise * bound + 16 * eps * (magnitude + 1);
-}
-
-ByPosition by_position(const TriMesh& m, int h) {
-    const double bound = seam_noise_bound(m, h);
+    const double margin = 2 * kClearOfNoise * bound + 16 * eps * (magnitude + 1);
+    const Point2 d{b[0] - a[0], b[1] - a[1]}, d2{b2[0] - a2[0], b2[1] - a2[1]};
     ByPosition out;
     int within_noise = -1;
     for (int r = 0; r < 4; ++r) {
-        if (surely_misses(m, h, r, bound)) continue;
+        const Point2 rd = GridAutomorphism::rotate(d, r);
+        if (0.5 * norm_inf({rd[0] - d2[0], rd[1] - d2[1]}) > margin) continue;
         const double off = seam_offset(m, h, fitted_transition(m, h, r));
         if (off <= kClearOfNoise * bound) out.fits |= 1u << r;
         if (off <= bound) within_noise = r;

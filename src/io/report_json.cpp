@@ -80,6 +80,10 @@ nlohmann::json verify_object(const VerifyResult& v) {
                   {"boundary_loops", v.input_boundary_loops},
                   {"components", v.input_components},
                   {"signed_uv_area", v.input_signed_uv_area}};
+    const UndecidedShare u = undecided_share(v);
+    j["verdict_line"] = verdict_line(v);
+    j["undecided_share"] = {
+        {"checks", u.checks}, {"regions", u.regions}, {"triangles", u.triangles}, {"share", u.share}};
     j["undecided"] = violations_json(v.undecided);
     j["violations"] = violations_json(v.violations);
     return j;

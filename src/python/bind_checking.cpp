@@ -39,7 +39,7 @@ str
 
 std::string check(const Doubles& V, const py::object& F, const Doubles& UV, const Doubles& QV, const py::object& QF,
                   double uv_tolerance, double distance_tolerance, bool locate, int digits, int grid_scale,
-                  bool fold_regions, int threads, const std::string& certificate_path) {
+                  bool fold_regions, bool strict_map, int threads, const std::string& certificate_path) {
     // As the Python half: finite tolerances, the UV one at most a cell (the checker's search
     // for the cells about a triangle grows with it); digits and grid scale as `qex check` takes them.
     if (!(uv_tolerance >= 0 && uv_tolerance <= 1))
@@ -73,6 +73,7 @@ std::string check(const Doubles& V, const py::object& F, const Doubles& UV, cons
         o.locate = locate;
         o.position_digits = digits;
         o.fold_regions = fold_regions;
+        o.strict_map = strict_map;
         o.threads = threads;
         c = certificate_path.empty() ? qex::check_mesh(in, mesh, grid_scale, o)
                                      : qex::check_mesh(in, mesh, certificate, o);
@@ -104,6 +105,8 @@ grid_scale : int
     Judge against the map's UVs times this power of two (1 to 64).
 fold_regions : bool
     Judge vertices in the map's fold-over regions on the surface only.
+strict_map : bool
+    Decide every check against the raw map: what would be undecided is a violation.
 threads : int
     Threads of the checker (0: every core).
 certificate : str
@@ -131,7 +134,8 @@ void bind_checking(py::module_& m) {
           py::arg("threads"));
     m.def("check", &check, kCheckDoc, py::arg("V"), py::arg("F"), py::arg("UV"), py::arg("QV"), py::arg("QF"),
           py::arg("uv_tolerance"), py::arg("distance_tolerance"), py::arg("locate"), py::arg("digits"),
-          py::arg("grid_scale"), py::arg("fold_regions"), py::arg("threads"), py::arg("certificate"));
+          py::arg("grid_scale"), py::arg("fold_regions"), py::arg("strict_map"), py::arg("threads"),
+          py::arg("certificate"));
 }
 
 } // namespace qex_python

@@ -87,21 +87,29 @@ double segment_distance2(const std::array<double, 3>& x, const std::array<double
     return d2;
 }
 
-/// The input's boundary edges (edges of one triangle side).
+/// The input's boundary edges (edges of one triangle side), in the order of their (smaller end,
+/// larger end): the sides bucketed by their smaller end (a counting sort; the indices are the
+/// input's, checked), each bucket, a vertex's few sides, sorted by the larger.
 std::vector<std::array<int, 2>> input_boundary_edges(const Input& in) {
-    std::vector<std::pair<std::uint64_t, std::array<int, 2>>> sides;
+    std::vector<std::size_t> start(in.positions.size() + 1, 0);
+    const auto low = [](const std::array<int, 3>& t, int k) { return std::min(t[k], t[(k + 1) % 3]); };
     for (const auto& t : in.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const auto a = static_cast<std::uint32_t>(t[k]), b = static_cast<std::uint32_t>(t[(k + 1) % 3]);
-            sides.push_back(
-                {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), {t[k], t[(k + 1) % 3]}});
-        }
-    std::sort(sides.begin(), sides.end());
+        for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(low(t, k)) + 1];
+    for (std::size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
+    std::vector<std::array<int, 2>> sides(3 * in.triangles.size());
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (const auto& t : in.triangles)
+        for (int k = 0; k < 3; ++k) sides[fill[static_cast<std::size_t>(low(t, k))]++] = {t[k], t[(k + 1) % 3]};
+    const auto high = [](const std::array<int, 2>& e) { return std::max(e[0], e[1]); };
     std::vector<std::array<int, 2>> out;
-    for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
-        j = i;
-        while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-        if (j - i == 1) out.push_back(sides[i].second);
+    for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+        const auto first = sides.begin() + static_cast<std::ptrdiff_t>(start[v]);
+        const auto last = sides.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
+        std::sort(first, last, [&](const auto& a, const auto& b) { return high(a) < high(b); });
+        for (auto i = first, j = first; i != last; i = j) {
+            while (j != last && high(*j) == high(*i)) ++j;
+            if (j - i == 1) out.push_back(*i);
+        }
     }
     return out;
 }

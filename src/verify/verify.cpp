@@ -161,6 +161,7 @@ InputTopology analyse_input(const Input& input, int threads, VerifyResult& r) {
     const Topology ti =
         analyse(input.positions.size(), tri_offset, tri_corners, nullptr, threads, &it.pairs, &it.single_fan);
     r.input_euler = ti.euler();
+    r.input_triangles = static_cast<std::int64_t>(input.triangles.size());
     r.input_boundary_loops = ti.boundary_loops;
     r.input_components = ti.components;
     return it;
@@ -261,7 +262,14 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
     // bindings, C++), the coverage search never grows with it.
     VerifyOptions o = options;
     o.uv_tolerance = o.uv_tolerance >= 0 ? std::min(o.uv_tolerance, 1.0) : 0.0;
-    return verify_detail::verify_at(input, mesh, o, 1.0);
+    if (o.strict_map) o.fold_regions = false;
+    VerifyResult r = verify_detail::verify_at(input, mesh, o, 1.0);
+    if (o.strict_map && !r.undecided.empty()) { // strict: nothing is left undecided
+        r.violations.insert(r.violations.end(), r.undecided.begin(), r.undecided.end());
+        r.undecided.clear();
+        r.valid = false;
+    }
+    return r;
 }
 
 } // namespace qex

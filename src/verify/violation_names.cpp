@@ -1,6 +1,9 @@
-// Names of the checker's violation kinds, for messages and JSON reports, and what each kind's
-// Violation::element indexes.
+// Names of the checker's violation kinds, for messages and JSON reports, what each kind's
+// Violation::element indexes, and the verdict in one line with what it left undecided.
 #include "qex/verify.h"
+
+#include <cstdio>
+#include <string>
 
 namespace qex {
 
@@ -84,6 +87,33 @@ ViolationElement element_kind(ViolationKind k) {
         case ViolationKind::TooLarge: return ViolationElement::None;
     }
     return ViolationElement::None;
+}
+
+UndecidedShare undecided_share(const VerifyResult& v) {
+    UndecidedShare u;
+    u.checks = static_cast<std::int64_t>(v.undecided.size());
+    if (u.checks == 0) return u;
+    u.regions = static_cast<std::int64_t>(v.fold_regions.size());
+    for (const FoldRegion& g : v.fold_regions) u.triangles += g.triangles;
+    if (v.input_triangles > 0) u.share = static_cast<double>(u.triangles) / static_cast<double>(v.input_triangles);
+    return u;
+}
+
+std::string verdict_line(const VerifyResult& v) {
+    std::string line = v.valid ? "VALID" : "INVALID";
+    if (!v.valid) {
+        const std::size_t n = v.violations.size();
+        line += " (" + std::to_string(n) + (n == 1 ? " violation)" : " violations)");
+    }
+    const UndecidedShare u = undecided_share(v);
+    if (u.checks == 0) return line;
+    line += ", " + std::to_string(u.checks) + (u.checks == 1 ? " check" : " checks") + " undecided";
+    if (u.regions == 0) return line;
+    char share[32];
+    std::snprintf(share, sizeof share, "%.1f%%", 100.0 * u.share);
+    line += " in " + std::to_string(u.regions) + (u.regions == 1 ? " fold-over region (" : " fold-over regions (") +
+            std::to_string(u.triangles) + " triangles, " + share + " of the map)";
+    return line;
 }
 
 } // namespace qex

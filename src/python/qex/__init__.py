@@ -312,6 +312,7 @@ def check(
     digits: int = 6,
     grid_scale: int = 1,
     fold_regions: bool = True,
+    strict_map: bool = False,
     threads: int = 0,
     certificate: Optional[_Path] = None,
 ) -> Dict[str, Any]:
@@ -345,6 +346,9 @@ def check(
     fold_regions : bool, optional
         Judge vertices in the map's fold-over regions on the surface only (default; False:
         ``qex check --no-fold-regions``).
+    strict_map : bool, optional
+        Decide every check against the raw map, fold-over regions too: what would be undecided
+        there is a violation (``qex check --strict-map``).
     threads : int, optional
         Threads of the checker (0: every core).
     certificate : str or os.PathLike, optional
@@ -378,7 +382,7 @@ def check(
     scale = _small_int("grid_scale", grid_scale, 1, 64)
     verdict: Dict[str, Any] = _json.loads(
         _qex.check(Vm, Fm, UVm, QVm, QFm, uv, distance, bool(locate), digits_, scale, bool(fold_regions),
-                   _threads(threads), "" if certificate is None else _os.fspath(certificate)))
+                   bool(strict_map), _threads(threads), "" if certificate is None else _os.fspath(certificate)))
     return verdict
 
 
