@@ -146,6 +146,7 @@ std::array<std::int64_t, 4> FaceJudge::search(const std::vector<int>& face, std:
             std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
         }
     }
+    out_of_budget_ = out_of_budget_ || (missing > 0 && settled >= budget_);
     return reached;
 }
 
@@ -226,6 +227,7 @@ void FaceJudge::report(std::size_t f, const std::string& msg, bool certified, Ve
                           : through_fold_     ? " (the paths cross fold-overs of the map)"
                           : corner_near_fold_ ? " (a corner lies next to a fold-over of the map)"
                           : through_singular_ ? " (the paths pass through the fan of a singularity)"
+                          : out_of_budget_    ? ""
                                               : " (no path along the face's edges certifies it)"),
                    static_cast<std::int64_t>(f));
 }
@@ -239,16 +241,18 @@ void FaceJudge::judge(std::size_t f, VerifyResult& r, std::vector<Violation>& ou
         if (v < 0 || vi >= loc_.size() || !loc_[vi].ok) return; // its vertices are reported already
         for (int d = 0; d < 3; ++d) centre[d] += 0.25 * mesh_.positions[vi][d];
     }
-    through_fold_ = through_singular_ = corner_in_region_ = false;
+    through_fold_ = through_singular_ = corner_in_region_ = out_of_budget_ = false;
     for (int v : face) corner_in_region_ = corner_in_region_ || loc_[static_cast<std::size_t>(v)].surface_only;
     const Anchors a = try_anchors(face, centre);
     if (a.cell) return;
     corner_near_fold_ = false;
     for (int v : face) corner_near_fold_ = corner_near_fold_ || near_fold(loc_[static_cast<std::size_t>(v)].triangle);
     if (!a.reached_all) {
+        // Not connected at all is a violation; not reached within the search's budget is open.
         report(f,
-               "face " + std::to_string(f) + ": its corners lie too far apart on the input surface to be one grid cell",
-               true, r, out);
+               "face " + std::to_string(f) + ": its corners lie too far apart on the input surface to be one grid cell" +
+                   (out_of_budget_ ? " (the search for them ran out of its budget of triangles)" : ""),
+               !out_of_budget_, r, out);
         return;
     }
     // Each edge carried through its corridor (a path homotopic to the edge, or none).

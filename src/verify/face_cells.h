@@ -121,6 +121,9 @@ private:
     Quad g_{};
     bool corner_near_fold_ = false, through_fold_ = false, through_singular_ = false;
     bool corner_in_region_ = false; ///< a corner lies in a fold-over region (judged on the surface only)
+    /// A search settled its budget of triangles before reaching every corner: the corners may
+    /// still be one cell apart across many small triangles, so that is undecided, not a violation.
+    bool out_of_budget_ = false;
 };
 
 } // namespace qex::verify_detail::face_cells
