@@ -5,6 +5,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
+#include <system_error>
+#include <thread>
+#include <vector>
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
@@ -27,5 +31,22 @@ inline int thread_count(int requested) {
 
 /// Whether a loop over `n` elements runs in parallel on `threads` threads.
 inline bool run_parallel(int threads, std::int64_t n) { return threads > 1 && n >= kParallelMinElements; }
+
+/// Runs work(t) for t = 0 .. workers - 1 on plain threads (not OpenMP: a few per call, none left
+/// spinning inside users' parallel jobs), work(0) on the caller's. A thread that cannot be had
+/// leaves its share to the others. `work` records what it throws in `thrown[t]` (sized
+/// `workers`), rethrown here once every thread has joined.
+template <class Work>
+void run_workers(std::size_t workers, const Work& work, const std::vector<std::exception_ptr>& thrown) {
+    std::vector<std::thread> helpers;
+    try {
+        for (std::size_t t = 1; t < workers; ++t) helpers.emplace_back(work, t);
+    } catch (const std::system_error&) {
+    }
+    work(0);
+    for (std::thread& h : helpers) h.join();
+    for (const std::exception_ptr& e : thrown)
+        if (e) std::rethrow_exception(e);
+}
 
 } // namespace qex::detail

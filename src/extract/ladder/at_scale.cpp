@@ -119,15 +119,7 @@ void run_side_by_side(const Input& input, const Options& options, const AtScale&
             publish();
         }
     };
-    std::vector<std::thread> helpers;
-    try {
-        for (std::size_t t = 1; t < static_cast<std::size_t>(workers); ++t) helpers.emplace_back(work, t);
-    } catch (const std::system_error&) { // no thread to be had: the others take its share
-    }
-    work(0);
-    for (std::thread& h : helpers) h.join();
-    for (const std::exception_ptr& e : thrown)
-        if (e) std::rethrow_exception(e);
+    run_workers(static_cast<std::size_t>(workers), work, thrown);
 }
 
 } // namespace

@@ -231,15 +231,7 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
                 next = groups.size();
             }
         };
-        std::vector<std::thread> helpers;
-        try {
-            for (std::size_t t = 1; t < static_cast<std::size_t>(threads); ++t) helpers.emplace_back(work, t);
-        } catch (const std::system_error&) { // no thread to be had: the others take its share
-        }
-        work(0);
-        for (std::thread& h : helpers) h.join();
-        for (const std::exception_ptr& e : thrown)
-            if (e) std::rethrow_exception(e);
+        run_workers(static_cast<std::size_t>(threads), work, thrown);
     } else {
         for (std::size_t i = 0; i < regions.size(); ++i)
             failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded);
