@@ -48,6 +48,7 @@ def check(
     digits: int,
     grid_scale: int,
     fold_regions: bool,
+    strict_map: bool,
     threads: int,
     certificate: str,
 ) -> str: ...
