@@ -22,8 +22,10 @@ constexpr double kMaxRefinedQuads = 200'000;
 /// a triangle on average, the map's own resolution: a feature a coarser grid lost (a handle, a
 /// hole, singularities within a cell) spans cells by then, and a finer grid only multiplies the
 /// cost of failing (a 9,000-triangle map refined x16 spent 6 of its 7 s there, and lost).
+/// The area is rounded to whole quads first: summed in the input's order, it differs in its last
+/// bits between orders of one map, and a closed map's area is a whole number of quads.
 bool within_refinement_budget(double area, std::int64_t triangles, std::int64_t factor) {
-    const double quads = std::abs(area) * static_cast<double>(factor * factor);
+    const double quads = std::round(std::abs(area) * static_cast<double>(factor * factor));
     return quads <= kMaxRefinedQuads && quads <= static_cast<double>(triangles);
 }
 
