@@ -72,6 +72,64 @@ void triangle_energies(const double* in, double* out, std::size_t n) {
     triangle_energies_in_lanes(in, out, n);
 }
 
+/// The triangles' edge vectors a = u1 - u0 and b = u2 - u0 in their charts, from the point X,
+/// into the scratch's rows. No branch and nothing shared between triangles: the loop runs in
+/// vector lanes (the corners' reads gathered), with the scalar loop's arithmetic.
+inline __attribute__((always_inline)) void edge_vectors_in_lanes(const Problem::Corners& pc, const double* __restrict X,
+                                                                double* __restrict in, std::size_t n) {
+    const std::int32_t *__restrict ix = pc.ix.data(), *__restrict iy = pc.iy.data();
+    const double *__restrict sx = pc.sx.data(), *__restrict sy = pc.sy.data();
+    const double *__restrict tx = pc.tx.data(), *__restrict ty = pc.ty.data();
+    for (std::size_t t = 0; t < n; ++t) {
+        const std::size_t c = 3 * t;
+        const double u0x = sx[c] * X[ix[c]] + tx[c], u0y = sy[c] * X[iy[c]] + ty[c];
+        const double u1x = sx[c + 1] * X[ix[c + 1]] + tx[c + 1], u1y = sy[c + 1] * X[iy[c + 1]] + ty[c + 1];
+        const double u2x = sx[c + 2] * X[ix[c + 2]] + tx[c + 2], u2y = sy[c + 2] * X[iy[c + 2]] + ty[c + 2];
+        in[Problem::a0 * n + t] = u1x - u0x, in[Problem::a1 * n + t] = u1y - u0y;
+        in[Problem::b0 * n + t] = u2x - u0x, in[Problem::b1 * n + t] = u2y - u0y;
+    }
+}
+
+/// Adds each triangle's gradient into G at its corners' free vertices, in the triangles' order
+/// (the sum's order fixes its bits), rotated back into their charts by a pick and a sign.
+inline __attribute__((always_inline)) void scatter_in_order(const Problem::Corners& pc, const double* __restrict out,
+                                                           double* __restrict G, std::size_t n) {
+    const std::int32_t* __restrict gi = pc.gi.data();
+    const std::uint8_t* __restrict swap = pc.swap.data();
+    const double *__restrict hx = pc.hx.data(), *__restrict hy = pc.hy.data();
+    for (std::size_t t = 0; t < n; ++t) {
+        const double da0 = out[Problem::da0 * n + t], da1 = out[Problem::da1 * n + t];
+        const double db0 = out[Problem::db0 * n + t], db1 = out[Problem::db1 * n + t];
+        // As the sums into a zero gradient were: 0 - (da + db), 0 + da, 0 + db.
+        const double gx[3] = {0.0 - (da0 + db0), 0.0 + da0, 0.0 + db0};
+        const double gy[3] = {0.0 - (da1 + db1), 0.0 + da1, 0.0 + db1};
+        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c) {
+            const bool s = swap[c] != 0;
+            G[gi[c]] += hx[c] * (s ? gy[k] : gx[k]);
+            G[gi[c] + 1] += hy[c] * (s ? gx[k] : gy[k]);
+        }
+    }
+}
+
+#if defined(QEX_REPAIR_AVX2)
+__attribute__((target("avx2"))) void edge_vectors_avx2(const Problem::Corners& pc, const double* X, double* in,
+                                                       std::size_t n) {
+    edge_vectors_in_lanes(pc, X, in, n);
+}
+#endif
+
+void edge_vectors(const Problem::Corners& pc, const double* X, double* in, std::size_t n) {
+#if defined(QEX_REPAIR_AVX2)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) return edge_vectors_avx2(pc, X, in, n);
+#endif
+    edge_vectors_in_lanes(pc, X, in, n);
+}
+
+void scatter_gradient(const Problem::Corners& pc, const double* out, double* G, std::size_t n) {
+    scatter_in_order(pc, out, G, n);
+}
+
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
 /// the input's corner order does not matter.
 int canonical_base(const TriMesh& m, int f) {
@@ -209,37 +267,36 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     }
     p.barrier.assign(r.faces.size(), 0);
     for (std::size_t t = 0; t < r.faces.size() && !barrier.empty(); ++t)
-        p.barrier[t] = std::binary_search(barrier.begin(), barrier.end(), r.faces[t]);
+        if ((p.barrier[t] = std::binary_search(barrier.begin(), barrier.end(), r.faces[t])))
+            p.barrier_triangles.push_back(static_cast<int>(t));
     return p;
 }
 
 double region_energy(const Problem& p, const std::vector<double>& x, double eps, std::vector<double>* grad,
                      double* lowest) {
     if (grad) grad->resize(p.unknowns);
-    if (lowest) *lowest = std::numeric_limits<double>::infinity();
     const std::size_t n = p.triangles;
     double* in = p.in.data();
-    const double* out = p.out.data();
     std::copy(x.begin(), x.end(), p.point.begin());
     const double* X = p.point.data();
-    const Problem::Corners& pc = p.corners;
-    // The corners into the triangles' charts: edge vectors, the smallest determinant, barriers.
-    for (std::size_t t = 0; t < n; ++t) {
-        std::array<Vec2, 3> u;
-        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c)
-            u[k] = {pc.sx[c] * X[pc.ix[c]] + pc.tx[c], pc.sy[c] * X[pc.iy[c]] + pc.ty[c]};
-        const double a0 = u[1][0] - u[0][0], a1 = u[1][1] - u[0][1], b0 = u[2][0] - u[0][0], b1 = u[2][1] - u[0][1];
-        in[Problem::a0 * n + t] = a0, in[Problem::a1 * n + t] = a1;
-        in[Problem::b0 * n + t] = b0, in[Problem::b1 * n + t] = b1;
-        in[Problem::eps * n + t] = eps;
-        const double twice = a0 * b1 - a1 * b0;
-        if (lowest) *lowest = std::min(*lowest, twice * p.gdet[t]);
-        if (p.barrier[t]) {
-            // Never inverted at a start (the caller's), and not to be inverted by a step.
-            if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
-            in[Problem::eps * n + t] = 0.0;
+    edge_vectors(p.corners, X, in, n);
+    std::fill(in + Problem::eps * n, in + (Problem::eps + 1) * n, eps);
+    // A barrier triangle is never inverted at a start (the caller's), and not to be by a step.
+    for (const int t : p.barrier_triangles) {
+        const double twice = in[Problem::a0 * n + t] * in[Problem::b1 * n + t] -
+                             in[Problem::a1 * n + t] * in[Problem::b0 * n + t];
+        if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
+        in[Problem::eps * n + t] = 0.0;
+    }
+    if (lowest) {
+        *lowest = std::numeric_limits<double>::infinity();
+        for (std::size_t t = 0; t < n; ++t) {
+            const double twice = in[Problem::a0 * n + t] * in[Problem::b1 * n + t] -
+                                 in[Problem::a1 * n + t] * in[Problem::b0 * n + t];
+            *lowest = std::min(*lowest, twice * p.gdet[t]);
         }
     }
+    const double* out = p.out.data();
     triangle_energies(in, p.out.data(), n);
     // Summed and scattered in the triangles' order, so the result depends on nothing else.
     double energy = 0.0;
@@ -247,18 +304,7 @@ double region_energy(const Problem& p, const std::vector<double>& x, double eps,
     if (!grad) return energy;
     double* G = p.gradient.data();
     std::fill(p.gradient.begin(), p.gradient.end(), 0.0);
-    for (std::size_t t = 0; t < n; ++t) {
-        const double da0 = out[Problem::da0 * n + t], da1 = out[Problem::da1 * n + t];
-        const double db0 = out[Problem::db0 * n + t], db1 = out[Problem::db1 * n + t];
-        // As the sums into a zero gradient were: 0 - (da + db), 0 + da, 0 + db.
-        const std::array<Vec2, 3> g{Vec2{0.0 - (da0 + db0), 0.0 - (da1 + db1)}, Vec2{0.0 + da0, 0.0 + da1},
-                                    Vec2{0.0 + db0, 0.0 + db1}};
-        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c) {
-            const double gx = g[k][pc.swap[c]], gy = g[k][1 - pc.swap[c]];
-            G[pc.gi[c]] += pc.hx[c] * gx;
-            G[pc.gi[c] + 1] += pc.hy[c] * gy;
-        }
-    }
+    scatter_gradient(p.corners, out, G, n);
     std::copy(G, G + p.unknowns, grad->begin());
     return energy;
 }

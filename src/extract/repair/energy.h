@@ -61,6 +61,7 @@ struct Problem {
     /// Per triangle: kept positive by a pure barrier (no regularisation), so the opened fan of a
     /// cone keeps its winding.
     std::vector<char> barrier;
+    std::vector<int> barrier_triangles; ///< the triangles `barrier` marks, ascending
     /// The energy's rows, n = triangles long each: what goes in per triangle (its edge vectors
     /// u1 - u0 and u2 - u0 in its chart, the regularisation, its rest shape's inverse edge matrix
     /// and area), and what comes out (its energy and gradient with respect to u1 and u2; that
