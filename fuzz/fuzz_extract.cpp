@@ -43,9 +43,24 @@ using namespace qex::testing;
 
 namespace {
 
+// Two targets from this file (fuzz/CMakeLists.txt): fuzz_extract, on small maps, fast enough for
+// libFuzzer (it learns from many short runs), and fuzz_extract_large (QEX_FUZZ_LARGE_MAPS), on
+// maps up to eight times its quads, which the campaign runs beside it. The same bytes choose the
+// same kinds of map and perturbation in both, and every verdict below holds in both.
+#if defined(QEX_FUZZ_LARGE_MAPS)
+constexpr int kMaxGridQuads = 3;  ///< grid quads per layout edge
+constexpr int kMaxLatticeSteps = 5; ///< lattice steps per grid quad
 /// The most quads a map scaled by UVs x 2^k, or refined, may have (perturb_more, case 0; the
 /// refinement allowed).
 constexpr std::int64_t kMaxScaledQuads = 4096;
+/// The refinement allowed, in all (with the UVs' scale).
+constexpr int kMaxRefinement = 4;
+#else
+constexpr int kMaxGridQuads = 2;
+constexpr int kMaxLatticeSteps = 3;
+constexpr std::int64_t kMaxScaledQuads = 512;
+constexpr int kMaxRefinement = 2;
+#endif
 
 /// Whether the generated map with its UVs x `factor` (scaled, then refined) stays within
 /// kMaxScaledQuads.
@@ -302,8 +317,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                   prism_layout(8), disk_layout(2), annulus_layout()};
     Case c;
     c.layout = &layouts[b.range(0, 5)];
-    c.n = b.range(1, 3);
-    c.k = b.range(1, 5);
+    c.n = b.range(1, kMaxGridQuads);
+    c.k = b.range(1, kMaxLatticeSteps);
     std::vector<char> single_chart;
     const int diagonals = b.range(0, 2);
     const std::uint32_t seed = b.u32();
@@ -321,13 +336,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         else
             perturb_more(b, (op - 13) % 5, c);
     }
-    // A map is refined up to UVs x 4 in all, not beyond: a map x 8 with a dropped triangle,
+    // A map is refined up to UVs x 4 in all (the large target), not beyond: a map x 8 with a dropped triangle,
     // refined x 2 and x 4 (48K quads), took 1.2 s in Release and 30 s under ASan, past run.sh's
     // 30 s timeout; and since the library's default became x 16, unscaled maps that no refinement
     // helps took 4-7 s in Release (five timeouts in a 600 s run).
     // And a refinement stays within kMaxScaledQuads too (the cap on UVs x 2^k alone let a map it
     // held at x 2 be refined x 2 to the size it was meant to prevent).
-    opt.max_refinement = std::max(1, std::min(opt.max_refinement, 4) >> c.scale_log2);
+    opt.max_refinement = std::max(1, std::min(opt.max_refinement, kMaxRefinement) >> c.scale_log2);
     while (opt.max_refinement > 1 &&
            !within_bound(*c.layout, c.n, (std::int64_t{1} << c.scale_log2) * opt.max_refinement))
         opt.max_refinement /= 2;

@@ -10,7 +10,7 @@
 qex_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 qex_build="$qex_root/build-fuzz"
 # shellcheck disable=SC2034 # used by campaign.sh
-QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_layout fuzz_extract) # slowest last
+QEX_FUZZ_TARGETS=(fuzz_obj fuzz_ply fuzz_sanitize fuzz_predicates_differential fuzz_layout fuzz_extract fuzz_extract_large) # slowest last
 # Units of the merged corpus are kept only up to this size, to keep the repository small.
 QEX_FUZZ_MAX_KEEP=16384
 qex_build_jobs=${CMAKE_BUILD_PARALLEL_LEVEL:-$(getconf _NPROCESSORS_ONLN)}
@@ -21,6 +21,15 @@ qex_fuzz_build() {
       -DQEX_LIBFUZZER=ON -DQEX_BUILD_TESTS=OFF -DQEX_BUILD_CLI=OFF -DQEX_BUILD_FUZZERS=ON >/dev/null
   fi
   cmake --build "$qex_build" --parallel "$qex_build_jobs" --target "$@"
+}
+
+# The corpus folder of a target, under corpus/: fuzz_extract_large shares fuzz_extract's (the same
+# bytes mean the same cases, on larger maps).
+qex_fuzz_corpus() {
+  case "$1" in
+    fuzz_extract_large) echo fuzz_extract ;;
+    *) echo "$1" ;;
+  esac
 }
 
 # The -dict file of a target, if it has one.
@@ -35,7 +44,7 @@ qex_fuzz_dict() {
 # directory DIR and lists its files in DIR.before, for qex_fuzz_added.
 qex_fuzz_scratch() {
   local target=$1 dir=$2
-  find "$qex_root/corpus/$target" -type f ! -name '*.md' -exec cp --backup=numbered -t "$dir" {} +
+  find "$qex_root/corpus/$(qex_fuzz_corpus "$target")" -type f ! -name '*.md' -exec cp --backup=numbered -t "$dir" {} +
   (cd "$dir" && ls) | sort >"$dir.before"
 }
 
@@ -61,7 +70,7 @@ qex_fuzz_run() {
   local dict
   dict=$(qex_fuzz_dict "$target")
   rm -rf "${work:?}" "${out:?}/$target"
-  mkdir -p "$work/corpus" "$out/$target" "$qex_root/corpus/$target/merged"
+  mkdir -p "$work/corpus" "$out/$target" "$qex_root/corpus/$(qex_fuzz_corpus "$target")/merged"
   qex_fuzz_scratch "$target" "$work/corpus"
   local start end
   start=$(date +%s)
@@ -99,8 +108,8 @@ qex_fuzz_run() {
     [ -f "$a" ] || continue
     kind=$(basename "$a" | sed -E 's/-[0-9a-f]{40}$//')
     if [ "$kind" = slow-unit ]; then slow=$((slow + 1)); continue; fi
-    mkdir -p "$qex_root/corpus/$target/regressions"
-    cp "$a" "$qex_root/corpus/$target/regressions/$(sha1sum "$a" | cut -c1-16)"
+    mkdir -p "$qex_root/corpus/$(qex_fuzz_corpus "$target")/regressions"
+    cp "$a" "$qex_root/corpus/$(qex_fuzz_corpus "$target")/regressions/$(sha1sum "$a" | cut -c1-16)"
     n=$((n + 1))
     kinds="$kinds $kind"
   done
@@ -132,8 +141,8 @@ qex_fuzz_keep() {
   "$qex_build/fuzz/$target" -merge=1 -use_counters=0 -timeout=30 -rss_limit_mb=2048 \
     -artifact_prefix="${artifacts:-$ctrl.}" "$ctrl" "$dir" >"${log:-$ctrl.log}" 2>&1 || true
   while read -r f; do
-    if [ ! -e "$qex_root/corpus/$target/merged/$f" ]; then
-      cp "$ctrl/$f" "$qex_root/corpus/$target/merged/"
+    if [ ! -e "$qex_root/corpus/$(qex_fuzz_corpus "$target")/merged/$f" ]; then
+      cp "$ctrl/$f" "$qex_root/corpus/$(qex_fuzz_corpus "$target")/merged/"
       n=$((n + 1))
     fi
   done < <(qex_fuzz_added "$ctrl")

@@ -19,6 +19,6 @@ grep -E "stat::" "$out/$target.log" | tail -n 8 || true
 echo "$target: $wall s, $runs executions, $eps exec/s, cov $cov ft $ft, $added new units in merged/"
 echo "findings: $findings; slow units: $slow (log and artifacts in $out/)"
 if [ "$findings" != none ]; then
-  echo "FINDINGS copied to corpus/$target/regressions/ (add a note of what each found to its NOTES.md)"
+  echo "FINDINGS copied to corpus/$(qex_fuzz_corpus "$target")/regressions/ (add a note of what each found to its NOTES.md)"
 fi
-echo "corpus: $(find "$qex_root/corpus/$target" -type f ! -name '*.md' | wc -l) files"
+echo "corpus: $(find "$qex_root/corpus/$(qex_fuzz_corpus "$target")" -type f ! -name '*.md' | wc -l) files"
