@@ -25,6 +25,11 @@ namespace {
 constexpr int kOuterIterations = 60;
 constexpr int kInnerIterations = 80;
 constexpr double kInnerStall = 1e-5;
+/// A region with more than this share of its triangles inverted after its second step is given
+/// up. Over the 50 shared maps, none of the 619 regions that untangled had more than 3.5% left
+/// after its first step; 52 that failed had more than 10% then, and ran on for a ninth of the
+/// untangler's steps (a larger region at the next ring, or the paper's handling, takes them).
+constexpr double kHopelessShare = 0.1;
 /// The first regularisation, relative to the most negative Jacobian determinant.
 constexpr double kInitialRegularisation = 0.1;
 /// The final minimisation of a repaired region: L-BFGS iterations, then Newton steps. L-BFGS
@@ -238,6 +243,8 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
         std::size_t inverted = 0;
         for (const int f : r.faces) inverted += !positive(m, f);
         if (inverted == 0) return true;
+        if (outer >= 1 && static_cast<double>(inverted) > kHopelessShare * static_cast<double>(r.faces.size()))
+            return false;
         if (inverted < best)
             best = inverted, since_best = 0;
         else
