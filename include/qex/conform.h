@@ -24,7 +24,7 @@ enum class ConformOutcome {
     CleanFailure,    ///< a non-zero exit status
     InvalidExit0,    ///< exit 0 with a mesh the checker rejects (or for a map that is no valid input)
     WrongCount,      ///< exit 0, a valid mesh, but not the known quad count
-    Crash,           ///< ended by a signal (named in the detail)
+    Crash,           ///< ended by a signal (named in the detail), or exit status 128 + N (the shell's for signal N)
     Timeout,         ///< killed at the time limit
     NoOutput,        ///< exit 0 without an output file, or with an empty one
 };

@@ -119,6 +119,10 @@ ConformResult conform_judge(const ConformCase& c, const std::string& map_path, c
     } else if (run.signal != 0) {
         r.outcome = ConformOutcome::Crash;
         r.detail = "ended by " + signal_name(run.signal);
+    } else if (run.exit_code > 128 && run.exit_code <= 128 + 64) {
+        // The shell's status for a command a signal ended (/bin/sh -c need not exec it).
+        r.outcome = ConformOutcome::Crash;
+        r.detail = "ended by " + signal_name(run.exit_code - 128) + " (exit status " + std::to_string(run.exit_code) + ")";
     } else if (run.exit_code != 0) {
         r.outcome = ConformOutcome::CleanFailure;
         r.detail = "exit code " + std::to_string(run.exit_code);
