@@ -9,7 +9,7 @@
 
 namespace qex::gen {
 
-using detail::rot;
+using gen_detail::rot;
 
 // ============================================================================ large fold-overs
 

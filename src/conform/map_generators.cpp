@@ -17,7 +17,7 @@ Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
     return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
 }
 
-using detail::rot;
+using gen_detail::rot;
 
 } // namespace
 

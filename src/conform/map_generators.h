@@ -16,7 +16,7 @@
 
 namespace qex::gen {
 
-namespace detail {
+namespace gen_detail {
 /// `a` turned by r quarter turns counter-clockwise (the generators' grid automorphisms).
 inline std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
     switch (r & 3) {
@@ -26,7 +26,7 @@ inline std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
         default: return {a[1], -a[0]};
     }
 }
-} // namespace detail
+} // namespace gen_detail
 
 struct QuadLayout {
     std::string name;
