@@ -6,10 +6,12 @@
 2. qex_broken_extractor, each way of breaking its output: every case gets the outcome expected,
    and summary.jsonl, the reproducer folders and the exit code 7 are as documented.
 3. --shrink gives a smaller failing case, and a reproducer replays with one command.
+4. Every flag `qex conform --help` lists is in src/cli/README.md's section on it.
 """
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -101,7 +103,19 @@ def check_shrink_and_replay():
     print("shrink: %d cases shrunk; replay.sh replays" % len(shrunk))
 
 
+def check_flags_documented():
+    help_text = subprocess.run([QEX, "conform", "--help"], capture_output=True, text=True).stdout
+    options = [line for line in help_text.splitlines() if re.match(r"\s+(-\w,\s*)?--", line)]  # not the footer
+    flags = {re.search(r"--[a-z][a-z-]+", line).group(0) for line in options} - {"--help"}
+    readme = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "cli", "README.md")).read()
+    section = readme[readme.index("## `qex conform`"):]
+    section = section[:section.index("\n## ", 1)]
+    missing = [f for f in sorted(flags) if "`%s" % f not in section]
+    assert len(flags) >= 9 and not missing, (flags, missing)
+
+
 os.makedirs(WORK, exist_ok=True)
+check_flags_documented()
 check_qex_extract()
 check_broken_modes()
 check_shrink_and_replay()
