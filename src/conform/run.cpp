@@ -95,15 +95,17 @@ void enforce_timeout(std::vector<Running>& running, double timeout) {
         }
 }
 
-/// A finished child, its group killed (what the extractor left behind in it) and the child
-/// reaped only then, so the group's id cannot be taken by another process before the kill.
+/// A finished child of ours (never another child of a program that calls the library), its
+/// group killed (what the extractor left behind in it) and the child reaped only then, so the
+/// group's id cannot be taken by another process before the kill.
 pid_t wait_any(std::vector<Running>& running, double timeout, int& status) {
     for (;;) {
-        siginfo_t info{};
-        if (waitid(P_ALL, 0, &info, WEXITED | WNOHANG | WNOWAIT) < 0) return -1;
-        if (info.si_pid != 0) {
-            kill(-info.si_pid, SIGKILL);
-            return waitpid(info.si_pid, &status, 0);
+        for (const Running& r : running) {
+            siginfo_t info{};
+            if (waitid(P_PID, static_cast<id_t>(r.pid), &info, WEXITED | WNOHANG | WNOWAIT) < 0) return -1;
+            if (info.si_pid == 0) continue;
+            kill(-r.pid, SIGKILL);
+            return waitpid(r.pid, &status, 0);
         }
         enforce_timeout(running, timeout);
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
