@@ -170,7 +170,7 @@ ConformCase hostile_case(std::uint64_t seed, int i) {
 
 void number(std::vector<ConformCase>& cases, std::size_t from) {
     for (std::size_t i = from; i < cases.size(); ++i) {
-        char index[16];
+        char index[24];
         std::snprintf(index, sizeof index, "%04zu", i - from);
         cases[i].name = cases[i].family + "/" + index;
         cases[i].generated = true;

@@ -1,6 +1,7 @@
 // Large fold-overs through the charts (see map_generators.h): vertices, patches and fans moved
 // by one displacement turned into each chart.
 #include "map_generators.h"
+#include "extract/grid_automorphism.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,10 @@
 
 namespace qex::gen {
 
-using gen_detail::rot;
+/// `a` turned by r quarter turns (the extractor's grid automorphisms turn so too).
+inline std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
+    return detail::GridAutomorphism::rotate(a, r);
+}
 
 // ============================================================================ large fold-overs
 

@@ -1,5 +1,6 @@
 // Generators of exact integer-grid maps from quad layouts, and the perturbations the tests apply.
 #include "map_generators.h"
+#include "extract/grid_automorphism.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,10 @@ Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
     return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
 }
 
-using gen_detail::rot;
+/// `a` turned by r quarter turns (the extractor's grid automorphisms turn so too).
+inline std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
+    return detail::GridAutomorphism::rotate(a, r);
+}
 
 } // namespace
 

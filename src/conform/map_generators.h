@@ -16,18 +16,6 @@
 
 namespace qex::gen {
 
-namespace gen_detail {
-/// `a` turned by r quarter turns counter-clockwise (the generators' grid automorphisms).
-inline std::array<double, 2> rot(const std::array<double, 2>& a, int r) {
-    switch (r & 3) {
-        case 0: return a;
-        case 1: return {-a[1], a[0]};
-        case 2: return {-a[0], -a[1]};
-        default: return {a[1], -a[0]};
-    }
-}
-} // namespace gen_detail
-
 struct QuadLayout {
     std::string name;
     std::vector<std::array<double, 3>> positions;
