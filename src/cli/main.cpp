@@ -26,7 +26,7 @@ const char* kExamples = R"(Examples (the maps in ../shared/meshes/):
   qex draw paper/duck_miq_8_param.obj -o duck_map.svg --png                  the map in UV space
   qex draw paper/fandisk_param.obj --quads fandisk.obj -o fandisk.svg        the mesh, defects circled
   qex batch paper -o out --jobs 2 --summary out/summary.jsonl                a folder of maps
-  qex conform --extractor 'qex extract {in} -o {out} -q' -o report --jobs 2   judge an extractor
+  qex conform --extractor 'qex extract {in} -o {out}' -o report --jobs 2     judge any extractor
   qex layout fandisk.obj -o fandisk_layout.json --obj fandisk_patches.obj    the patches of a quad mesh
 Exit codes: 0 ok, 1 command line, 2 file, 3 malformed file, 4 input rejected, 5 mesh invalid,
 6 check found violations, 7 batch: some maps failed, conform: some cases not right (the count is printed).)";
