@@ -16,7 +16,7 @@ import pytest
 
 from conftest import ROOT, SAMPLE
 
-WHEEL_FILES = {"qex/__init__.py", "qex/batch.py", "qex/py.typed", "qex/_qex.pyi",
+WHEEL_FILES = {"qex/__init__.py", "qex/batch.py", "qex/conformance.py", "qex/py.typed", "qex/_qex.pyi",
                "qex/_qex" + sysconfig.get_config_var("EXT_SUFFIX")}
 
 USER_CODE = """

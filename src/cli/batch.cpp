@@ -3,6 +3,7 @@
 // output exists and whose report says valid is skipped (the batch resumes where it stopped).
 // One JSON line per map goes to the summary; the exit code is 7 if any map failed.
 #include "cli.h"
+#include "qex/conform.h"
 
 #include <nlohmann/json.hpp>
 
@@ -36,32 +37,6 @@ struct Job {
     pid_t pid = -1;
     Clock::time_point start;
 };
-
-/// The maps to run: the OBJ and PLY files of a folder (sorted), or the paths a list file names
-/// (one per line, `#` comments, relative to the list's folder).
-bool collect_maps(const std::string& input, std::vector<std::string>& maps) {
-    std::error_code ec;
-    if (fs::is_directory(input, ec)) {
-        for (const auto& e : fs::directory_iterator(input, ec)) {
-            std::string ext = e.path().extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-            if (e.is_regular_file() && (ext == ".obj" || ext == ".ply")) maps.push_back(e.path().string());
-        }
-        std::sort(maps.begin(), maps.end());
-        return !ec;
-    }
-    std::ifstream f(input);
-    if (!f) return false;
-    const fs::path base = fs::path(input).parent_path();
-    for (std::string line; std::getline(f, line);) {
-        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-        line.erase(0, line.find_first_not_of(" \t\r"));
-        line.erase(line.find_last_not_of(" \t\r") + 1);
-        if (line.empty()) continue;
-        maps.push_back(fs::path(line).is_absolute() ? line : (base / line).string());
-    }
-    return true;
-}
 
 /// The report of a finished (or earlier) run, or null if there is none or it does not parse.
 nlohmann::json read_report(const std::string& path) {
@@ -256,7 +231,7 @@ CLI::App* add_batch(CLI::App& app, BatchArgs& a) {
 
 int run_batch(const BatchArgs& a) {
     std::vector<std::string> maps;
-    if (!collect_maps(a.input, maps)) {
+    if (!qex::collect_map_files(a.input, maps)) {
         std::cerr << "qex: cannot read the folder or list '" << a.input << "'\n";
         return kIo;
     }

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace qex::cli {
 
@@ -104,6 +105,19 @@ struct BatchArgs {
 };
 CLI::App* add_batch(CLI::App& app, BatchArgs& a);
 int run_batch(const BatchArgs& a);
+
+struct ConformArgs {
+    std::string extractor, out_dir;
+    std::vector<std::string> sets; ///< --cases, repeated (default: known and hostile)
+    int count = 100, jobs = 0;
+    std::uint64_t seed = 1;
+    double timeout = 60.0;
+    std::int64_t memory_mb = 4096;
+    bool shrink = false, quiet = false;
+    std::string self; ///< this program: replay.sh judges with it
+};
+CLI::App* add_conform(CLI::App& app, ConformArgs& a);
+int run_conform(const ConformArgs& a);
 
 struct LayoutArgs {
     std::string quads_path, out_path, param_path, obj_path, features_path;

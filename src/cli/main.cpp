@@ -1,5 +1,5 @@
 // qex: the command-line front end. One file per subcommand (extract.cpp, check.cpp, info.cpp,
-// draw.cpp, batch.cpp, layout.cpp), each with its options (add_*) and its run (run_*); cli.h lists what
+// draw.cpp, batch.cpp, conform.cpp, layout.cpp), each with its options (add_*) and its run (run_*); cli.h lists what
 // they share. draw.cpp's pictures are drawn by draw_map.cpp and draw_mesh.cpp (draw_parts.h)
 // in the SVG of svg.cpp. Here: the program's help, version and dispatch.
 #include "cli.h"
@@ -26,9 +26,10 @@ const char* kExamples = R"(Examples (the maps in ../shared/meshes/):
   qex draw paper/duck_miq_8_param.obj -o duck_map.svg --png                  the map in UV space
   qex draw paper/fandisk_param.obj --quads fandisk.obj -o fandisk.svg        the mesh, defects circled
   qex batch paper -o out --jobs 2 --summary out/summary.jsonl                a folder of maps
+  qex conform --extractor 'qex extract {in} -o {out}' -o report --jobs 2     judge any extractor
   qex layout fandisk.obj -o fandisk_layout.json --obj fandisk_patches.obj    the patches of a quad mesh
 Exit codes: 0 ok, 1 command line, 2 file, 3 malformed file, 4 input rejected, 5 mesh invalid,
-6 check found violations, 7 batch: some maps failed (the count is printed).)";
+6 check found violations, 7 batch: some maps failed, conform: some cases not right (the count is printed).)";
 
 } // namespace
 
@@ -43,12 +44,14 @@ int main(int argc, char** argv) {
     DrawArgs draw_args;
     BatchArgs batch_args;
     LayoutArgs layout_args;
+    ConformArgs conform_args;
     CLI::App* extract = add_extract(app, extract_args);
     CLI::App* check = add_check(app, check_args);
     CLI::App* info = add_info(app, info_args);
     CLI::App* draw = add_draw(app, draw_args);
     CLI::App* batch = add_batch(app, batch_args);
     CLI::App* layout = add_layout(app, layout_args);
+    CLI::App* conform = add_conform(app, conform_args);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) { return app.exit(e) == 0 ? kOk : kUsage; }
@@ -63,11 +66,15 @@ int main(int argc, char** argv) {
     if (*info) return run_info(info_args);
     if (*draw) return run_draw(draw_args);
     if (*layout) return run_layout(layout_args);
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (*batch) {
-        std::error_code ec;
-        const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
         batch_args.self = ec ? std::string(argv[0]) : self.string();
         return run_batch(batch_args);
+    }
+    if (*conform) {
+        conform_args.self = ec ? std::string(argv[0]) : self.string();
+        return run_conform(conform_args);
     }
     std::cout << app.help();
     return kUsage;

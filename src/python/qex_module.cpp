@@ -9,6 +9,7 @@
 //   bind_checking.cpp        verify, check
 //   bind_io.cpp              read_obj, read_vval, write_obj, write_certificate
 //   bind_layout.cpp          layout, layout_of_arrays
+//   bind_conform.cpp         qex.conform's cases, judge and table (qex/conform.h)
 #include "bindings.h"
 
 #include <pybind11/pybind11.h>
@@ -21,4 +22,5 @@ PYBIND11_MODULE(_qex, m) {
     qex_python::bind_checking(m);
     qex_python::bind_io(m);
     qex_python::bind_layout(m);
+    qex_python::bind_conform(m);
 }

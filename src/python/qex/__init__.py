@@ -19,6 +19,7 @@ read_obj   read an OBJ map as (V, F, UV)
 read_vval  read a VVAL file of valences (one per input vertex)
 write_obj  write an extracted mesh as OBJ
 write_certificate  write the repaired map an extracted mesh is judged on (check(certificate=...))
+conform    judge a Python extractor on known, hostile and your own maps, on Dask (qex conform)
 
 Bad input raises ValueError with the library's message, which names the element at fault. The
 library releases the GIL while it works, so extractions in several Python threads run in parallel.
@@ -34,11 +35,13 @@ import numpy as _np
 import numpy.typing as npt
 
 from . import _qex
+from .conformance import conform
 
 _Path = Union[str, "_os.PathLike[str]"]
 _Array = TypeVar("_Array", bound=npt.NDArray[Any])
 
-__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "read_vval", "write_obj", "write_certificate"]
+__all__ = ["Result", "extract", "verify", "check", "layout", "read_obj", "read_vval", "write_obj", "write_certificate",
+           "conform"]
 
 
 class Result:

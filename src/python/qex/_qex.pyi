@@ -73,3 +73,21 @@ class _Layout(TypedDict):
 
 def layout(mesh: QuadMesh) -> _Layout: ...
 def layout_of_arrays(QV: npt.ArrayLike, QF: npt.ArrayLike) -> _Layout: ...
+
+# qex.conform (qex/conformance.py): the library's cases, judge and table; cases and rows as JSON.
+def conform_cases(sets: List[str], count: int, seed: int) -> List[str]: ...
+def conform_map_text(case: str) -> str: ...
+def conform_judge(
+    case: str,
+    map_path: str,
+    out_path: str,
+    stderr_path: str,
+    exit_code: int,
+    signal: int,
+    timed_out: bool,
+    seconds: float,
+    out_dir: str,
+    replay_command: str,
+    checker: str,
+) -> str: ...
+def conform_table(rows: List[str]) -> str: ...

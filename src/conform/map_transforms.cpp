@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace qex::testing::transforms {
+namespace qex::gen::transforms {
 namespace {
 
 using Uv = std::array<double, 2>;
@@ -211,4 +211,4 @@ std::string apply(Input& in, const std::string& ops, std::int64_t* rounded) {
     return {};
 }
 
-} // namespace qex::testing::transforms
+} // namespace qex::gen::transforms
