@@ -168,16 +168,18 @@ double corner_angle(const UVs& U, std::size_t c) {
 /// Per input vertex with a checked fan, its winding in quarter turns: the signed angle sum of its
 /// corners, which is congruent to its turn modulo a full turn (four quarter turns); only the
 /// whole turns are taken from the (inexact) angles, with half a turn of margin either way.
-/// INT_MIN where the sum is not finite (non-finite UVs): no winding.
-std::vector<int> windings(const Input& input, const UVs& U, const std::vector<std::int8_t>& turns) {
+/// INT_MIN where the sum is not finite (non-finite UVs): no winding. Only at the vertices `wanted`
+/// marks (the others get 0): the angles cost most of the map's check where few are wanted.
+std::vector<int> windings(const Input& input, const UVs& U, const std::vector<std::int8_t>& turns,
+                          const std::vector<char>& wanted) {
     std::vector<double> sum(turns.size(), 0.0);
     for (std::size_t c = 0; c < U.size(); ++c) {
         const auto v = static_cast<std::size_t>(input.triangles[c / 3][c % 3]);
-        if (turns[v] >= 0) sum[v] += corner_angle(U, c);
+        if (turns[v] >= 0 && wanted[v]) sum[v] += corner_angle(U, c);
     }
     std::vector<int> out(turns.size(), 0);
     for (std::size_t v = 0; v < turns.size(); ++v)
-        if (turns[v] >= 0)
+        if (turns[v] >= 0 && wanted[v])
             out[v] = !std::isfinite(sum[v])
                          ? INT_MIN
                          : turns[v] + 4 * static_cast<int>(std::lround((sum[v] - turns[v] * M_PI / 2) / (2 * M_PI)));
@@ -199,7 +201,9 @@ void check_repair_windings(const Input& input, const UVs& U, const std::vector<c
         if (repaired[c / 3] && first < 0) first = static_cast<std::int64_t>(c / 3), any = true;
     }
     if (!any) return;
-    const std::vector<int> now = windings(input, U, turns), given = windings(input, input.uvs, turns);
+    std::vector<char> wanted(turns.size(), 0);
+    for (std::size_t v = 0; v < turns.size(); ++v) wanted[v] = touched[v] >= 0 && turns[v] == 0;
+    const std::vector<int> now = windings(input, U, turns, wanted), given = windings(input, input.uvs, turns, wanted);
     const auto degrees = [](int w) { return w == INT_MIN ? std::string("unknown") : std::to_string(w * 90); };
     for (std::size_t v = 0; v < turns.size(); ++v)
         if (touched[v] >= 0 && turns[v] == 0 && (now[v] == INT_MIN || (now[v] != given[v] && now[v] != 4)))
