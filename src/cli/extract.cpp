@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "progress.h"
 #include "violations.h"
+#include "qex/check.h"
 #include "qex/report.h"
 
 #include <algorithm>
@@ -44,7 +45,8 @@ bool write_report(const std::string& path, const qex::Input& input, const qex::R
 /// --certificate: written whenever the mesh is, also when the repair changed nothing (then it
 /// lists no triangle and holds the sanitized map); not for a mesh split from the map divided by
 /// k (coarsened: extracted and checked at the coarse scale, which no map at this scale
-/// describes), which is said on stderr. Returns kOk or kIo.
+/// describes), which is said on stderr; nor one its own check rejects (kInvalidOutput). Returns
+/// kOk, kIo or kInvalidOutput.
 int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, const qex::Result& result) {
     if (a.certificate_path.empty()) return kOk;
     if (result.report.coarsening != 1) {
@@ -53,6 +55,20 @@ int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, cons
         return kOk;
     }
     const qex::Certificate c = qex::make_certificate(input, result.mesh);
+    // Judged first as `qex check --param MAP --certificate` will judge it, on the mesh as written
+    // (positions and faces; both files keep the doubles exactly): one it rejects is not written.
+    qex::QuadMesh bare;
+    bare.positions = result.mesh.positions;
+    bare.faces = result.mesh.faces;
+    const qex::MeshCheck held = qex::check_mesh(input, bare, c);
+    // A mesh the checker accepted must pass on it; beside a rejected one (--poly, --best-effort)
+    // the certificate must still hold against the map.
+    if (result.check.valid ? !held.verdict.valid : !held.verdict.on_certificate) {
+        std::cerr << "qex: " << a.in_path << ": no certificate written: `qex check --certificate` would reject it ("
+                  << held.verdict.violations.size() << " violations)\n";
+        print_violations(held.verdict);
+        return kInvalidOutput;
+    }
     if (const auto e = qex::write_certificate(a.certificate_path, c); !e.ok()) {
         std::cerr << "qex: " << e.message << "\n";
         return kIo;
@@ -95,7 +111,7 @@ int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& res
             std::cerr << "qex: " << e.message << "\n";
             return kIo;
         }
-        if (write_certificate_beside(a, input, result) != kOk) return kIo;
+        if (const int e = write_certificate_beside(a, input, result); e != kOk) return e;
         const int k = result.mesh.grid_scale;
         std::cerr << "qex: wrote the invalid mesh to " << a.out_path << (a.best_effort ? " (--best-effort" : " (--poly")
                   << (k != 1 ? "; judge it with `qex check --grid-scale " + std::to_string(k) + "`)" : ")") << "\n";
@@ -175,7 +191,7 @@ int run_extract(const ExtractArgs& a) {
             static_cast<long long>(r.flipped_triangles), static_cast<long long>(r.merged_qvertices),
             static_cast<long long>(r.recovered_edges), r.rung.c_str(), r.grid_scale,
             r.coarsening == 1 ? "" : (", coarsened /" + std::to_string(r.coarsening)).c_str(), a.out_path.c_str());
-    if (write_certificate_beside(a, input, result) != kOk) return kIo;
+    if (const int e = write_certificate_beside(a, input, result); e != kOk) return e;
     if (!a.layout_path.empty()) { // cut along the mesh's edges on the map's feature edges
         LayoutOptions layout;
         layout.feature_edges = quad_feature_edges(input, result.mesh);
