@@ -16,8 +16,9 @@ import pytest
 
 from conftest import ROOT, SAMPLE
 
-WHEEL_FILES = {"qex/__init__.py", "qex/batch.py", "qex/conformance.py", "qex/py.typed", "qex/_qex.pyi",
-               "qex/_qex" + sysconfig.get_config_var("EXT_SUFFIX")}
+WHEEL_FILES = {"qex/" + f for f in ("__init__.py", "_arrays.py", "_dask.py", "extraction.py", "checking.py",
+                                     "patch_layout.py", "files.py", "batch.py", "conformance.py", "py.typed",
+                                     "_qex.pyi", "_qex" + sysconfig.get_config_var("EXT_SUFFIX"))}
 
 USER_CODE = """
 import os, sys

@@ -1,5 +1,5 @@
 // The compiled half of the Python package qex (qex._qex): numpy arrays in and out of qex::extract,
-// qex::verify and the OBJ files. The Python half (qex/__init__.py) checks dtypes and shapes and
+// qex::verify and the OBJ files. The Python half (the modules in qex/) checks dtypes and shapes and
 // holds the docstrings; this side checks them again, so that no call from Python can crash the
 // interpreter, and releases the GIL while the library works.
 //

@@ -1,6 +1,6 @@
 # Type stubs of the compiled module qex._qex (src/python/qex_module.cpp and the bind_*.cpp beside
-# it). Its functions take the arrays the Python half (qex/__init__.py) has already checked and
-# shaped; users call qex itself.
+# it). Its functions take the arrays the Python half (qex/extraction.py, checking.py, ...) has
+# already checked and shaped; users call qex itself.
 # `python3 -m mypy.stubtest qex._qex` compares this file with the module (ctest python_types).
 from typing import Any, Dict, List, Optional, Tuple, TypedDict
 

@@ -22,12 +22,13 @@ row (but ``error``) whose output, if any, is in place; at the end the summary ke
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import os
 import sys
 import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+from . import _dask
 
 __all__ = ["run_one", "find_maps", "run_batch", "main"]
 
@@ -227,42 +228,40 @@ def run_batch(
         sys.stderr.write("qex.batch: %d maps, %d done before, %d to run\n" % (len(maps), len(maps) - len(todo),
                                                                              len(todo)))
     if todo:
-        # Dask is optional (python3-distributed) and partly annotated: its module is typed Any.
-        distributed: Any = importlib.import_module("dask.distributed")
-        Client, LocalCluster, as_completed = distributed.Client, distributed.LocalCluster, distributed.as_completed
-        cluster = None
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                                   processes=True, dashboard_address=None, memory_limit=memory_limit)
-            client = Client(cluster)
-        try:
-            futures = {}
-            for name, path in todo:
-                fut = client.submit(run_one, path, os.path.join(os.path.abspath(out_dir), name), threads,
-                                    key="qex-" + name, pure=False)
-                futures[fut] = (name, path)
-            bar = _Progress(len(todo), progress)
-            with open(summary, "a") as out:
-                for fut in as_completed(futures):
-                    name, path = futures[fut]
-                    try:
-                        row = fut.result()
-                    except Exception as e:  # the task died with its worker, or was lost
-                        row = _row("error", error="%s: %s" % (type(e).__name__, e))
-                    if row.get("output"):
-                        row["output"] = os.path.relpath(row["output"], os.path.abspath(out_dir))
-                    row = dict({"map": name, "input": path}, **row)
-                    rows[name] = row
-                    out.write(json.dumps(row) + "\n")
-                    out.flush()
-                    bar.update(row)
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
-    # One row per map, in the maps' order (rows of maps no longer listed are kept at the end).
+        with _dask.client(scheduler, workers, memory_limit=memory_limit) as client:
+            _run_on(client, todo, out_dir, threads, rows, progress)
+    return _rewrite_summary(summary, maps, rows)
+
+
+def _run_on(client: Any, todo: List[Tuple[str, str]], out_dir: str, threads: int, rows: Dict[str, Row],
+            progress: bool) -> None:
+    """Runs a task per map on the client, appending each row to summary.jsonl as it comes (so that a
+    killed batch resumes) and into `rows`."""
+    out_root = os.path.abspath(out_dir)
+    futures = {}
+    for name, path in todo:
+        fut = client.submit(run_one, path, os.path.join(out_root, name), threads, key="qex-" + name, pure=False)
+        futures[fut] = (name, path)
+    bar = _Progress(len(todo), progress)
+    with open(os.path.join(out_dir, "summary.jsonl"), "a") as out:
+        for fut in _dask.distributed().as_completed(futures):
+            name, path = futures[fut]
+            try:
+                row = fut.result()
+            except Exception as e:  # the task died with its worker, or was lost
+                row = _row("error", error="%s: %s" % (type(e).__name__, e))
+            if row.get("output"):
+                row["output"] = os.path.relpath(row["output"], out_root)
+            row = dict({"map": name, "input": path}, **row)
+            rows[name] = row
+            out.write(json.dumps(row) + "\n")
+            out.flush()
+            bar.update(row)
+
+
+def _rewrite_summary(summary: str, maps: List[Tuple[str, str]], rows: Dict[str, Row]) -> List[Row]:
+    """One row per map, in the maps' order (rows of maps no longer listed are kept at the end),
+    written through a temporary file so that a killed rewrite leaves the appended summary whole."""
     ordered = [rows[n] for n, _ in maps if n in rows]
     listed = {n for n, _ in maps}
     ordered += [r for n, r in rows.items() if n not in listed]

@@ -15,7 +15,6 @@ makes the case a crash.
 
 from __future__ import annotations
 
-import importlib
 import json
 import os
 import shutil
@@ -25,7 +24,7 @@ import time
 import traceback
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
-from . import _qex
+from . import _dask, _qex
 
 __all__ = ["conform", "run_case"]
 
@@ -113,6 +112,24 @@ def _crash_row(case: str, error: BaseException, out_dir: str) -> Row:
     return row
 
 
+def _run_on(client: Any, todo: List[str], extractor: Extractor, out_dir: str, timeout: float, replay: str,
+            checker: str, progress: bool) -> Dict[int, Row]:
+    """Runs a task per case on the client: the rows by the cases' index (they finish in any order)."""
+    rows: Dict[int, Row] = {}
+    futures = {client.submit(run_case, c, extractor, out_dir, timeout, replay, checker, pure=False): i
+               for i, c in enumerate(todo)}
+    for fut in _dask.distributed().as_completed(futures):
+        i = futures[fut]
+        try:
+            rows[i] = fut.result()
+        except Exception as e:  # the worker died in the call
+            rows[i] = _crash_row(todo[i], e, out_dir)
+        if progress:
+            wrong = sum(not r["right"] for r in rows.values())
+            sys.stderr.write("\r[%d/%d] cases, %d not right" % (len(rows), len(todo), wrong))
+    return rows
+
+
 def conform(
     extractor: Extractor,
     out_dir: str,
@@ -162,31 +179,8 @@ def conform(
     todo = _qex.conform_cases(list(cases), int(count), int(seed))
     replay = _replay_command(extractor) if replay is None else replay
     checker = shutil.which("qex") or "qex"
-    distributed: Any = importlib.import_module("dask.distributed")  # optional and partly typed
-    cluster = None
-    if scheduler:
-        client = distributed.Client(scheduler)
-    else:
-        cluster = distributed.LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                                           processes=True, dashboard_address=None)
-        client = distributed.Client(cluster)
-    rows: Dict[int, Row] = {}
-    try:
-        futures = {client.submit(run_case, c, extractor, out_dir, timeout, replay, checker, pure=False): i
-                   for i, c in enumerate(todo)}
-        for fut in distributed.as_completed(futures):
-            i = futures[fut]
-            try:
-                rows[i] = fut.result()
-            except Exception as e:  # the worker died in the call
-                rows[i] = _crash_row(todo[i], e, out_dir)
-            if progress:
-                wrong = sum(not r["right"] for r in rows.values())
-                sys.stderr.write("\r[%d/%d] cases, %d not right" % (len(rows), len(todo), wrong))
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    with _dask.client(scheduler, workers) as client:
+        rows = _run_on(client, todo, extractor, out_dir, timeout, replay, checker, progress)
     ordered = [rows[i] for i in range(len(todo))]
     with open(os.path.join(out_dir, "summary.jsonl"), "w") as out:
         for row in ordered:
