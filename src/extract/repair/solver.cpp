@@ -68,12 +68,12 @@ inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std:
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
-    std::vector<double> g, g_new, d(x.size()), x_new(x.size());
+    std::vector<double> g, g_new, d(x.size()), x_new(x.size()), spare_s, spare_y, alpha;
     double f = region_energy(p, x, eps, &g);
     for (int it = 0; it < iterations && std::isfinite(f); ++it) {
         // Two-loop recursion: d = -H g.
         for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
-        std::vector<double> alpha(ss.size());
+        alpha.assign(ss.size(), 0.0);
         for (std::size_t j = ss.size(); j-- > 0;) {
             alpha[j] = rho[j] * dot(ss[j], d);
             for (std::size_t i = 0; i < d.size(); ++i) d[i] -= alpha[j] * ys[j][i];
@@ -111,12 +111,20 @@ inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std:
             }
         }
         if (!accepted) return;
-        std::vector<double> s_k(x.size()), y_k(x.size());
-        for (std::size_t i = 0; i < x.size(); ++i) s_k[i] = x_new[i] - x[i], y_k[i] = g_new[i] - g[i];
-        const double sy = dot(s_k, y_k);
+        // The pair goes into the oldest pair's storage once the history is full (no allocation).
+        if (spare_s.size() != x.size()) spare_s.resize(x.size()), spare_y.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) spare_s[i] = x_new[i] - x[i], spare_y[i] = g_new[i] - g[i];
+        const double sy = dot(spare_s, spare_y);
         if (sy > 1e-300) {
-            if (ss.size() == kHistory) ss.erase(ss.begin()), ys.erase(ys.begin()), rho.erase(rho.begin());
-            ss.push_back(std::move(s_k)), ys.push_back(std::move(y_k)), rho.push_back(1.0 / sy);
+            if (ss.size() == kHistory) {
+                std::rotate(ss.begin(), ss.begin() + 1, ss.end()), std::rotate(ys.begin(), ys.begin() + 1, ys.end());
+                rho.erase(rho.begin());
+                ss.back().swap(spare_s), ys.back().swap(spare_y);
+            } else {
+                ss.push_back(std::move(spare_s)), ys.push_back(std::move(spare_y));
+                spare_s.clear(), spare_y.clear();
+            }
+            rho.push_back(1.0 / sy);
         }
         // A gradient step (the first, or after a restart) does not end the minimisation: near a
         // barrier it can gain little where the steps after it, with a history, gain much.
