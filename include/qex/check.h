@@ -44,4 +44,16 @@ inline MeshCheck check_mesh(const Input& map, const QuadMesh& mesh, const Certif
     return c;
 }
 
+/// qex's own result `mesh` (extracted from `map`, carrying its map) judged on the certificate
+/// `qex extract --certificate` would write beside it, as `qex check --param MAP --certificate`
+/// will judge the two files: the mesh's positions and faces only (both files keep the doubles
+/// exactly). `certificate` is make_certificate(map, mesh). A certificate written is one this
+/// accepts (beside a valid mesh) or that holds against the map (VerifyResult::on_certificate).
+inline MeshCheck check_own_certificate(const Input& map, const QuadMesh& mesh, const Certificate& certificate) {
+    QuadMesh written;
+    written.positions = mesh.positions;
+    written.faces = mesh.faces;
+    return check_mesh(map, written, certificate);
+}
+
 } // namespace qex

@@ -55,12 +55,8 @@ int write_certificate_beside(const ExtractArgs& a, const qex::Input& input, cons
         return kOk;
     }
     const qex::Certificate c = qex::make_certificate(input, result.mesh);
-    // Judged first as `qex check --param MAP --certificate` will judge it, on the mesh as written
-    // (positions and faces; both files keep the doubles exactly): one it rejects is not written.
-    qex::QuadMesh bare;
-    bare.positions = result.mesh.positions;
-    bare.faces = result.mesh.faces;
-    const qex::MeshCheck held = qex::check_mesh(input, bare, c);
+    // Judged first as `qex check --param MAP --certificate` will judge it: one it rejects is not written.
+    const qex::MeshCheck held = qex::check_own_certificate(input, result.mesh, c);
     // A mesh the checker accepted must pass on it; beside a rejected one (--poly, --best-effort)
     // the certificate must still hold against the map.
     if (result.check.valid ? !held.verdict.valid : !held.verdict.on_certificate) {

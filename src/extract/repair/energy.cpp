@@ -265,9 +265,8 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
         p.in[Problem::area * n + t] = s.area;
         p.gdet[t] = s.g00 * s.g11 - s.g01 * s.g10;
     }
-    p.barrier.assign(r.faces.size(), 0);
     for (std::size_t t = 0; t < r.faces.size() && !barrier.empty(); ++t)
-        if ((p.barrier[t] = std::binary_search(barrier.begin(), barrier.end(), r.faces[t])))
+        if (std::binary_search(barrier.begin(), barrier.end(), r.faces[t]))
             p.barrier_triangles.push_back(static_cast<int>(t));
     return p;
 }

@@ -58,10 +58,9 @@ struct Problem {
     std::size_t triangles = 0;
     std::size_t unknowns = 0; ///< 2 per free vertex
     mutable std::vector<double> point, gradient; ///< X and G
-    /// Per triangle: kept positive by a pure barrier (no regularisation), so the opened fan of a
-    /// cone keeps its winding.
-    std::vector<char> barrier;
-    std::vector<int> barrier_triangles; ///< the triangles `barrier` marks, ascending
+    /// The triangles (places in the region's order, ascending) kept positive by a pure barrier (no
+    /// regularisation), so the opened fan of a cone keeps its winding.
+    std::vector<int> barrier_triangles;
     /// The energy's rows, n = triangles long each: what goes in per triangle (its edge vectors
     /// u1 - u0 and u2 - u0 in its chart, the regularisation, its rest shape's inverse edge matrix
     /// and area), and what comes out (its energy and gradient with respect to u1 and u2; that
