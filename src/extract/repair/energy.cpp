@@ -92,8 +92,8 @@ inline __attribute__((always_inline)) void edge_vectors_in_lanes(const Problem::
 
 /// Adds each triangle's gradient into G at its corners' free vertices, in the triangles' order
 /// (the sum's order fixes its bits), rotated back into their charts by a pick and a sign.
-inline __attribute__((always_inline)) void scatter_in_order(const Problem::Corners& pc, const double* __restrict out,
-                                                           double* __restrict G, std::size_t n) {
+void scatter_gradient(const Problem::Corners& pc, const double* __restrict out, double* __restrict G,
+                      std::size_t n) {
     const std::int32_t* __restrict gi = pc.gi.data();
     const std::uint8_t* __restrict swap = pc.swap.data();
     const double *__restrict hx = pc.hx.data(), *__restrict hy = pc.hy.data();
@@ -124,10 +124,6 @@ void edge_vectors(const Problem::Corners& pc, const double* X, double* in, std::
     if (avx2) return edge_vectors_avx2(pc, X, in, n);
 #endif
     edge_vectors_in_lanes(pc, X, in, n);
-}
-
-void scatter_gradient(const Problem::Corners& pc, const double* out, double* G, std::size_t n) {
-    scatter_in_order(pc, out, G, n);
 }
 
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
