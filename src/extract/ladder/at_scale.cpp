@@ -138,8 +138,9 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
     if (rungs > first + 1 && may_need_later_rungs(m)) base.emplace(m);
     Standing st;
     Result attempt = start_attempt(prepared.report, first, 1);
-    if (!run_rung(std::move(m), input, options, kLadder[first], attempt, scale)) return attempt;
-    judge(input, options, kLadder[first], {}, attempt);
+    bool judged = false;
+    if (!run_rung(std::move(m), input, options, kLadder[first], attempt, scale, &judged)) return attempt;
+    if (!judged) judge(input, options, kLadder[first], {}, attempt);
     prepared.report.stage_seconds.clear(); // in the first attempt's, which the totals take
     // A repair that changed nothing had the map as given: the as-given rung would repeat it.
     const bool as_given = kLadder[first].untangle_rings == 0 && attempt.report.repaired_triangles == 0;

@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace qex::detail {
 
@@ -74,18 +76,40 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
+/// The mesh the repair's look judged enough, and the map it was made from: the rung's own
+/// extraction and verdict, which the rung takes instead of making them again when its map is
+/// still that one (the repair stops at such a look, so it is).
+struct LookedMesh {
+    std::vector<Point2> uv;
+    MapState map;
+    Result result; ///< its report holds what the extraction and the checker said, nothing else
+};
+
 /// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
 /// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
-/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the vertices
-/// round where it lost them (place_vertices).
+/// signed UV area (`report`'s), and then kept in `looked`; when it has fewer and its extraction
+/// no defect, the vertices round where it lost them (place_vertices).
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report);
+                       const Rung& rung, const Report& report, std::optional<LookedMesh>& looked);
+
+/// The output's faces from the face walks: in canonical order when the options ask for it (the
+/// defects that name an output face renumbered with them), else as walked.
+void order_faces(const Options& options, FaceWalks faces, Result& result) {
+    if (options.canonical_order) {
+        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
+        for (Defect& d : result.report.defects)
+            if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
+    } else {
+        set_faces(result.mesh, faces);
+    }
+}
 
 /// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
 /// triangles whose UVs the repair changed. `scale`: the attempt's refinement factor (solver
 /// noise is that many times the map's own) and the repair kept for its refinements.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer, std::vector<int>& repaired_faces, const AtScale& scale = {}) {
+                  StageTimer& timer, std::vector<int>& repaired_faces, std::optional<LookedMesh>& looked,
+                  const AtScale& scale = {}) {
     m.noise_scale = static_cast<double>(scale.factor);
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
@@ -108,7 +132,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
         const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
-            return look_so_far(so_far, outcome, input, options, rung, report);
+            return look_so_far(so_far, outcome, input, options, rung, report, looked);
         };
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
@@ -127,6 +151,31 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
 
 // ============================================================================ a rung's stages
 
+/// The rung's result from the mesh its repair's look judged enough: the mesh, the verdict, and
+/// what the extraction and the checker reported, after what the rung's own stages reported (as
+/// if they had run), their times moved out of the repair's.
+void take_looked(Result looked, Result& result) {
+    Report &to = result.report, &from = looked.report;
+    for (const auto& [name, seconds] : from.stage_seconds)
+        for (auto& [stage, total] : to.stage_seconds)
+            if (stage == "repair") total -= seconds;
+    add_stage_seconds(from, to);
+    to.qvertices_on_vertices = from.qvertices_on_vertices, to.qvertices_on_edges = from.qvertices_on_edges;
+    to.qvertices_in_faces = from.qvertices_in_faces, to.ports = from.ports, to.traces = from.traces;
+    to.traces_connected = from.traces_connected, to.traces_failed = from.traces_failed;
+    to.traces_into_boundary = from.traces_into_boundary, to.faces_traced = from.faces_traced;
+    to.orientation_flips_crossed = from.orientation_flips_crossed, to.open_face_walks = from.open_face_walks;
+    to.non_quad_faces = from.non_quad_faces, to.collapsed_faces = from.collapsed_faces;
+    to.recovered_edges = from.recovered_edges, to.merged_qvertices = from.merged_qvertices;
+    to.ghost_faces_cancelled = from.ghost_faces_cancelled;
+    to.near_ghost_faces_cancelled = from.near_ghost_faces_cancelled;
+    to.boundary_faces_discarded = from.boundary_faces_discarded, to.check_violations = from.check_violations;
+    to.defects.insert(to.defects.end(), from.defects.begin(), from.defects.end());
+    to.explanations.insert(to.explanations.end(), from.explanations.begin(), from.explanations.end());
+    result.mesh = std::move(looked.mesh);
+    result.check = std::move(looked.check);
+}
+
 /// The repair's certificate: the triangles it changed (working indices), by input index, sorted.
 std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int>& repaired_faces) {
     std::vector<std::int32_t> certificate;
@@ -138,29 +187,33 @@ std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int
 // ============================================================================ the repair's look before its last ring
 
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report) {
+                       const Rung& rung, const Report& report, std::optional<LookedMesh>& looked) {
     Result attempt;
     attempt.report.signed_uv_area = report.signed_uv_area;
     StageTimer timer(attempt.report);
     FaceWalks faces;
     if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
-    set_faces(attempt.mesh, faces);
     const std::int64_t area = std::llround(report.signed_uv_area);
-    const auto quads = static_cast<std::int64_t>(attempt.mesh.faces.size());
+    const auto quads = static_cast<std::int64_t>(faces.size());
     // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
     // the last ring goes everywhere.
     if (quads > area || !attempt.report.defects.empty()) return {};
     RepairLook look;
     if (quads == area) {
+        // Made and judged as the rung's own mesh would be.
         attempt.mesh.map_uvs = map_of(m, input);
         attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
+        order_faces(options, std::move(faces), attempt);
+        timer.done(Stage::canonicalize);
         judge(input, options, rung, {}, attempt);
         look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
+        if (look.enough) looked = LookedMesh{m.uv, m.map, std::move(attempt)};
         return look;
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
     // that names none sends the last ring everywhere). Not judged here (the checker's memory on
     // top of the repair's would raise the peak); the rung's mesh is judged as ever.
+    set_faces(attempt.mesh, faces);
     std::vector<int> working(input.triangles.size(), -1);
     for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
     for (const Defect& d : attempt.report.explanations) {
@@ -185,26 +238,27 @@ Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Repor
 }
 
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
-              const AtScale& scale) {
+              const AtScale& scale, bool* judged) {
     Report& report = result.report;
     StageTimer timer(report);
     std::vector<int> repaired_faces;
-    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, scale)).code !=
+    std::optional<LookedMesh> looked;
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, looked, scale)).code !=
         ErrorCode::None)
         return false;
-    std::vector<std::int32_t> certificate = certificate_of(m, repaired_faces);
     if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
+    if (judged && looked && looked->uv == m.uv && looked->map == m.map) {
+        take_looked(std::move(looked->result), result);
+        *judged = true;
+        return true;
+    }
+    looked.reset();
+    std::vector<std::int32_t> certificate = certificate_of(m, repaired_faces);
     FaceWalks faces;
     if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) return false;
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
-    if (options.canonical_order) {
-        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
-        for (Defect& d : report.defects)
-            if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
-    } else {
-        set_faces(result.mesh, faces);
-    }
+    order_faces(options, std::move(faces), result);
     timer.done(Stage::canonicalize);
     return true;
 }
@@ -262,7 +316,9 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
     if (prepare_mesh(input, options, m, own).code != ErrorCode::None) return false;
     StageTimer timer(own);
     std::vector<int> unused;
-    const bool ok = prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused).code == ErrorCode::None;
+    std::optional<LookedMesh> looked;
+    const bool ok =
+        prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused, looked).code == ErrorCode::None;
     add_stage_seconds(own, report);
     return ok;
 }

@@ -53,9 +53,10 @@ static_assert(!kLadder[kAsGiven].repair && kLadder[kAsGiven].untangle_rings == 0
 Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Report& report);
 
 /// One rung on the validated, collapsed mesh `m`, up to stage canonicalize. Returns false on an
-/// input error (in result.error), which no rung can help.
+/// input error (in result.error), which no rung can help. With `judged`, the rung may end judged
+/// as well (then *judged is set): where its repair's look made and judged its mesh already.
 bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung& rung, Result& result,
-              const AtScale& scale);
+              const AtScale& scale, bool* judged = nullptr);
 
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh
 /// (mended where it is rejected). A relaxed rung's mesh is moved onto `given_map` first.
