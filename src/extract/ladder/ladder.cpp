@@ -153,7 +153,8 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
 
 /// The rung's result from the mesh its repair's look judged enough: the mesh, the verdict, and
 /// what the extraction and the checker reported, after what the rung's own stages reported (as
-/// if they had run), their times moved out of the repair's.
+/// if they had run), their times moved out of the repair's. The extraction's report fields are
+/// named one by one: a field the extraction stages gain must be added here.
 void take_looked(Result looked, Result& result) {
     Report &to = result.report, &from = looked.report;
     for (const auto& [name, seconds] : from.stage_seconds)
