@@ -90,24 +90,17 @@ inline __attribute__((always_inline)) void edge_vectors_in_lanes(const Problem::
     }
 }
 
-/// Adds each triangle's gradient into G at its corners' free vertices, in the triangles' order
-/// (the sum's order fixes its bits), rotated back into their charts by a pick and a sign.
-void scatter_gradient(const Problem::Corners& pc, const double* __restrict out, double* __restrict G,
-                      std::size_t n) {
-    const std::int32_t* __restrict gi = pc.gi.data();
-    const std::uint8_t* __restrict swap = pc.swap.data();
-    const double *__restrict hx = pc.hx.data(), *__restrict hy = pc.hy.data();
-    for (std::size_t t = 0; t < n; ++t) {
-        const double da0 = out[Problem::da0 * n + t], da1 = out[Problem::da1 * n + t];
-        const double db0 = out[Problem::db0 * n + t], db1 = out[Problem::db1 * n + t];
-        // As the sums into a zero gradient were: 0 - (da + db), 0 + da, 0 + db.
-        const double gx[3] = {0.0 - (da0 + db0), 0.0 + da0, 0.0 + db0};
-        const double gy[3] = {0.0 - (da1 + db1), 0.0 + da1, 0.0 + db1};
-        for (std::size_t k = 0, c = 3 * t; k < 3; ++k, ++c) {
-            const bool s = swap[c] != 0;
-            G[gi[c]] += hx[c] * (s ? gy[k] : gx[k]);
-            G[gi[c] + 1] += hy[c] * (s ? gx[k] : gy[k]);
-        }
+/// The gradient per unknown, gathered from the triangles' rows in their order (Problem::Gather):
+/// the sums the scatter into a zero gradient made, term by term, so the same bits (a zero's sign
+/// aside, which no sum from +0.0 keeps).
+void gather_gradient(const Problem::Gather& pg, const double* __restrict out, double* __restrict g,
+                     std::size_t unknowns) {
+    const std::int32_t *__restrict first = pg.first.data(), *__restrict from = pg.from.data();
+    const double* __restrict sign = pg.sign.data();
+    for (std::size_t j = 0; j < unknowns; ++j) {
+        double sum = 0.0;
+        for (std::int32_t k = first[j]; k < first[j + 1]; ++k) sum += sign[k] * out[from[k]];
+        g[j] = sum;
     }
 }
 
@@ -124,6 +117,27 @@ void edge_vectors(const Problem::Corners& pc, const double* X, double* in, std::
     if (avx2) return edge_vectors_avx2(pc, X, in, n);
 #endif
     edge_vectors_in_lanes(pc, X, in, n);
+}
+
+/// One term of the gradient: unknown += sign * out[from].
+struct GradientTerm {
+    std::int32_t unknown, from;
+    double sign;
+};
+
+/// The terms by unknown, each unknown's in their order (a counting sort keeps it).
+Problem::Gather by_unknown(const std::vector<GradientTerm>& terms, std::size_t unknowns) {
+    Problem::Gather pg;
+    pg.first.assign(unknowns + 1, 0);
+    for (const GradientTerm& term : terms) ++pg.first[static_cast<std::size_t>(term.unknown) + 1];
+    for (std::size_t j = 0; j < unknowns; ++j) pg.first[j + 1] += pg.first[j];
+    pg.from.resize(terms.size()), pg.sign.resize(terms.size());
+    std::vector<std::int32_t> at(pg.first.begin(), pg.first.end() - 1);
+    for (const GradientTerm& term : terms) {
+        const auto k = static_cast<std::size_t>(at[static_cast<std::size_t>(term.unknown)]++);
+        pg.from[k] = term.from, pg.sign[k] = term.sign;
+    }
+    return pg;
 }
 
 /// The corner a triangle's rest shape starts at: its smallest 3D position (then UV), so that
@@ -210,9 +224,13 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     p.triangles = n;
     p.unknowns = 2 * r.fans.size();
     Problem::Corners& pc = p.corners;
-    for (auto* v : {&pc.ix, &pc.iy, &pc.gi}) v->resize(3 * n);
-    for (auto* v : {&pc.sx, &pc.sy, &pc.tx, &pc.ty, &pc.hx, &pc.hy}) v->resize(3 * n);
-    pc.swap.resize(3 * n);
+    for (auto* v : {&pc.ix, &pc.iy}) v->resize(3 * n);
+    for (auto* v : {&pc.sx, &pc.sy, &pc.tx, &pc.ty}) v->resize(3 * n);
+    // The gradient's terms in the order of the triangles and their corners.
+    std::vector<GradientTerm> terms;
+    terms.reserve(6 * n);
+    constexpr std::size_t kRowX[3] = {Problem::dc0, Problem::da0, Problem::db0};
+    constexpr std::size_t kRowY[3] = {Problem::dc1, Problem::da1, Problem::db1};
     std::vector<double> fixed;
     for (std::size_t t = 0; t < n; ++t) {
         const int b = rest[t].base;
@@ -224,10 +242,8 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
                 pc.ix[c] = static_cast<std::int32_t>(p.unknowns + fixed.size());
                 pc.iy[c] = pc.ix[c] + 1;
                 fixed.push_back(m.uv[order[k]][0]), fixed.push_back(m.uv[order[k]][1]);
-                pc.sx[c] = pc.sy[c] = pc.hx[c] = pc.hy[c] = 1.0;
+                pc.sx[c] = pc.sy[c] = 1.0;
                 pc.tx[c] = pc.ty[c] = -0.0;
-                pc.gi[c] = static_cast<std::int32_t>(p.unknowns);
-                pc.swap[c] = 0;
                 continue;
             }
             // GridAutomorphism::rotate by r: (x, y), (-y, x), (-x, -y), (y, -x); then + t.
@@ -238,17 +254,20 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
             pc.sx[c] = rot == 1 || rot == 2 ? -1.0 : 1.0;
             pc.sy[c] = rot == 2 || rot == 3 ? -1.0 : 1.0;
             pc.tx[c] = static_cast<double>(to.tx), pc.ty[c] = static_cast<double>(to.ty);
-            // Back by (4 - r) & 3.
+            // The gradient back into the vertex's chart, by (4 - r) & 3: x from the row of
+            // component `swap`, y from the other, each with its sign.
             const int back = (4 - rot) & 3;
-            pc.gi[c] = 2 * slot;
-            pc.swap[c] = static_cast<std::uint8_t>(back & 1);
-            pc.hx[c] = back == 1 || back == 2 ? -1.0 : 1.0;
-            pc.hy[c] = back == 2 || back == 3 ? -1.0 : 1.0;
+            const bool swap = (back & 1) != 0;
+            const auto row = [&](bool y) {
+                return static_cast<std::int32_t>((y ? kRowY[k] : kRowX[k]) * n + t);
+            };
+            terms.push_back({2 * slot, row(swap), back == 1 || back == 2 ? -1.0 : 1.0});
+            terms.push_back({2 * slot + 1, row(!swap), back == 2 || back == 3 ? -1.0 : 1.0});
         }
     }
     p.point.resize(p.unknowns + fixed.size());
     std::copy(fixed.begin(), fixed.end(), p.point.begin() + static_cast<std::ptrdiff_t>(p.unknowns));
-    p.gradient.resize(p.unknowns + 2);
+    p.gather = by_unknown(terms, p.unknowns);
     for (const FreeFan& fan : r.fans)
         for (const int c : fan.corners) corner_slot[c] = -1;
     p.in.resize(Problem::in_rows * n);
@@ -297,10 +316,14 @@ double region_energy(const Problem& p, const std::vector<double>& x, double eps,
     double energy = 0.0;
     for (std::size_t t = 0; t < n; ++t) energy += out[Problem::energy * n + t];
     if (!grad) return energy;
-    double* G = p.gradient.data();
-    std::fill(p.gradient.begin(), p.gradient.end(), 0.0);
-    scatter_gradient(p.corners, out, G, n);
-    std::copy(G, G + p.unknowns, grad->begin());
+    // The gradient with respect to u0, in a loop of its own (in the energy's loop it kept that
+    // loop out of vector lanes).
+    double* dc = p.out.data();
+    for (std::size_t t = 0; t < n; ++t) {
+        dc[Problem::dc0 * n + t] = -(out[Problem::da0 * n + t] + out[Problem::db0 * n + t]);
+        dc[Problem::dc1 * n + t] = -(out[Problem::da1 * n + t] + out[Problem::db1 * n + t]);
+    }
+    gather_gradient(p.gather, out, grad->data(), p.unknowns);
     return energy;
 }
 

@@ -42,31 +42,35 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
 /// triangle by triangle independent, runs in vector lanes.
 struct Problem {
     /// Per corner (3 per triangle, from its rest shape's base on), how its UV is read from the
-    /// point X (the free vertices' UVs, then the fixed corners' UVs) and its gradient written to
-    /// G (the free vertices' gradient, then two slots nobody reads), with no branch: the rotation
+    /// point X (the free vertices' UVs, then the fixed corners' UVs), with no branch: the rotation
     /// as a pick and a sign (-1.0 * v is -v, 1.0 * v is v), the translation added (-0.0 for a
     /// fixed corner: v + -0.0 is v, zeros' signs included).
     struct Corners {
         std::vector<std::int32_t> ix, iy; ///< u = (sx X[ix] + tx, sy X[iy] + ty)
         std::vector<double> sx, sy, tx, ty;
-        /// Its gradient g back in its free vertex's chart: G[gi] += hx g[swap], G[gi + 1] += hy g[1 - swap].
-        std::vector<std::int32_t> gi;
-        std::vector<std::uint8_t> swap;
-        std::vector<double> hx, hy;
     };
     Corners corners;
+    /// The gradient as gathered per unknown: unknown j sums sign[k] * out[from[k]] for k from
+    /// first[j] to first[j + 1], in the order of the triangles and their corners (so its bits
+    /// depend on nothing else); `from` names a row of `out` and a triangle. A fixed corner's
+    /// gradient goes nowhere.
+    struct Gather {
+        std::vector<std::int32_t> first, from;
+        std::vector<double> sign;
+    };
+    Gather gather;
     std::size_t triangles = 0;
     std::size_t unknowns = 0; ///< 2 per free vertex
-    mutable std::vector<double> point, gradient; ///< X and G
+    mutable std::vector<double> point; ///< X
     /// The triangles (places in the region's order, ascending) kept positive by a pure barrier (no
     /// regularisation), so the opened fan of a cone keeps its winding.
     std::vector<int> barrier_triangles;
     /// The energy's rows, n = triangles long each: what goes in per triangle (its edge vectors
     /// u1 - u0 and u2 - u0 in its chart, the regularisation, its rest shape's inverse edge matrix
-    /// and area), and what comes out (its energy and gradient with respect to u1 and u2; that
-    /// with respect to u0 is -(da + db)).
+    /// and area), and what comes out (its energy and gradient with respect to u1 (da), u2 (db)
+    /// and u0 (dc = -(da + db))).
     enum In : std::size_t { a0, a1, b0, b1, eps, g00, g01, g10, g11, area, in_rows };
-    enum Out : std::size_t { energy, da0, da1, db0, db1, out_rows };
+    enum Out : std::size_t { energy, da0, da1, db0, db1, dc0, dc1, out_rows };
     mutable std::vector<double> in, out; ///< row by row (structure of arrays)
     std::vector<double> gdet;            ///< per triangle: the inverse edge matrix's determinant
 };
