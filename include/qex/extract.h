@@ -298,6 +298,12 @@ struct Report {
     /// or degenerate (UV area <= 0) after it.
     std::int64_t repaired_regions = 0, repaired_triangles = 0, unrepaired_regions = 0;
     std::int64_t flipped_after_repair = 0;
+    /// Of the explanations that removed faces (FaceCollapsed, GhostFacesCancelled,
+    /// BoundaryFaceDiscarded) on a rung that repairs: those next to a fold-over the repair left
+    /// with a proof that no fold-free map of its region exists (a proof among the explanations
+    /// backs it), and the others (next to a fold-over the repair failed on, or to none). Each such
+    /// explanation's message says which, and names the fold-over.
+    std::int64_t losses_proved = 0, losses_not_proved = 0;
     /// Last-resort rungs: output vertices that found no preimage of their grid point in the
     /// given map (they stay where the relaxed map put them, and the checker rejects them).
     std::int64_t unplaced_vertices = 0;

@@ -137,7 +137,9 @@ nlohmann::json report_object(const Report& r) {
     j["repair"] = {{"repaired_regions", r.repaired_regions},
                    {"repaired_triangles", r.repaired_triangles},
                    {"unrepaired_regions", r.unrepaired_regions},
-                   {"flipped_after_repair", r.flipped_after_repair}};
+                   {"flipped_after_repair", r.flipped_after_repair},
+                   {"losses_proved", r.losses_proved},
+                   {"losses_not_proved", r.losses_not_proved}};
     j["defects"] = nlohmann::json::array();
     for (const auto& d : r.defects) j["defects"].push_back(defect_json(d));
     j["explanations"] = nlohmann::json::array();

@@ -109,7 +109,7 @@ void order_faces(const Options& options, FaceWalks faces, Result& result) {
 /// noise is that many times the map's own) and the repair kept for its refinements.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
                   StageTimer& timer, std::vector<int>& repaired_faces, std::optional<LookedMesh>& looked,
-                  const AtScale& scale = {}) {
+                  FoldsLeft& folds, const AtScale& scale = {}) {
     m.noise_scale = static_cast<double>(scale.factor);
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
@@ -137,6 +137,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
         explain_unrepaired(m, outcome, report);
+        folds = folds_left(m, outcome);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
@@ -244,12 +245,14 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     StageTimer timer(report);
     std::vector<int> repaired_faces;
     std::optional<LookedMesh> looked;
-    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, looked, scale)).code !=
-        ErrorCode::None)
+    FoldsLeft folds;
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, looked, folds, scale))
+            .code != ErrorCode::None)
         return false;
     if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     if (judged && looked && looked->uv == m.uv && looked->map == m.map) {
         take_looked(std::move(looked->result), result);
+        name_losses(m, folds, report);
         *judged = true;
         return true;
     }
@@ -257,6 +260,7 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     std::vector<std::int32_t> certificate = certificate_of(m, repaired_faces);
     FaceWalks faces;
     if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) return false;
+    name_losses(m, folds, report);
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     order_faces(options, std::move(faces), result);
@@ -318,8 +322,9 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
     StageTimer timer(own);
     std::vector<int> unused;
     std::optional<LookedMesh> looked;
+    FoldsLeft folds;
     const bool ok =
-        prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused, looked).code == ErrorCode::None;
+        prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused, looked, folds).code == ErrorCode::None;
     add_stage_seconds(own, report);
     return ok;
 }

@@ -1,6 +1,6 @@
-// The rungs of the fallback ladder, for the two files that run them: ladder.cpp (a rung's map,
-// stages and verdict) and at_scale.cpp (the ladder at one scale: which rungs run, in what order,
-// and which mesh stands).
+// The rungs of the fallback ladder, for the files that run them: ladder.cpp (a rung's map,
+// stages and verdict), at_scale.cpp (the ladder at one scale: which rungs run, in what order,
+// and which mesh stands) and losses.cpp (which lost faces a proof backs).
 #pragma once
 
 #include "ladder.h"
@@ -48,6 +48,22 @@ inline constexpr Rung kLadder[] = {
 /// map the relaxed rungs' meshes are moved onto and coarsening divides.
 inline constexpr int kAsGiven = 1;
 static_assert(!kLadder[kAsGiven].repair && kLadder[kAsGiven].untangle_rings == 0, "the map as given");
+
+/// The fold-overs a rung's repair left: per working triangle its fold-over (-1: none), and per
+/// fold-over its smallest input triangle and whether a proof backs it (RepairOutcome::Unrepaired).
+/// Empty when the rung did not repair.
+struct FoldsLeft {
+    std::vector<int> group_of, first;
+    std::vector<char> proved;
+};
+
+/// The fold-overs `outcome` left on m.
+FoldsLeft folds_left(const TriMesh& m, const RepairOutcome& outcome);
+
+/// Each explanation in `report` that removed faces, matched to the fold-over left nearest it
+/// (within the repair's largest ring): its message names that fold-over and says whether a proof
+/// backs it, and Report::losses_proved or losses_not_proved counts it.
+void name_losses(const TriMesh& m, const FoldsLeft& folds, Report& report);
 
 /// Stages validate and collapse (Section 3): the input's, before any rung changes the map.
 Error prepare_mesh(const Input& input, const Options& options, TriMesh& m, Report& report);

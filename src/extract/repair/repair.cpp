@@ -275,6 +275,26 @@ void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_giv
     }
 }
 
+/// Whether failure f is named as a proof (outcome_of): a rim short of its singularity's angle,
+/// or a room certificate's refusal with figures that prove it.
+bool names_proof(const TriMesh& m, const RegionFailure& f) {
+    return (f.why == RegionFailure::Why::RimShort && f.winds < f.target && m.fan_start[f.cone] >= 0) ||
+           ((f.why == RegionFailure::Why::NoRoom || f.why == RegionFailure::Why::AreaNotPositive) &&
+            f.first_face >= 0);
+}
+
+/// Whether a proof named for some fold-over holds for the one of `group` (a vertex of it was in a
+/// region so proved, as FailureLog::proofs finds them, whichever fold-over names it first).
+bool backed_by_proof(const TriMesh& m, const FailureLog& log, const std::vector<int>& group) {
+    for (const std::vector<int>* of : {&log.proof_of, &log.room_proof_of})
+        for (const int f : group)
+            for (const int v : m.tri[f])
+                if (const int p = (*of)[static_cast<std::size_t>(v)];
+                    p >= 0 && names_proof(m, log.failures[static_cast<std::size_t>(p)]))
+                    return true;
+    return false;
+}
+
 /// The stage's outcome: the certificate's region (every triangle whose UVs differ from the
 /// sanitized map) and how many groups it forms, and the fold-overs left, each with why; updates
 /// MapState::face_sign.
@@ -291,12 +311,14 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
     out.regions_repaired = static_cast<std::int64_t>(triangle_groups(m, out.repaired_faces).size());
     for (auto& group : triangle_groups(m, stuck)) {
         // A flipped triangle between three singularities: none of its corners moves.
+        const std::size_t before = out.proofs.size();
         for (const int f : group)
             if (m.map.face_sign[f] < 0 && m.map.singular[m.tri[f][0]] && m.map.singular[m.tri[f][1]] &&
                 m.map.singular[m.tri[f][2]])
                 out.proofs.push_back({DefectKind::FoldPinnedBySingularities, f});
-        out.unrepaired.push_back(
-            {std::move(group), "all its corners are singular, boundary or feature vertices, which stay fixed"});
+        out.unrepaired.push_back({std::move(group),
+                                  "all its corners are singular, boundary or feature vertices, which stay fixed",
+                                  out.proofs.size() > before});
     }
     std::vector<char> seen;
     for (const auto& group : triangle_groups(m, seeds_faces)) {
@@ -307,17 +329,18 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         // other preimage of the point inside (a rim turning more proves nothing).
         for (const int p : proved) {
             const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
-            if (f.why == RegionFailure::Why::RimShort && f.winds < f.target && m.fan_start[f.cone] >= 0)
+            if (!names_proof(m, f)) continue;
+            if (f.why == RegionFailure::Why::RimShort)
                 out.proofs.push_back(
                     {DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
-            else if (f.why == RegionFailure::Why::NoRoom && f.first_face >= 0)
+            else if (f.why == RegionFailure::Why::NoRoom)
                 out.proofs.push_back({DefectKind::AnglesLeaveNoRoom, f.first_face, 0, 0, f.radius, f.triangles, f.cone,
                                       f.corners, f.singularities, f.amount});
-            else if (f.why == RegionFailure::Why::AreaNotPositive && f.first_face >= 0)
+            else
                 out.proofs.push_back({DefectKind::RegionAreaNotPositive, f.first_face, 0, 0, f.radius, f.triangles, -1,
                                       0, f.singularities, f.amount, f.faces});
         }
-        out.unrepaired.push_back({group, log.reason(m, group)});
+        out.unrepaired.push_back({group, log.reason(m, group), backed_by_proof(m, log, group)});
     }
     return out;
 }

@@ -19,10 +19,12 @@ struct TriMesh;
 struct RepairOutcome {
     std::vector<int> repaired_faces;
     std::int64_t regions_repaired = 0;
-    /// A fold-over left as the map gives it: its triangles (working indices), and why.
+    /// A fold-over left as the map gives it: its triangles (working indices), why, and whether a
+    /// proof in `proofs` backs it (otherwise the repair failed there: its untangler, its budget).
     struct Unrepaired {
         std::vector<int> triangles;
         std::string why;
+        bool proved = false;
     };
     std::vector<Unrepaired> unrepaired;
     /// What proves that a fold-over left stays with the singularities at their grid points, each
