@@ -8,6 +8,7 @@
 #include "qex/report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -179,6 +180,13 @@ int run_extract(const ExtractArgs& a) {
                   << " seams no grid transition relates were rounded (--round-seams); the first: " << first->message
                   << "\n";
     }
+    // Fewer quads than the area: how many of the places that removed faces a proof backs.
+    const auto quads = static_cast<long long>(result.mesh.faces.size());
+    if (!a.quiet && r.losses_proved + r.losses_not_proved > 0 && quads < std::llround(r.signed_uv_area))
+        std::cerr << "qex: " << a.in_path << ": faces were removed at " << r.losses_proved + r.losses_not_proved
+                  << " places: " << r.losses_proved << " next to fold-overs a proof shows no fold-free map of, "
+                  << r.losses_not_proved << " elsewhere (where the repair failed, or no fold-over is left); "
+                  << "each is named in the report's explanations\n";
     if (!a.quiet)
         std::printf(
             "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
