@@ -32,6 +32,25 @@ TEST(Predicates, Orient2dMatchesExactRationals) {
     }
 }
 
+TEST(Predicates, Orient2dFilterHoldsAtEveryScale) {
+    // The double-precision filter must leave to CGAL every case it cannot decide: near-collinear
+    // points scaled from 2^-1000 (products that underflow) to 2^50 (near the 2^52 inputs may
+    // reach), translated far from the origin, and with exactly collinear and repeated points.
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 40000; ++i) {
+        const double scale = std::ldexp(1.0, static_cast<int>(rng() % 1051) - 1000);
+        const double shift = i % 3 == 0 ? 0.0 : std::ldexp(u(rng), static_cast<int>(rng() % 52));
+        Point2 a{shift + scale * u(rng), shift + scale * u(rng)}, b{shift + scale * u(rng), shift + scale * u(rng)};
+        const double t = u(rng) * 3;
+        Point2 c{a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+        if (i % 5 == 1) c = a;
+        for (int k = 0; k < (i % 3); ++k) c[k % 2] = std::nextafter(c[k % 2], i % 2 ? 1e300 : -1e300);
+        ASSERT_EQ(sign(orient2d(a, b, c)), exact_orient(a, b, c)) << i;
+        ASSERT_EQ(orient2d(a, b, c), orient2d_exact(a, b, c)) << i;
+    }
+}
+
 TEST(Predicates, SegmentAndTriangleTests) {
     const Point2 a{0, 0}, b{1, 0};
     EXPECT_FALSE(segment_hits_half_open({0, -1}, {0, 1}, a, b)); // only at a: excluded

@@ -19,7 +19,7 @@ KPoint k(const Point2& p) { return KPoint(p[0], p[1]); }
 bool between(double x, double lo, double hi) { return std::min(lo, hi) <= x && x <= std::max(lo, hi); }
 } // namespace
 
-Orientation orient2d(const Point2& a, const Point2& b, const Point2& c) {
+Orientation orient2d_exact(const Point2& a, const Point2& b, const Point2& c) {
     switch (CGAL::orientation(k(a), k(b), k(c))) {
         case CGAL::LEFT_TURN: return Orientation::Positive;
         case CGAL::RIGHT_TURN: return Orientation::Negative;

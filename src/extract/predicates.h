@@ -10,8 +10,36 @@ using Point2 = std::array<double, 2>;
 
 enum class Orientation : signed char { Negative = -1, Collinear = 0, Positive = 1 };
 
-/// Sign of det(b - a, c - a), exactly.
-Orientation orient2d(const Point2& a, const Point2& b, const Point2& c);
+/// Sign of det(b - a, c - a), exactly, by CGAL's filtered predicate.
+Orientation orient2d_exact(const Point2& a, const Point2& b, const Point2& c);
+
+/// Sign of det(b - a, c - a), exactly. The determinant in doubles decides wherever its rounding
+/// error, bounded as Shewchuk bounds it (Adaptive Precision Floating-Point Arithmetic, 1997: his
+/// first error bound, (3 + 16 eps) eps of the two products' magnitudes), cannot change its sign;
+/// elsewhere, and where the products could have underflowed, CGAL decides. The differences'
+/// signs are exact (a rounded difference is zero only when it is), so products of opposite signs
+/// decide at once.
+inline Orientation orient2d(const Point2& a, const Point2& b, const Point2& c) {
+    const double left = (a[0] - c[0]) * (b[1] - c[1]), right = (a[1] - c[1]) * (b[0] - c[0]);
+    const double det = left - right;
+    double sum;
+    if (left > 0.0) {
+        if (right <= 0.0) return det > 0.0 ? Orientation::Positive : orient2d_exact(a, b, c);
+        sum = left + right;
+    } else if (left < 0.0) {
+        if (right >= 0.0) return det < 0.0 ? Orientation::Negative : orient2d_exact(a, b, c);
+        sum = -left - right;
+    } else {
+        return orient2d_exact(a, b, c);
+    }
+    // 2^-53 (3 + 16 2^-53); sums below 2^-900 may hold underflowed products.
+    constexpr double kBound = (3.0 + 16.0 * 0x1p-53) * 0x1p-53;
+    if (sum > 0x1p-900) {
+        if (det > kBound * sum) return Orientation::Positive;
+        if (-det > kBound * sum) return Orientation::Negative;
+    }
+    return orient2d_exact(a, b, c);
+}
 
 inline int sign(Orientation o) { return static_cast<int>(o); }
 
