@@ -1,6 +1,8 @@
-// Each explanation that removed faces says whether a proof backs the fold-over next to it (a
-// valid mesh stays valid either way): counted once, naming a fold-over the report explains, and
-// both kinds found on a map that has both.
+// What the report says of a repaired map's losses and of the mesh the repair's look made. Each
+// explanation that removed faces says whether a proof backs the fold-over next to it (a valid
+// mesh stays valid either way): counted once, naming a fold-over the report explains, and both
+// kinds found on a map that has both. A rung that takes its look's mesh reports what that
+// mesh's extraction did.
 #include "transform_checks.h"
 
 #include <gtest/gtest.h>
@@ -64,6 +66,36 @@ TEST(Losses, NoRepairNoCount) {
     const Result r = extract(in, o);
     ASSERT_TRUE(r.ok()) << r.error.message;
     EXPECT_EQ(r.report.losses_proved + r.report.losses_not_proved, 0);
+}
+
+TEST(RepairLook, TheLooksMeshReportsWhatItsExtractionDid) {
+    // duck_miq_16: the repair stops at its look before the last ring, and the rung takes the
+    // look's mesh and what its extraction reported (ladder.cpp, take_looked, which names those
+    // fields one by one). The map the mesh carries, extracted as given, reports the same.
+    Input in;
+    if (const std::string why = read_real_map("paper", "duck_miq_16", in); !why.empty()) GTEST_SKIP() << why;
+    const Result r = extract(in, Options{});
+    ASSERT_TRUE(r.ok()) << r.error.message;
+    Input again = in;
+    again.uvs = r.mesh.map_uvs;
+    Options o;
+    o.repair_fold_overs = false;
+    o.fallback_ladder = false;
+    const Result s = extract(again, o);
+    ASSERT_TRUE(s.ok()) << s.error.message;
+    EXPECT_EQ(s.mesh.faces.size(), r.mesh.faces.size());
+    const Report &a = r.report, &b = s.report;
+    EXPECT_EQ(a.qvertices_on_vertices, b.qvertices_on_vertices);
+    EXPECT_EQ(a.qvertices_on_edges, b.qvertices_on_edges);
+    EXPECT_EQ(a.qvertices_in_faces, b.qvertices_in_faces);
+    EXPECT_EQ(a.ports, b.ports);
+    EXPECT_EQ(a.traces, b.traces);
+    EXPECT_EQ(a.traces_connected, b.traces_connected);
+    EXPECT_EQ(a.faces_traced, b.faces_traced);
+    EXPECT_EQ(a.merged_qvertices, b.merged_qvertices);
+    EXPECT_EQ(a.collapsed_faces, b.collapsed_faces);
+    EXPECT_EQ(a.recovered_edges, b.recovered_edges);
+    EXPECT_GT(a.ports, 0);
 }
 
 } // namespace
