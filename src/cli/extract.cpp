@@ -116,6 +116,32 @@ int reject(const ExtractArgs& a, const qex::Input& input, const qex::Result& res
     return kInvalidOutput;
 }
 
+/// What stderr says of a written mesh beside its line: a refined or coarsened scale, seams
+/// rounded (both said even with -q: the quads or the map differ from the map as given), and with
+/// fewer quads than the area, how many of the places that removed faces a proof backs.
+void say_what_the_map_needed(const ExtractArgs& a, const qex::Result& result) {
+    const auto& r = result.report;
+    if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
+        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
+                  << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
+    if (r.coarsening != 1 && !a.quiet)
+        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message << "\n";
+    const auto is_rounded = [](const Defect& d) { return d.kind == DefectKind::SeamRounded; };
+    const auto first = std::find_if(r.explanations.begin(), r.explanations.end(), is_rounded);
+    if (first != r.explanations.end()) { // said even with -q: the map moved by up to half a cell there
+        const auto rounded = std::count_if(first, r.explanations.end(), is_rounded);
+        std::cerr << "qex: " << a.in_path << ": " << rounded
+                  << " seams no grid transition relates were rounded (--round-seams); the first: " << first->message
+                  << "\n";
+    }
+    const auto quads = static_cast<long long>(result.mesh.faces.size());
+    if (!a.quiet && r.losses_proved + r.losses_not_proved > 0 && quads < std::llround(r.signed_uv_area))
+        std::cerr << "qex: " << a.in_path << ": faces were removed at " << r.losses_proved + r.losses_not_proved
+                  << " places: " << r.losses_proved << " next to fold-overs a proof shows no fold-free map of, "
+                  << r.losses_not_proved << " elsewhere (where the repair failed, or no fold-over is left); "
+                  << "each is named in the report's explanations\n";
+}
+
 } // namespace
 
 int run_extract(const ExtractArgs& a) {
@@ -166,27 +192,8 @@ int run_extract(const ExtractArgs& a) {
         return kIo;
     }
     progress.stop();
+    say_what_the_map_needed(a, result);
     const auto& r = result.report;
-    if (r.grid_scale != 1) // said even with -q: the quads are smaller than the map's
-        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message
-                  << " (judge it with `qex check --grid-scale " << r.grid_scale << "`)\n";
-    if (r.coarsening != 1 && !a.quiet)
-        std::cerr << "qex: " << a.in_path << ": " << r.explanations.front().message << "\n";
-    const auto is_rounded = [](const Defect& d) { return d.kind == DefectKind::SeamRounded; };
-    const auto first = std::find_if(r.explanations.begin(), r.explanations.end(), is_rounded);
-    if (first != r.explanations.end()) { // said even with -q: the map moved by up to half a cell there
-        const auto rounded = std::count_if(first, r.explanations.end(), is_rounded);
-        std::cerr << "qex: " << a.in_path << ": " << rounded
-                  << " seams no grid transition relates were rounded (--round-seams); the first: " << first->message
-                  << "\n";
-    }
-    // Fewer quads than the area: how many of the places that removed faces a proof backs.
-    const auto quads = static_cast<long long>(result.mesh.faces.size());
-    if (!a.quiet && r.losses_proved + r.losses_not_proved > 0 && quads < std::llround(r.signed_uv_area))
-        std::cerr << "qex: " << a.in_path << ": faces were removed at " << r.losses_proved + r.losses_not_proved
-                  << " places: " << r.losses_proved << " next to fold-overs a proof shows no fold-free map of, "
-                  << r.losses_not_proved << " elsewhere (where the repair failed, or no fold-over is left); "
-                  << "each is named in the report's explanations\n";
     if (!a.quiet)
         std::printf(
             "qex: %zu quads, %zu vertices (signed UV area %.1f, %lld flipped triangles, %lld merged, "
