@@ -104,12 +104,19 @@ void order_faces(const Options& options, FaceWalks faces, Result& result) {
     }
 }
 
-/// Stages untangle (last resorts) to repair: the map, ready for extraction. `repaired_faces`: the
-/// triangles whose UVs the repair changed. `scale`: the attempt's refinement factor (solver
-/// noise is that many times the map's own) and the repair kept for its refinements.
+/// What the repair leaves for the rung's stages after it: the triangles whose UVs it changed, the
+/// mesh its look judged enough (if it stopped there), and the fold-overs it left.
+struct Repaired {
+    std::vector<int> faces;
+    std::optional<LookedMesh> looked;
+    FoldsLeft folds;
+};
+
+/// Stages untangle (last resorts) to repair: the map, ready for extraction, and what the repair
+/// leaves (`repaired`). `scale`: the attempt's refinement factor (solver noise is that many times
+/// the map's own) and the repair kept for its refinements.
 Error prepare_map(TriMesh& m, const Input& input, const Options& options, const Rung& rung, Report& report,
-                  StageTimer& timer, std::vector<int>& repaired_faces, std::optional<LookedMesh>& looked,
-                  FoldsLeft& folds, const AtScale& scale = {}) {
+                  StageTimer& timer, Repaired& repaired, const AtScale& scale = {}) {
     m.noise_scale = static_cast<double>(scale.factor);
     if (rung.untangle_rings > 0) {
         compute_transitions(m);
@@ -132,17 +139,17 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
         const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
-            return look_so_far(so_far, outcome, input, options, rung, report, looked);
+            return look_so_far(so_far, outcome, input, options, rung, report, repaired.looked);
         };
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
         explain_unrepaired(m, outcome, report);
-        folds = folds_left(m, outcome);
+        repaired.folds = folds_left(m, outcome);
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
         for (int f = 0; f < m.num_faces(); ++f) report.flipped_after_repair += m.map.face_sign[f] <= 0;
-        repaired_faces = std::move(outcome.repaired_faces);
+        repaired.faces = std::move(outcome.repaired_faces);
         timer.done(Stage::repair);
     } else {
         report.flipped_after_repair = report.flipped_triangles + report.degenerate_triangles;
@@ -243,24 +250,22 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
               const AtScale& scale, bool* judged) {
     Report& report = result.report;
     StageTimer timer(report);
-    std::vector<int> repaired_faces;
-    std::optional<LookedMesh> looked;
-    FoldsLeft folds;
-    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired_faces, looked, folds, scale))
-            .code != ErrorCode::None)
+    Repaired repaired;
+    if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired, scale)).code != ErrorCode::None)
         return false;
-    if (rung.repair && repaired_faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
+    if (rung.repair && repaired.faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
+    std::optional<LookedMesh>& looked = repaired.looked;
     if (judged && looked && looked->uv == m.uv && looked->map == m.map) {
         take_looked(std::move(looked->result), result);
-        name_losses(m, folds, report);
+        name_losses(m, repaired.folds, report);
         *judged = true;
         return true;
     }
     looked.reset();
-    std::vector<std::int32_t> certificate = certificate_of(m, repaired_faces);
+    std::vector<std::int32_t> certificate = certificate_of(m, repaired.faces);
     FaceWalks faces;
     if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) return false;
-    name_losses(m, folds, report);
+    name_losses(m, repaired.folds, report);
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     order_faces(options, std::move(faces), result);
@@ -320,11 +325,8 @@ bool sanitize_as_given(const Input& input, const Options& options, TriMesh& m, R
     Report own;
     if (prepare_mesh(input, options, m, own).code != ErrorCode::None) return false;
     StageTimer timer(own);
-    std::vector<int> unused;
-    std::optional<LookedMesh> looked;
-    FoldsLeft folds;
-    const bool ok =
-        prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused, looked, folds).code == ErrorCode::None;
+    Repaired unused; // the as-given rung repairs nothing
+    const bool ok = prepare_map(m, input, options, kLadder[kAsGiven], own, timer, unused).code == ErrorCode::None;
     add_stage_seconds(own, report);
     return ok;
 }
