@@ -76,19 +76,21 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
-/// The mesh the repair's look judged enough, and the map it was made from: the rung's own
-/// extraction and verdict, which the rung takes instead of making them again when its map is
-/// still that one (the repair stops at such a look, so it is).
+/// The mesh the repair's look made, and the map it was made from: the rung's own extraction (and
+/// verdict, where the look judged it), which the rung takes instead of making them again when its
+/// map is still that one: the repair stopped at the look, or its last ring changed nothing.
 struct LookedMesh {
     std::vector<Point2> uv;
     MapState map;
-    Result result; ///< its report holds what the extraction and the checker said, nothing else
+    Result result;    ///< its report holds what the extraction (and the checker) said, nothing else
+    FaceWalks faces;  ///< the faces as walked, when not judged (the rung orders them)
+    bool judged = false;
 };
 
 /// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
 /// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
-/// signed UV area (`report`'s), and then kept in `looked`; when it has fewer and its extraction
-/// no defect, the vertices round where it lost them (place_vertices).
+/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the vertices
+/// round where it lost them (place_vertices). What it made is kept in `looked`.
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
                        const Rung& rung, const Report& report, std::optional<LookedMesh>& looked);
 
@@ -216,7 +218,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         timer.done(Stage::canonicalize);
         judge(input, options, rung, {}, attempt);
         look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
-        if (look.enough) looked = LookedMesh{m.uv, m.map, std::move(attempt)};
+        looked = LookedMesh{m.uv, m.map, std::move(attempt), {}, true};
         return look;
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
@@ -230,6 +232,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         if (f < 0) return {};
         place_vertices(m, f, d.grid, look.near);
     }
+    looked = LookedMesh{m.uv, m.map, std::move(attempt), std::move(faces), false};
     return look;
 }
 
@@ -255,16 +258,22 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
         return false;
     if (rung.repair && repaired.faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     std::optional<LookedMesh>& looked = repaired.looked;
-    if (judged && looked && looked->uv == m.uv && looked->map == m.map) {
+    const bool as_looked = judged && looked && looked->uv == m.uv && looked->map == m.map;
+    if (as_looked && looked->judged) {
         take_looked(std::move(looked->result), result);
         name_losses(m, repaired.folds, report);
         *judged = true;
         return true;
     }
-    looked.reset();
     std::vector<std::int32_t> certificate = certificate_of(m, repaired.faces);
     FaceWalks faces;
-    if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) return false;
+    if (as_looked) { // the last ring changed nothing: the look's extraction is this map's
+        faces = std::move(looked->faces);
+        take_looked(std::move(looked->result), result);
+    } else if ((result.error = extract_mesh(m, options, result, timer, faces)).code != ErrorCode::None) {
+        return false;
+    }
+    looked.reset();
     name_losses(m, repaired.folds, report);
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
