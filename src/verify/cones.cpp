@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 namespace qex::verify_detail {
 namespace {
@@ -99,10 +98,20 @@ std::array<double, 2> carry(const Transition& m, const std::array<double, 2>& p)
     return {q[0] + static_cast<double>(m.tx), q[1] + static_cast<double>(m.ty)};
 }
 
+/// What the searches for co-located cones reuse from one singularity to the next: the queue, and
+/// per triangle the search that last reached it (a map of many singularities searches once each).
+struct ColocationScratch {
+    explicit ColocationScratch(std::size_t triangles) : seen_by(triangles, 0) {}
+    std::vector<std::pair<std::size_t, Transition>> queue;
+    std::vector<std::size_t> depth;
+    std::vector<std::uint32_t> seen_by;
+    std::uint32_t search = 0;
+};
+
 /// The singular cones within 2 kColocationReach triangle steps of singularity `a` (charted
 /// from a triangle of its fan) on a's UV point when charted along the way (within `tol`).
 std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& k, const Fans& fans, std::size_t a,
-                                          double tol) {
+                                          double tol, ColocationScratch& scratch) {
     std::vector<std::int32_t> out;
     const std::size_t t0 = fans.tri[fans.start[a]];
     int corner = 0;
@@ -110,9 +119,12 @@ std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& 
     const auto ua = map.in.uvs[3 * t0 + static_cast<std::size_t>(corner)];
     const std::int32_t ca = k.cone_of[a];
     // Breadth first over triangles, each with the map from its chart to t0's.
-    std::vector<std::pair<std::size_t, Transition>> queue{{t0, Transition{}}};
-    std::vector<std::size_t> depth{0};
-    std::unordered_set<std::size_t> seen{t0};
+    auto& queue = scratch.queue;
+    auto& depth = scratch.depth;
+    const std::uint32_t search = ++scratch.search;
+    queue.assign(1, {t0, Transition{}});
+    depth.assign(1, 0);
+    scratch.seen_by[t0] = search;
     for (std::size_t q = 0; q < queue.size(); ++q) {
         const auto [t, m] = queue[q];
         for (std::size_t j = 0; j < 3; ++j) {
@@ -126,8 +138,8 @@ std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& 
             if (o < 0 || depth[q] >= 2 * kColocationReach) continue;
             const auto u = static_cast<std::size_t>(o / 3);
             Transition mu;
-            if (seen.count(u) || !compose(m, map.edges.across[static_cast<std::size_t>(o)], mu)) continue;
-            seen.insert(u);
+            if (scratch.seen_by[u] == search || !compose(m, map.edges.across[static_cast<std::size_t>(o)], mu)) continue;
+            scratch.seen_by[u] = search;
             queue.push_back({u, mu});
             depth.push_back(depth[q] + 1);
         }
@@ -160,11 +172,12 @@ void seed_footprints(const LocatedMap& map, double tol, ConeMap& k) {
             for (int v : in.triangles[t]) k.seed[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])] = 1;
     const Fans fans = vertex_fans(in);
     const std::vector<char> off_grid = off_grid_cones(in, k, tol);
+    ColocationScratch scratch(in.triangles.size());
     for (std::size_t c = 0; c < k.cones.size(); ++c) {
         const Cone& a = k.cones[c];
         if (!a.singular()) continue;
         if (off_grid[c] || a.extreme) k.seed[c] = 1;
-        for (const std::int32_t x : colocated_cones(map, k, fans, static_cast<std::size_t>(a.vertex), tol)) {
+        for (const std::int32_t x : colocated_cones(map, k, fans, static_cast<std::size_t>(a.vertex), tol, scratch)) {
             k.seed[c] = k.seed[static_cast<std::size_t>(x)] = 1;
             k.links.push_back({static_cast<std::int32_t>(c), x});
         }
