@@ -98,10 +98,14 @@ std::array<double, 2> carry(const Transition& m, const std::array<double, 2>& p)
     return {q[0] + static_cast<double>(m.tx), q[1] + static_cast<double>(m.ty)};
 }
 
-/// What the searches for co-located cones reuse from one singularity to the next: the queue, and
-/// per triangle the search that last reached it (a map of many singularities searches once each).
+/// What the searches for co-located cones share from one singularity to the next: which cones are
+/// singular, the queue, and per triangle the search that last reached it (a map of many
+/// singularities searches once each).
 struct ColocationScratch {
-    explicit ColocationScratch(std::size_t triangles) : seen_by(triangles, 0) {}
+    ColocationScratch(const ConeMap& k, std::size_t triangles) : singular(k.cones.size()), seen_by(triangles, 0) {
+        for (std::size_t c = 0; c < k.cones.size(); ++c) singular[c] = k.cones[c].singular();
+    }
+    std::vector<char> singular;
     std::vector<std::pair<std::size_t, Transition>> queue;
     std::vector<std::size_t> depth;
     std::vector<std::uint32_t> seen_by;
@@ -129,11 +133,12 @@ std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& 
         const auto [t, m] = queue[q];
         for (std::size_t j = 0; j < 3; ++j) {
             const std::int32_t cx = k.cone_of[static_cast<std::size_t>(map.in.triangles[t][j])];
-            const Cone& x = k.cones[static_cast<std::size_t>(cx)];
-            const auto ux = carry(m, map.in.uvs[3 * t + j]);
-            if (cx != ca && x.singular() && std::max(std::abs(ux[0] - ua[0]), std::abs(ux[1] - ua[1])) <= tol &&
-                std::find(out.begin(), out.end(), cx) == out.end())
-                out.push_back(cx);
+            if (cx != ca && scratch.singular[static_cast<std::size_t>(cx)]) {
+                const auto ux = carry(m, map.in.uvs[3 * t + j]);
+                if (std::max(std::abs(ux[0] - ua[0]), std::abs(ux[1] - ua[1])) <= tol &&
+                    std::find(out.begin(), out.end(), cx) == out.end())
+                    out.push_back(cx);
+            }
             const std::int64_t o = map.edges.opposite[3 * t + j];
             if (o < 0 || depth[q] >= 2 * kColocationReach) continue;
             const auto u = static_cast<std::size_t>(o / 3);
@@ -172,10 +177,10 @@ void seed_footprints(const LocatedMap& map, double tol, ConeMap& k) {
             for (int v : in.triangles[t]) k.seed[static_cast<std::size_t>(k.cone_of[static_cast<std::size_t>(v)])] = 1;
     const Fans fans = vertex_fans(in);
     const std::vector<char> off_grid = off_grid_cones(in, k, tol);
-    ColocationScratch scratch(in.triangles.size());
+    ColocationScratch scratch(k, in.triangles.size());
     for (std::size_t c = 0; c < k.cones.size(); ++c) {
         const Cone& a = k.cones[c];
-        if (!a.singular()) continue;
+        if (!scratch.singular[c]) continue;
         if (off_grid[c] || a.extreme) k.seed[c] = 1;
         for (const std::int32_t x : colocated_cones(map, k, fans, static_cast<std::size_t>(a.vertex), tol, scratch)) {
             k.seed[c] = k.seed[static_cast<std::size_t>(x)] = 1;
