@@ -37,12 +37,6 @@ public:
         size_ = n;
     }
     std::size_t size() const { return size_; }
-    bool operator==(const TransitionTable& o) const {
-        if (size_ != o.size_) return false;
-        for (std::size_t h = 0; h < size_; ++h)
-            if (data_[h].tx_r != o.data_[h].tx_r || data_[h].ty != o.data_[h].ty) return false;
-        return true;
-    }
     GridAutomorphism operator[](std::size_t h) const {
         const Packed& p = data_[h];
         return {static_cast<int>(p.tx_r & 3), p.tx_r >> 2, p.ty};
@@ -70,10 +64,6 @@ struct MapState {
     std::vector<int> valence;           ///< per vertex: valence (Algorithm 8 or given)
     std::vector<int> winding_valence;   ///< per vertex: signed angle sum / (pi/2), rounded
     std::vector<char> singular;         ///< per vertex
-    bool operator==(const MapState& o) const {
-        return transition == o.transition && face_sign == o.face_sign && valence == o.valence &&
-               winding_valence == o.winding_valence && singular == o.singular;
-    }
     /// Whether every array is sized for a mesh of `faces` triangles and `vertices` vertices.
     bool sized_for(int faces, int vertices) const {
         const auto f = static_cast<std::size_t>(faces), v = static_cast<std::size_t>(vertices);

@@ -76,12 +76,11 @@ void report_map(const TriMesh& m, Report& report) {
     report.signed_uv_area = 0.5 * area2;
 }
 
-/// The mesh the repair's look made, and the map it was made from: the rung's own extraction (and
-/// verdict, where the look judged it), which the rung takes instead of making them again when its
-/// map is still that one: the repair stopped at the look, or its last ring changed nothing.
+/// The mesh the repair's look made: the rung's own extraction (and verdict, where the look judged
+/// it), which the rung takes instead of making them again when its map is still the look's (the
+/// repair says so: RepairOutcome::changed_after_look; it stopped at the look, or its last ring
+/// repaired nothing).
 struct LookedMesh {
-    std::vector<Point2> uv;
-    MapState map;
     Result result;    ///< its report holds what the extraction (and the checker) said, nothing else
     FaceWalks faces;  ///< the faces as walked, when not judged (the rung orders them)
     bool judged = false;
@@ -147,6 +146,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
         explain_unrepaired(m, outcome, report);
         repaired.folds = folds_left(m, outcome);
+        if (outcome.changed_after_look) repaired.looked.reset();
         report.repaired_regions = outcome.regions_repaired;
         report.unrepaired_regions = static_cast<std::int64_t>(outcome.unrepaired.size());
         report.repaired_triangles = static_cast<std::int64_t>(outcome.repaired_faces.size());
@@ -218,7 +218,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         timer.done(Stage::canonicalize);
         judge(input, options, rung, {}, attempt);
         look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
-        looked = LookedMesh{m.uv, m.map, std::move(attempt), {}, true};
+        looked = LookedMesh{std::move(attempt), {}, true};
         return look;
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
@@ -232,7 +232,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         if (f < 0) return {};
         place_vertices(m, f, d.grid, look.near);
     }
-    looked = LookedMesh{m.uv, m.map, std::move(attempt), std::move(faces), false};
+    looked = LookedMesh{std::move(attempt), std::move(faces), false};
     return look;
 }
 
@@ -258,7 +258,7 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
         return false;
     if (rung.repair && repaired.faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     std::optional<LookedMesh>& looked = repaired.looked;
-    const bool as_looked = judged && looked && looked->uv == m.uv && looked->map == m.map;
+    const bool as_looked = judged && looked;
     if (as_looked && looked->judged) {
         take_looked(std::move(looked->result), result);
         name_losses(m, repaired.folds, report);

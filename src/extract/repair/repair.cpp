@@ -204,8 +204,8 @@ std::vector<std::vector<std::size_t>> independent_groups(const TriMesh& m, const
 
 /// The attempts at every region of one ring radius: independent groups on the threads, each
 /// group's regions in their order, and the failures recorded in the regions' order, so the
-/// outcome is the serial one for any thread count.
-void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given, Attempts& a) {
+/// outcome is the serial one for any thread count. How many regions were repaired.
+std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given, Attempts& a) {
     std::vector<std::optional<RegionFailure>> failed(regions.size());
     std::size_t triangles = 0;
     for (const Region& r : regions) triangles += r.faces.size();
@@ -236,8 +236,13 @@ void attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius,
         for (std::size_t i = 0; i < regions.size(); ++i)
             failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded);
     }
+    std::size_t repaired = 0;
     for (std::size_t i = 0; i < regions.size(); ++i)
-        if (failed[i]) a.log.record(regions[i], *failed[i]);
+        if (failed[i])
+            a.log.record(regions[i], *failed[i]);
+        else
+            ++repaired;
+    return repaired;
 }
 
 /// Keeps the seed triangles with a vertex within `radius` rings of the `near` vertices: those
@@ -256,23 +261,30 @@ void keep_near(const TriMesh& m, const std::vector<int>& near, int radius, std::
 
 /// Attempts the regions round the fold-overs (`seeds_faces`) and the paths of the dipole merges
 /// that do not stand yet, ring radius by ring radius; leaves in `seeds_faces` and `stuck` the
-/// flipped or degenerate triangles that remain.
-void grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_given,
+/// flipped or degenerate triangles that remain. Returns whether a region was repaired after the
+/// look (true when none was taken): otherwise the map is as the look saw it.
+bool grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_given,
                   const std::vector<DipoleMerge>& merges, std::vector<int>& seeds_faces, std::vector<int>& stuck,
                   Attempts& a, const std::function<RepairLook()>& look) {
+    bool looked = false;
     for (const int radius : kRingRadii) {
         if (seeds_faces.empty()) break;
         RepairLook seen;
-        if (radius == kRingRadii[std::size(kRingRadii) - 1] && look && (seen = look()).enough) break;
+        if (radius == kRingRadii[std::size(kRingRadii) - 1] && look) {
+            looked = true;
+            if ((seen = look()).enough) return false;
+        }
         for (const DipoleMerge& d : merges)
             if (!merge_reembedded(m, d, a.reembedded))
                 for (const int e : d.path) seeds_faces.push_back(TriMesh::face(e));
         if (!seen.near.empty()) keep_near(m, seen.near, radius, seeds_faces, a.distance);
         if (seeds_faces.empty()) break;
-        attempt_regions(m, regions_within(m, seeds_faces, radius, pinned, a.distance, a.label), radius,
-                        valences_given, a);
+        const std::size_t repaired = attempt_regions(
+            m, regions_within(m, seeds_faces, radius, pinned, a.distance, a.label), radius, valences_given, a);
         bad_triangles(m, pinned, seeds_faces, stuck);
+        if (looked) return repaired > 0;
     }
+    return !looked;
 }
 
 /// Whether failure f is named as a proof (outcome_of): a rim short of its singularity's angle,
@@ -377,9 +389,11 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
             if (!seen.enough) restore_merges(m, merges, merged);
             return seen;
         };
-    grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts, before_last);
+    const bool changed = grow_regions(m, pinned, valences_given, merges, seeds_faces, stuck, attempts, before_last);
     settle_merges(m, merges, attempts.reembedded, report);
-    return outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
+    RepairOutcome out = outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
+    out.changed_after_look = changed;
+    return out;
 }
 
 } // namespace qex::detail

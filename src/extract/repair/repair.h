@@ -49,6 +49,9 @@ struct RepairOutcome {
         std::vector<int> faces; ///< RegionAreaNotPositive: the region's triangles (working indices)
     };
     std::vector<Proof> proofs;
+    /// Whether the map changed after the look before the last ring (LookBeforeLastRing): true
+    /// when no look was taken. When false the map is the one the look was shown.
+    bool changed_after_look = true;
 };
 
 /// Whether explanations of this kind are proofs the repair names (RepairOutcome::Proof).
