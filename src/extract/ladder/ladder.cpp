@@ -4,6 +4,8 @@
 // verdict on the rung's mesh (mended where it is rejected: mend.cpp).
 #include "rungs.h"
 
+#include "extract/union_find.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -23,11 +25,65 @@ bool relaxed_rung(const std::string& name) {
 
 // ============================================================================ a rung's map
 
+namespace {
+
+/// How boundary half-edge h lies to the integer iso-lines of its chart: on one exactly, on one
+/// up to solver noise (both ends within the noise bound of the same integer in one coordinate),
+/// or off them.
+enum class OnIsoLine { Exactly, UpToNoise, Off };
+
+OnIsoLine on_iso_line(const TriMesh& m, int h) {
+    const Point2 &a = m.uv[h], &b = m.uv[TriMesh::next(h)];
+    const double bound =
+        solver_noise_bound(std::max({std::abs(a[0]), std::abs(a[1]), std::abs(b[0]), std::abs(b[1])}), m.noise_scale);
+    OnIsoLine best = OnIsoLine::Off;
+    for (int d = 0; d < 2; ++d) {
+        const double line = std::nearbyint(a[d]);
+        if (a[d] == line && b[d] == line) return OnIsoLine::Exactly;
+        if (std::abs(a[d] - line) <= bound && std::abs(b[d] - line) <= bound && std::nearbyint(b[d]) == line)
+            best = OnIsoLine::UpToNoise;
+    }
+    return best;
+}
+
+/// The boundary edges that follow iso-lines up to solver noise: those of every boundary loop
+/// whose edges all lie on iso-lines, exactly or up to noise (a rim that crosses the grid, as a
+/// circle does, keeps its edges near a tangent iso-line as they are).
+std::vector<int> noisy_aligned_boundary(const TriMesh& m) {
+    const int nh = 3 * m.num_faces();
+    UnionFind loops(static_cast<std::size_t>(m.num_vertices));
+    std::vector<OnIsoLine> how(static_cast<std::size_t>(nh), OnIsoLine::Off);
+    for (int h = 0; h < nh; ++h) {
+        if (m.opp[h] >= 0) continue;
+        how[static_cast<std::size_t>(h)] = on_iso_line(m, h);
+        const int x = loops.find(m.origin(h)), y = loops.find(m.target(h));
+        if (x != y) loops.attach(std::max(x, y), std::min(x, y));
+    }
+    std::vector<char> crosses(static_cast<std::size_t>(m.num_vertices), 0);
+    for (int h = 0; h < nh; ++h)
+        if (m.opp[h] < 0 && how[static_cast<std::size_t>(h)] == OnIsoLine::Off)
+            crosses[static_cast<std::size_t>(loops.find(m.origin(h)))] = 1;
+    std::vector<int> out;
+    for (int h = 0; h < nh; ++h)
+        if (m.opp[h] < 0 && how[static_cast<std::size_t>(h)] == OnIsoLine::UpToNoise &&
+            !crosses[static_cast<std::size_t>(loops.find(m.origin(h)))])
+            out.push_back(h);
+    return out;
+}
+
+} // namespace
+
 std::vector<std::array<int, 2>> feature_edges(const TriMesh& m, const Input& input, const Options& options) {
     std::vector<std::array<int, 2>> features = input.feature_edges;
-    if (options.snap_boundary)
+    const auto add = [&](int h) { features.push_back({m.input_vertex[m.origin(h)], m.input_vertex[m.target(h)]}); };
+    if (options.snap_boundary) {
         for (int h = 0; h < 3 * m.num_faces(); ++h)
-            if (m.opp[h] < 0) features.push_back({m.input_vertex[m.origin(h)], m.input_vertex[m.target(h)]});
+            if (m.opp[h] < 0) add(h);
+        return features;
+    }
+    // Without being asked: a boundary that follows iso-lines up to solver noise is snapped onto
+    // them, as a seam within noise of a grid transition is rounded to it.
+    for (const int h : noisy_aligned_boundary(m)) add(h);
     return features;
 }
 
