@@ -58,8 +58,9 @@ struct Options {
     bool canonical_order = true;
     /// Treat every boundary edge as a feature edge: snap it to its closest integer iso-line.
     /// For maps whose boundaries are meant to be aligned but lie off the iso-lines. Without it,
-    /// a boundary edge within solver noise (1/1024 of a cell, or a few ulps) of an iso-line is
-    /// still snapped onto it, as a seam within noise of a grid transition is rounded to it.
+    /// a boundary loop whose every edge lies within solver noise (1/1024 of a cell, or a few
+    /// ulps) of an iso-line is still snapped onto them, as a seam within noise of a grid
+    /// transition is rounded to it.
     bool snap_boundary = false;
     /// Re-embed the regions of flipped and degenerate triangles before extraction (stage repair),
     /// keeping transitions, singularities, boundaries and everything outside them; the mesh
