@@ -156,19 +156,17 @@ void check_moves(const UVs& given, const UVs& U, const std::vector<char>& listed
 /// triangle (its cone holds the collapsed edge's other end), and where the given map's
 /// sum is no whole number of quarter turns (within kQuarterTurnSlack) or extreme (at most one
 /// quarter turn, or eight and more: known modulo a whole turn, as the located mode reads it).
+/// `sum_given`: the given map's angle sums (angle_sums).
 void check_windings(const Input& given, const UVs& U, const std::vector<char>& listed, const std::vector<char>& folded,
                     const std::vector<char>& collapsed, const std::vector<char>& cancelled,
-                    std::vector<Violation>& out) {
+                    const std::vector<double>& sum_given, std::vector<Violation>& out) {
     const std::size_t nv = given.positions.size();
-    std::vector<double> sum_given(nv, 0.0), sum_cert(nv, 0.0);
+    const std::vector<double> sum_cert = angle_sums(given, U);
     std::vector<char> touched(nv, 0);
     std::vector<std::int64_t> first_listed(nv, -1);
     for (std::size_t c = 0; c < U.size(); ++c) {
-        const std::size_t t = c / 3, base = c - c % 3;
+        const std::size_t t = c / 3;
         const auto v = static_cast<std::size_t>(given.triangles[t][c % 3]);
-        const std::size_t p = base + (c % 3 + 1) % 3, w = base + (c % 3 + 2) % 3;
-        sum_given[v] += signed_angle(given.uvs[c], given.uvs[p], given.uvs[w]);
-        sum_cert[v] += signed_angle(U[c], U[p], U[w]);
         if (listed[t] && !touched[v]) touched[v] = 1, first_listed[v] = static_cast<std::int64_t>(t);
     }
     for (std::size_t t = 0; t < collapsed.size(); ++t) // a collapsed edge's ends are one cone, their sums split
@@ -238,8 +236,9 @@ std::vector<Violation> check_certificate(const Input& given, const Certificate& 
     const std::vector<char> collapsed = collapsed_triangles(given.uvs, U, listed, tol);
     check_moves(given.uvs, U, listed, tol, out);
     const std::vector<char> folded = folded_vertices(given);
-    const std::vector<char> cancelled = check_charts(given, U, listed, collapsed, folded, tol, out);
-    check_windings(given, U, listed, folded, collapsed, cancelled, out);
+    const std::vector<double> given_sums = angle_sums(given, given.uvs);
+    const std::vector<char> cancelled = check_charts(given, U, listed, collapsed, folded, given_sums, tol, out);
+    check_windings(given, U, listed, folded, collapsed, cancelled, given_sums, out);
     if (out.empty()) check_as_map(given, U, c, collapsed, threads, out);
     return out;
 }

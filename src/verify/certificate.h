@@ -39,8 +39,13 @@ inline void mismatch(std::vector<Violation>& out, const std::string& message, st
 /// - a region that cancels none is charted as given up to a chart per triangle inside too:
 ///   across each of its edges the certificate's transition is g_o G g_t^-1 for the given G.
 /// Returns per input vertex whether it is a singularity of the given map the certificate cancels.
+/// `given_sums`: per input vertex its angle sum in the given map (angle_sums), which gives the
+/// turns of a fan whose transitions the given map does not determine (an edge too short to read).
 std::vector<char> check_charts(const Input& given, const UVs& U, const std::vector<char>& listed,
-                               const std::vector<char>& collapsed, const std::vector<char>& folded, double tol,
-                               std::vector<Violation>& out);
+                               const std::vector<char>& collapsed, const std::vector<char>& folded,
+                               const std::vector<double>& given_sums, double tol, std::vector<Violation>& out);
+
+/// Per input vertex the sum of its corners' signed angles (signed_angle) in the UVs `U`.
+std::vector<double> angle_sums(const Input& in, const UVs& U);
 
 } // namespace qex::verify_detail

@@ -137,26 +137,21 @@ std::vector<int> fan_turns(const Input& in, Rotation rotation) {
 }
 
 /// Where a vertex's fan has an edge too short (in UV) for its transition to be read, the turns
-/// (mod 4) its fan's rotations compose to, read from its angle sum instead: an interior vertex
-/// whose fan holds no fold (`folded`) and whose angle sum is n quarter turns (within
+/// (mod 4) its fan's rotations compose to, read from its angle sum (`sums`) instead: an interior
+/// vertex whose fan holds no fold (`folded`) and whose angle sum is n quarter turns (within
 /// kQuarterTurnSlack, 1 < n < 8) composes to -n. Solver noise on a finely cut map leaves such
 /// short edges next to singularities; a repair that cancels one must still be read as cancelling.
 void turns_from_angles(const Input& in, const InputEdges& edges, const std::vector<char>& folded,
-                       std::vector<int>& turn) {
+                       const std::vector<double>& sums, std::vector<int>& turn) {
     const std::size_t nv = in.positions.size();
-    std::vector<double> sum(nv, 0.0);
     std::vector<char> interior(nv, 1);
-    for (std::size_t c = 0; c < 3 * in.triangles.size(); ++c) {
-        const auto v = static_cast<std::size_t>(in.triangles[c / 3][c % 3]);
-        if (turn[v] >= 0) continue;
-        if (edges.partner[c] < 0 || edges.partner[prev_corner(c)] < 0) interior[v] = 0;
-        const auto &a = in.uvs[c], &b = in.uvs[next_corner(c)], &p = in.uvs[prev_corner(c)];
-        const double x1 = b[0] - a[0], y1 = b[1] - a[1], x2 = p[0] - a[0], y2 = p[1] - a[1];
-        sum[v] += std::atan2(x1 * y2 - y1 * x2, x1 * x2 + y1 * y2);
-    }
+    for (std::size_t c = 0; c < 3 * in.triangles.size(); ++c)
+        if (edges.partner[c] < 0) // a boundary edge: both its ends on the boundary
+            for (const std::size_t e : {c, next_corner(c)})
+                interior[static_cast<std::size_t>(in.triangles[e / 3][e % 3])] = 0;
     for (std::size_t v = 0; v < nv; ++v) {
         if (turn[v] >= 0 || !interior[v] || folded[v]) continue;
-        const double q = sum[v] / (M_PI / 2);
+        const double q = sums[v] / (M_PI / 2);
         const long n = std::lround(q);
         if (std::abs(q - static_cast<double>(n)) <= kQuarterTurnSlack && n > 1 && n < 8)
             turn[v] = static_cast<int>((4 - n % 4) % 4);
@@ -165,9 +160,17 @@ void turns_from_angles(const Input& in, const InputEdges& edges, const std::vect
 
 } // namespace
 
+std::vector<double> angle_sums(const Input& in, const UVs& U) {
+    std::vector<double> sum(in.positions.size(), 0.0);
+    for (std::size_t c = 0; c < U.size(); ++c)
+        sum[static_cast<std::size_t>(in.triangles[c / 3][c % 3])] +=
+            signed_angle(U[c], U[next_corner(c)], U[prev_corner(c)]);
+    return sum;
+}
+
 std::vector<char> check_charts(const Input& given, const UVs& U, const std::vector<char>& listed,
-                               const std::vector<char>& collapsed, const std::vector<char>& folded, double tol,
-                               std::vector<Violation>& out) {
+                               const std::vector<char>& collapsed, const std::vector<char>& folded,
+                               const std::vector<double>& given_sums, double tol, std::vector<Violation>& out) {
     const InputEdges edges = input_edges(given, tol);
     const CertificateEdges cert = certificate_edges(U, edges, collapsed);
     const std::vector<std::int32_t> region = listed_regions(given, listed);
@@ -176,7 +179,7 @@ std::vector<char> check_charts(const Input& given, const UVs& U, const std::vect
     // The singularities: the same turns, but where the certificate cancels the given map's.
     std::vector<int> was =
         fan_turns(given, [&](std::size_t c) { return edges.opposite[c] < 0 ? -1 : edges.across[c].r; });
-    turns_from_angles(given, edges, folded, was);
+    turns_from_angles(given, edges, folded, given_sums, was);
     const std::vector<int> now = fan_turns(given, [&](std::size_t c) { return cert.found[c] ? cert.across[c].r : -1; });
     // Per region: whether a vertex of it lies on a fold of the given map, the turns it cancels
     // (fold-free regions), and a vertex it cancels.

@@ -143,7 +143,8 @@ std::vector<std::int32_t> colocated_cones(const LocatedMap& map, const ConeMap& 
             if (o < 0 || depth[q] >= 2 * kColocationReach) continue;
             const auto u = static_cast<std::size_t>(o / 3);
             Transition mu;
-            if (scratch.seen_by[u] == search || !compose(m, map.edges.across[static_cast<std::size_t>(o)], mu)) continue;
+            if (scratch.seen_by[u] == search || !compose(m, map.edges.across[static_cast<std::size_t>(o)], mu))
+                continue;
             scratch.seen_by[u] = search;
             queue.push_back({u, mu});
             depth.push_back(depth[q] + 1);

@@ -137,8 +137,8 @@ void report_map(const TriMesh& m, Report& report) {
 /// repair says so: RepairOutcome::changed_after_look; it stopped at the look, or its last ring
 /// repaired nothing).
 struct LookedMesh {
-    Result result;    ///< its report holds what the extraction (and the checker) said, nothing else
-    FaceWalks faces;  ///< the faces as walked, when not judged (the rung orders them)
+    Result result;   ///< its report holds what the extraction (and the checker) said, nothing else
+    FaceWalks faces; ///< the faces as walked, when not judged (the rung orders them)
     bool judged = false;
 };
 
