@@ -21,10 +21,7 @@ QEX, BROKEN, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
 # Seed 1, 40 cases per set. qex extract exits 0 and qex check rejects its mesh: a triangle
 # dropped from a closed map. (Noise on the boundary of a disk or an annulus, 1e-8 or 1e-9, was
 # too, until boundaries within solver noise of an iso-line were snapped: known/disk/0022.)
-KNOWN_WRONG = {
-    "hostile/dropped_triangle/0004": "a triangle dropped from an icosahedron map: ValenceMismatch at the hole",
-    "hostile/dropped_triangle/0031": "a triangle dropped from a cube map: ValenceMismatch at the hole",
-}
+KNOWN_WRONG = {}
 
 BROKEN_MODES = {
     "none": "exact", "drop_face": "invalid_exit_0", "rotate_edge": "invalid_exit_0",

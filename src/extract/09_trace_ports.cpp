@@ -170,6 +170,41 @@ struct TraceEnd {
     bool folded = false;   ///< it crossed a flipped or degenerate triangle
 };
 
+/// The sign of the cross product of (n - p) and the axis direction d: exact, by comparisons.
+int cross_sign(const Point2& p, const Point2& n, const IPoint& d) {
+    auto sign = [](double x, double y) { return (x > y) - (x < y); };
+    return d[0] != 0 ? -static_cast<int>(d[0]) * sign(n[1], p[1]) : static_cast<int>(d[1]) * sign(n[0], p[0]);
+}
+
+/// Segment (a, b] leaves triangle f through boundary half-edge h. Where it meets h only at an
+/// end v, it has not left the surface: it passes v. The fan of v is walked from f away from h to
+/// the first triangle whose corner at v holds the iso-line's direction (closed, exact). Returns
+/// the half-edge through which that triangle is entered, and `g` the transition from f's chart to
+/// its chart; -1 where the iso-line leaves the surface at v, or a fold-over is met first.
+int past_boundary_vertex(const TriMesh& m, int h, int dir, const Point2& a, const Point2& b, GridAutomorphism& g) {
+    const int hn = TriMesh::next(h);
+    const bool at_origin = m.uv[h] != a && on_segment(m.uv[h], a, b);
+    const bool at_target = m.uv[hn] != a && on_segment(m.uv[hn], a, b);
+    if (at_origin == at_target) return -1; // no end on (a, b], or the segment runs along h
+    // e: f's other edge at v; an edge that ends at v has a twin that starts there, and back.
+    int e = at_origin ? TriMesh::prev(h) : hn;
+    const int v = m.tri[TriMesh::face(h)][(at_origin ? h : hn) % 3];
+    g = GridAutomorphism{};
+    for (int step = 0; step < m.fan_size[v]; ++step) {
+        const int o = m.opp[e];
+        if (o < 0) return -1;
+        g = m.map.transition[e].after(g);
+        dir = m.map.transition[e].rotate_dir(dir);
+        if (m.map.face_sign[TriMesh::face(o)] <= 0) return -1;
+        const int c = at_origin ? o : TriMesh::next(o); // the corner at v
+        const IPoint d = unit_dir(dir);
+        if (cross_sign(m.uv[c], m.uv[TriMesh::next(c)], d) >= 0 && cross_sign(m.uv[c], m.uv[TriMesh::prev(c)], d) <= 0)
+            return o;
+        e = at_origin ? TriMesh::prev(o) : TriMesh::next(o);
+    }
+    return -1;
+}
+
 /// Follows a port's iso-line across triangles, transitions and orientation flips until its next
 /// grid point lies in the current triangle, it leaves the surface, or it cannot be followed.
 TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port, Report& report) {
@@ -188,12 +223,12 @@ TraceEnd follow_iso_line(const TriMesh& m, const Options& opt, const Port& port,
         }
         const int h = pick_next_edge(m, f, entry, pa, pb);
         if (h < 0) break;
-        const int o = m.opp[h];
-        if (o < 0) {
+        int o = m.opp[h];
+        GridAutomorphism t = o >= 0 ? m.map.transition[h] : GridAutomorphism{};
+        if (o < 0 && (s <= 0 || (o = past_boundary_vertex(m, h, end.dir, pa, pb, t)) < 0)) {
             end.boundary = true;
             break;
         }
-        const GridAutomorphism& t = m.map.transition[h];
         end.g = t.after(end.g);
         a = t(a);
         end.b = t(end.b);
