@@ -26,7 +26,8 @@ public:
     TransitionTable(const TransitionTable& other) { *this = other; }
     TransitionTable& operator=(const TransitionTable& other) {
         if (this == &other) return *this;
-        data_.reset(other.size_ > 0 ? new Packed[other.size_] : nullptr);
+        // The same size: the buffer is reused (RetryBeside copies a map's transitions often).
+        if (size_ != other.size_) data_.reset(other.size_ > 0 ? new Packed[other.size_] : nullptr);
         size_ = other.size_;
         std::copy(other.data_.get(), other.data_.get() + size_, data_.get());
         return *this;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <atomic>
 #include <vector>
 
 namespace qex::detail::repair_impl {
@@ -61,6 +62,8 @@ struct Problem {
     Gather gather;
     std::size_t triangles = 0;
     std::size_t unknowns = 0; ///< 2 per free vertex
+    /// Where set, the minimisation ends at its next iteration (Workspace::stop).
+    const std::atomic<bool>* stop = nullptr;
     mutable std::vector<double> point; ///< X
     /// The triangles (places in the region's order, ascending) kept positive by a pure barrier (no
     /// regularisation), so the opened fan of a cone keeps its winding.

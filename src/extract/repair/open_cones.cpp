@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <system_error>
 #include <unordered_map>
+#include <utility>
 
 namespace qex::detail::repair_impl {
 namespace {
@@ -89,14 +91,20 @@ bool open_cone_fan(TriMesh& m, const Region& r, const RegionMarks& marks,
     return true;
 }
 
+/// The region's interior singularities that wind short of their targets at m's UVs.
+std::vector<int> short_cones_of(const TriMesh& m, const RegionMarks& marks) {
+    std::vector<int> cones;
+    for (const int v : marks.fixed)
+        if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) < 0) cones.push_back(v);
+    return cones;
+}
+
 } // namespace
 
 bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
                               Workspace& work, int patience) {
     restore_region_uvs(m, r, before);
-    std::vector<int> short_cones;
-    for (const int v : marks.fixed)
-        if (m.map.singular[v] && !m.on_boundary[v] && winding_excess(m, v, marks) < 0) short_cones.push_back(v);
+    std::vector<int> short_cones = short_cones_of(m, marks);
     if (short_cones.empty()) return false;
     // Neighbouring cones may share rim vertices: opened in an order that does not depend on the input's.
     std::sort(short_cones.begin(), short_cones.end(),
@@ -123,6 +131,41 @@ bool untangle_with_open_cones(TriMesh& m, const Region& r, const RegionMarks& ma
     std::sort(barrier.begin(), barrier.end());
     barrier.erase(std::unique(barrier.begin(), barrier.end()), barrier.end());
     return !barrier.empty() && untangle_region(m, r, work, patience, barrier) && windings_kept(m, r, marks);
+}
+
+bool RetryBeside::start(const TriMesh& m, const Region& r, const RegionMarks& marks, const std::vector<Point2>& before,
+                        int patience) {
+    stop();
+    if (short_cones_of(m, marks).empty()) return false;
+    // The copy takes what the retry reads and the repair changes: UVs and the map's state.
+    shadow_.uv = m.uv;
+    shadow_.map = m.map;
+    stop_ = false;
+    repaired_ = false;
+    thrown_ = nullptr;
+    try {
+        thread_ = std::thread([this, &r, &marks, &before, patience] {
+            try {
+                repaired_ = untangle_with_open_cones(shadow_, r, marks, before, work_, patience);
+            } catch (...) { thrown_ = std::current_exception(); }
+        });
+    } catch (const std::system_error&) {
+        return false; // no thread: the retry runs after the first try, as without one
+    }
+    return true;
+}
+
+bool RetryBeside::take(TriMesh& m, const Region& r) {
+    if (thread_.joinable()) thread_.join();
+    if (thrown_) std::rethrow_exception(std::exchange(thrown_, nullptr));
+    if (repaired_) restore_region_uvs(m, r, region_uvs(shadow_, r));
+    return repaired_;
+}
+
+void RetryBeside::stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    thrown_ = nullptr;
 }
 
 } // namespace qex::detail::repair_impl

@@ -44,6 +44,7 @@
 #include <exception>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -64,6 +65,9 @@ constexpr std::size_t kMaxRegionVertices = std::size_t{1} << 17;
 /// The regions of a ring radius are attempted on several threads only past this many triangles
 /// in all (fewer cost less than starting a thread).
 constexpr std::size_t kParallelMinTriangles = 512;
+/// A region's retry runs beside its first try (RetryBeside) from this many triangles: below, the
+/// first try takes less than the copy of the map and the thread cost.
+constexpr std::size_t kRetryBesideMinTriangles = 256;
 
 // ============================================================================ the attempts
 
@@ -93,6 +97,8 @@ struct Attempts {
     int threads;
     std::vector<int> distance, label;
     std::vector<Scratch> scratch;
+    /// The retry beside the first try, for regions attempted one at a time (made when needed).
+    std::unique_ptr<RetryBeside> beside;
     /// Per vertex: re-embedded by a certified region (a dipole merge stands only if its path was).
     std::vector<char> reembedded;
     FailureLog log;
@@ -123,9 +129,11 @@ std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& see
 /// winding certificate (once more with cone fans opened where that is what failed); then
 /// relaxed. Nothing when repaired (its free vertices marked in `reembedded`); otherwise its UVs
 /// are restored and its failure returned. It reads and writes only r's triangles and the fans of
-/// their vertices.
-std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given,
-                                            Scratch& a, std::vector<char>& reembedded) {
+/// their vertices. With `beside` (regions attempted one at a time, threads to spare), a large
+/// region's retry runs beside its first try: the same outcome, sooner.
+std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given, Scratch& a,
+                                            std::vector<char>& reembedded,
+                                            std::unique_ptr<RetryBeside>* beside = nullptr) {
     if (r.fans.size() > kMaxRegionVertices) {
         RegionFailure f;
         f.why = RegionFailure::Why::TooLarge;
@@ -141,15 +149,26 @@ std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int rad
     const bool admitted = admits_embedding(m, r, valences_given, marks);
     RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
     if (admitted) {
-        const int patience = radius == kRingRadii[std::size(kRingRadii) - 1] ? kPatienceAtLastRing
-                                                                               : kPatienceBeforeLastRing;
+        const int patience =
+            radius == kRingRadii[std::size(kRingRadii) - 1] ? kPatienceAtLastRing : kPatienceBeforeLastRing;
+        RetryBeside* ahead = nullptr;
+        if (beside && r.faces.size() >= kRetryBesideMinTriangles) {
+            if (!*beside) *beside = std::make_unique<RetryBeside>(m);
+            if ((*beside)->start(m, r, marks, before, patience)) ahead = beside->get();
+        }
+        struct StopAtExit { // the retry reads this attempt's locals: it ends before they do
+            RetryBeside* b;
+            ~StopAtExit() {
+                if (b) b->stop();
+            }
+        } stop_at_exit{ahead};
         const bool untangled = untangle_region(m, r, a.work, patience);
         repaired = untangled && windings_kept(m, r, marks);
         if (!repaired) failure = describe_failure(m, r, marks, true, radius);
         // Once more with cone fans opened, where that is what failed: the untangler wound
         // the region wrongly round its singularities, or Gauss-Bonnet corrected some.
         if (!repaired && (untangled || marks.cone >= 0))
-            repaired = untangle_with_open_cones(m, r, marks, before, a.work, patience);
+            repaired = ahead ? ahead->take(m, r) : untangle_with_open_cones(m, r, marks, before, a.work, patience);
     } else {
         failure = describe_failure(m, r, marks, false, radius);
     }
@@ -205,7 +224,8 @@ std::vector<std::vector<std::size_t>> independent_groups(const TriMesh& m, const
 /// The attempts at every region of one ring radius: independent groups on the threads, each
 /// group's regions in their order, and the failures recorded in the regions' order, so the
 /// outcome is the serial one for any thread count. How many regions were repaired.
-std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given, Attempts& a) {
+std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given,
+                            Attempts& a) {
     std::vector<std::optional<RegionFailure>> failed(regions.size());
     std::size_t triangles = 0;
     for (const Region& r : regions) triangles += r.faces.size();
@@ -234,7 +254,8 @@ std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int 
         run_workers(static_cast<std::size_t>(threads), work, thrown);
     } else {
         for (std::size_t i = 0; i < regions.size(); ++i)
-            failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded);
+            failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded,
+                                       a.threads > 1 ? &a.beside : nullptr);
     }
     std::size_t repaired = 0;
     for (std::size_t i = 0; i < regions.size(); ++i)
@@ -291,8 +312,7 @@ bool grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_giv
 /// or a room certificate's refusal with figures that prove it.
 bool names_proof(const TriMesh& m, const RegionFailure& f) {
     return (f.why == RegionFailure::Why::RimShort && f.winds < f.target && m.fan_start[f.cone] >= 0) ||
-           ((f.why == RegionFailure::Why::NoRoom || f.why == RegionFailure::Why::AreaNotPositive) &&
-            f.first_face >= 0);
+           ((f.why == RegionFailure::Why::NoRoom || f.why == RegionFailure::Why::AreaNotPositive) && f.first_face >= 0);
 }
 
 /// Whether a proof named for some fold-over holds for the one of `group` (a vertex of it was in a
@@ -360,8 +380,8 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
 } // namespace
 } // namespace repair_impl
 
-RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given,
-                     int threads, Report& report, const LookBeforeLastRing& look) {
+RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given, int threads,
+                     Report& report, const LookBeforeLastRing& look) {
     using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);

@@ -73,13 +73,14 @@ inline __attribute__((always_inline)) double dot(const std::vector<double>& a, c
 /// Minimises the region's energy for a fixed eps from x (L-BFGS, Armijo backtracking). Inline:
 /// built for the baseline and for AVX2 below, the same arithmetic in wider lanes.
 inline __attribute__((always_inline)) void minimise_lanes(const Problem& p, std::vector<double>& x, double eps,
-                                                           double length, int iterations, double stall) {
+                                                          double length, int iterations, double stall) {
     constexpr std::size_t kHistory = 8;
     std::vector<std::vector<double>> ss, ys;
     std::vector<double> rho;
     std::vector<double> g, g_new, d(x.size()), x_new(x.size()), spare_s, spare_y, alpha;
     double f = region_energy(p, x, eps, &g);
     for (int it = 0; it < iterations && std::isfinite(f); ++it) {
+        if (p.stop && p.stop->load(std::memory_order_relaxed)) return;
         // Two-loop recursion: d = -H g.
         for (std::size_t i = 0; i < x.size(); ++i) d[i] = -g[i];
         alpha.assign(ss.size(), 0.0);
@@ -241,14 +242,17 @@ Workspace::Workspace(const TriMesh& m) : corner_slot(3 * static_cast<std::size_t
 bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience, const std::vector<int>& barrier) {
     if (!rest_shapes(m, r, work.rest)) return false;
     const std::vector<RestShape>& rest = work.rest;
-    const Problem p = make_problem(m, r, rest, work.corner_slot, barrier);
+    Problem p = make_problem(m, r, rest, work.corner_slot, barrier);
+    p.stop = work.stop;
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
     double lowest = 0.0;
     region_energy(p, x, 1.0, nullptr, &lowest);
     double eps = std::max(1e-3, kInitialRegularisation * std::abs(lowest));
     std::size_t best = SIZE_MAX;
+    const auto stopped = [&] { return work.stop && work.stop->load(std::memory_order_relaxed); };
     for (int outer = 0, since_best = 0; outer < kOuterIterations && since_best < patience; ++outer) {
+        if (stopped()) return false;
         const double before = region_energy(p, x, eps, nullptr);
         minimise(p, x, eps, length, kInnerIterations, kInnerStall);
         // Place (truncated, propagated exactly) and judge exactly.
@@ -273,7 +277,7 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
         const double mu = (1.0 - sigma) * chi(lowest, eps);
         eps = lowest < mu ? std::max(2.0 * std::sqrt(mu * (mu - lowest)), 1e-13) : 1e-13;
     }
-    return kernel_sweeps(m, r);
+    return !stopped() && kernel_sweeps(m, r);
 }
 
 void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMarks& marks) {

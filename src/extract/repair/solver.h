@@ -6,6 +6,7 @@
 #include "extract/repair/certificates.h"
 #include "extract/repair/energy.h"
 
+#include <atomic>
 #include <vector>
 
 namespace qex::detail::repair_impl {
@@ -16,6 +17,9 @@ struct Workspace {
     explicit Workspace(const TriMesh& m);
     std::vector<RestShape> rest;
     std::vector<int> corner_slot;
+    /// Set by another thread when the untangling's result is no longer wanted (RetryBeside):
+    /// untangle_region then ends early, failing. Null: never.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 /// How many regularisation steps in a row may leave no fewer triangles inverted than the
@@ -28,8 +32,7 @@ constexpr int kPatienceAtLastRing = 8;
 /// Untangles the region in place; true when every triangle of it is positively oriented.
 /// `patience`: see above. `barrier` (sorted): triangles (positive at the start) kept positive
 /// by a pure barrier.
-bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
-                     const std::vector<int>& barrier = {});
+bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience, const std::vector<int>& barrier = {});
 
 /// A repaired region (every triangle positive) relaxed to the minimum of its energy with no
 /// regularisation: a pure barrier, so no triangle can invert and no vertex's winding change.
