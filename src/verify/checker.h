@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace qex::verify_detail {
@@ -306,6 +307,39 @@ std::vector<std::int32_t> fold_regions(const Input& in, const std::vector<char>&
 /// fold-over region (Located::surface_only), leave undecided to `r.undecided`.
 void check_face_cells(const LocatedMap& map, const QuadMesh& mesh, const std::vector<Located>& loc, VerifyResult& r,
                       std::vector<Violation>& out);
+
+namespace coverage {
+struct Scratch;
+}
+
+/// The unit cells round a grid point g of the input's boundary, as coverage judges them
+/// (coverage_cells.cpp), read in one chart carried from the chart of the triangle holding g
+/// across the edges near g (within coverage's claim reach): `cells`, those on the map's side (a
+/// triangle near g meets the cell farther than the band inside), and `cut`, how many of them the
+/// input's boundary cuts (CellState::Cut: it passes through the cell farther than the band from
+/// its sides, so the cell is no face of a map covering it whole, and coverage does not require
+/// it). Not `read` where the charts near g disagree or a fold-over lies near.
+struct CellsRound {
+    bool read = false;
+    int cells = 0, cut = 0;
+    std::vector<std::pair<std::uint32_t, GridPoint>> at; ///< g in the chart of each triangle near it
+};
+
+/// Reads CellsRound at grid points of the boundary, keeping the floods' scratch between them.
+class BoundaryCells {
+public:
+    /// `tol`: the UV tolerance that read the boundary along iso-lines, the band (at least
+    /// coverage's kBoundaryBand): a cut within it is the noise that reading let pass.
+    BoundaryCells(const LocatedMap& map, double tol);
+    ~BoundaryCells();
+    /// The cells round g, a grid point in the chart of triangle t (which holds it).
+    CellsRound round(std::uint32_t t, const GridPoint& g);
+
+private:
+    const LocatedMap& map_;
+    double reach_, band_;
+    std::unique_ptr<coverage::Scratch> scratch_;
+};
 
 /// The singularity match (singularities.cpp): every vertex of the mesh located on the map (in a
 /// fold-over region or not) has as many faces as the map's valence where it lies, and every

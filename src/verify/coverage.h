@@ -11,7 +11,8 @@
 // margins below), never which grid point a vertex claims or that a face is a cell's.
 // This header is the check's room: its tolerances, its types and the class that runs it, whose
 // steps live in coverage.cpp (the run and its reports), coverage_claims.cpp (the grid points the
-// vertices claim) and coverage_cells.cpp (which cells are required). Only these files include it.
+// vertices claim) and coverage_cells.cpp (which cells are required, and the cells round a grid
+// point of the boundary that the singularity match asks for). Only these files include it.
 #pragma once
 
 #include "checker.h"
@@ -108,6 +109,13 @@ struct RequiredCell {
     std::array<Key, 4> corner;
 };
 
+/// Triangle t's corner UVs, less `origin`.
+inline std::array<P2, 3> corner_uvs(const Input& in, std::uint32_t t, const P2& origin) {
+    std::array<P2, 3> p;
+    for (std::size_t k = 0; k < 3; ++k) p[k] = {in.uvs[3 * t + k][0] - origin[0], in.uvs[3 * t + k][1] - origin[1]};
+    return p;
+}
+
 /// What one thread's floods over the triangles use: per triangle its generation and the map
 /// from the flood's start's chart; the flood's queue; the triangles within reach of a point.
 struct Scratch {
@@ -125,6 +133,23 @@ struct Scratch {
     std::uint32_t generation = 0;
     std::vector<std::pair<std::uint32_t, P2>> reach;
 };
+
+/// What judging one cell reads (judge_cell): the map; per triangle whether it lies far from every
+/// fold-over (null: every triangle that is no fold-over); how near a corner a cone counts as at
+/// it; and the band: a boundary within it of a side counts as on the side.
+struct CellRules {
+    const LocatedMap& map;
+    const std::vector<char>* far;
+    double claim_reach;
+    double band;
+};
+
+/// The cell with lower-left p in the chart of triangle t0 (a triangle over its interior, which
+/// does not hold it whole): whether it is required, and its corners (coverage_cells.cpp). The
+/// triangles over it are flooded from t0; the first finding that makes it not required is the
+/// answer.
+CellState judge_cell(const CellRules& rules, std::uint32_t t0, const GridPoint& p, RequiredCell& cell,
+                     Scratch& scratch);
 
 /// A required cell and the claims at its corners, as the enumeration found it.
 struct Found {
@@ -210,9 +235,6 @@ private:
     /// edges, no triangle of smaller index holds it as well (or, if none holds it, lies within the
     /// reach). Solver noise can leave x in two triangles' charts or in none: each cell has one owner.
     bool owns(std::uint32_t t, double depth, const P2& x, Scratch& scratch) const;
-    /// The cell with lower-left p in the chart of triangle t0 (which does not hold it whole):
-    /// whether it is required, and its corners.
-    CellState judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell, Scratch& scratch) const;
 
     const LocatedMap& map_;
     const Input& in_;

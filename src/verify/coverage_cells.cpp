@@ -1,13 +1,18 @@
 // The coverage check's required cells (coverage.h): each input triangle owns the cells whose
 // reference point lies inside it; a cell it holds whole is required, any other is judged by a
 // flood over the triangles across it (positive, far from fold-overs, one chart, no boundary
-// across it). A required cell whose corners are not one face's is kept for the reports.
+// across it). A required cell whose corners are not one face's is kept for the reports. The
+// same judgement reads the cells round a grid point of the boundary for the singularity match
+// (BoundaryCells): a cell there that the boundary cuts may lack its face.
 #include "coverage.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
+#include <utility>
+#include <vector>
 
 namespace qex::verify_detail::coverage {
 namespace {
@@ -26,6 +31,78 @@ bool segment_meets_box(const P2& a, const P2& b, const P2& lo, const P2& hi) {
         right = right || s <= 0;
     }
     return left && right;
+}
+
+/// The closed triangle q and the closed box [lo, hi] meet (separating axes: the box's two and the
+/// triangle's three edge normals; a triangle of no area in doubles by its sides).
+bool triangle_meets_box(const std::array<P2, 3>& q, const P2& lo, const P2& hi) {
+    for (std::size_t d = 0; d < 2; ++d)
+        if (std::max({q[0][d], q[1][d], q[2][d]}) < lo[d] || std::min({q[0][d], q[1][d], q[2][d]}) > hi[d])
+            return false;
+    const double area = cross(q[0], q[1], q[2]);
+    const P2 corners[4] = {lo, {hi[0], lo[1]}, hi, {lo[0], hi[1]}};
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (area == 0) {
+            if (segment_meets_box(q[k], q[(k + 1) % 3], lo, hi)) return true;
+            continue;
+        }
+        bool inside = false; // a corner of the box on the triangle's side of the edge
+        for (const P2& c : corners) inside = inside || (area > 0 ? 1 : -1) * cross(q[k], q[(k + 1) % 3], c) >= 0;
+        if (!inside) return false;
+    }
+    return area != 0;
+}
+
+/// The cell with lower-left p carried by m: the lowest of its carried corners.
+GridPoint carried_cell(const Transition& m, const GridPoint& p) {
+    GridPoint lo = map_point(m, p);
+    for (const GridPoint& d : {GridPoint{1, 0}, GridPoint{1, 1}, GridPoint{0, 1}}) {
+        const GridPoint c = map_point(m, {p[0] + d[0], p[1] + d[1]});
+        lo = {std::min(lo[0], c[0]), std::min(lo[1], c[1])};
+    }
+    return lo;
+}
+
+/// The triangles within `reach` of the grid point g of triangle t's chart, each with the map from
+/// t's chart to its own, into `near` (t first): reached from t across the edges within twice the
+/// reach of g, as a vertex's claims are. False where two paths carry t's chart differently (the
+/// charts round g do not close up), a fold-over lies near, or the flood runs past the claims' budget.
+bool near_point(const LocatedMap& map, std::uint32_t t, const GridPoint& g, double reach, Scratch& scratch,
+                std::vector<std::pair<std::uint32_t, Transition>>& near) {
+    if (map.fold_over[t]) return false;
+    scratch.next();
+    scratch.stamp[t] = scratch.generation;
+    scratch.to[t] = Transition{};
+    near.assign(1, {t, Transition{}});
+    for (std::size_t head = 0; head < near.size(); ++head) {
+        if (near.size() > kClaimTriangles) return false;
+        const auto [s, m] = near[head]; // a copy: `near` grows below
+        const GridPoint gs = map_point(m, g);
+        const std::array<P2, 3> here = corner_uvs(map.in, s, {static_cast<double>(gs[0]), static_cast<double>(gs[1])});
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (segment_distance({0, 0}, here[k], here[(k + 1) % 3]) > 2 * reach) continue;
+            const std::size_t c = 3 * s + k;
+            const std::int64_t o = map.edges.opposite[c];
+            if (o < 0) continue;
+            const auto n = static_cast<std::uint32_t>(o / 3);
+            Transition mn;
+            if (!compose(map.edges.across[c], m, mn)) return false;
+            const GridPoint gn = map_point(mn, g);
+            if (!(std::abs(static_cast<double>(gn[0])) < kFarGrid && std::abs(static_cast<double>(gn[1])) < kFarGrid))
+                return false;
+            const P2 at{static_cast<double>(gn[0]), static_cast<double>(gn[1])};
+            if (triangle_distance({0, 0}, corner_uvs(map.in, n, at)) > reach) continue;
+            if (map.fold_over[n]) return false;
+            if (scratch.stamp[n] == scratch.generation) {
+                if (!same(mn, scratch.to[n])) return false;
+                continue;
+            }
+            scratch.stamp[n] = scratch.generation;
+            scratch.to[n] = mn;
+            near.push_back({n, mn});
+        }
+    }
+    return true;
 }
 
 /// A positive triangle's edges as lines: the signed distance of a point inside from each.
@@ -61,7 +138,10 @@ struct EdgeLines {
 
 } // namespace
 
-CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCell& cell, Scratch& scratch) const {
+CellState judge_cell(const CellRules& rules, std::uint32_t t0, const GridPoint& p, RequiredCell& cell,
+                     Scratch& scratch) {
+    const LocatedMap& map = rules.map;
+    const double reach = rules.claim_reach;
     const GridPoint corners[4] = {p, {p[0] + 1, p[1]}, {p[0] + 1, p[1] + 1}, {p[0], p[1] + 1}};
     cell.cell = {t0, p};
     // The triangles over the cell's interior (shrunk by the band): from the owner across the edges
@@ -81,27 +161,26 @@ CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCel
             const GridPoint c = map_point(to[t], corners[i]);
             lo = {std::min(lo[0], c[0]), std::min(lo[1], c[1])};
         }
-        const std::array<P2, 3> q = uv(t, {static_cast<double>(lo[0]), static_cast<double>(lo[1])});
+        const std::array<P2, 3> q = corner_uvs(map.in, t, {static_cast<double>(lo[0]), static_cast<double>(lo[1])});
         // A cone inside the cell or on a side (not at a corner) breaks its grid.
         for (std::size_t k = 0; k < 3; ++k) {
-            if (!map_.singular[static_cast<std::size_t>(in_.triangles[t][k])]) continue;
+            if (!map.singular[static_cast<std::size_t>(map.in.triangles[t][k])]) continue;
             const P2& x = q[k];
-            const bool in_cell =
-                x[0] > -claim_reach_ && x[0] < 1 + claim_reach_ && x[1] > -claim_reach_ && x[1] < 1 + claim_reach_;
-            const bool at_corner = (std::abs(x[0]) <= claim_reach_ || std::abs(x[0] - 1) <= claim_reach_) &&
-                                   (std::abs(x[1]) <= claim_reach_ || std::abs(x[1] - 1) <= claim_reach_);
+            const bool in_cell = x[0] > -reach && x[0] < 1 + reach && x[1] > -reach && x[1] < 1 + reach;
+            const bool at_corner = (std::abs(x[0]) <= reach || std::abs(x[0] - 1) <= reach) &&
+                                   (std::abs(x[1]) <= reach || std::abs(x[1] - 1) <= reach);
             if (in_cell && !at_corner) return CellState::Cone;
         }
-        const P2 slo{kBoundaryBand, kBoundaryBand}, shi{1 - kBoundaryBand, 1 - kBoundaryBand};
+        const P2 slo{rules.band, rules.band}, shi{1 - rules.band, 1 - rules.band};
         for (std::size_t k = 0; k < 3; ++k) {
             if (!segment_meets_box(q[k], q[(k + 1) % 3], slo, shi)) continue;
             const std::size_t c = 3 * t + k;
-            const std::int64_t o = map_.edges.opposite[c];
-            if (o < 0) return map_.edges.partner[c] >= 0 ? CellState::Unknown : CellState::Cut;
+            const std::int64_t o = map.edges.opposite[c];
+            if (o < 0) return map.edges.partner[c] >= 0 ? CellState::Unknown : CellState::Cut;
             const auto n = static_cast<std::uint32_t>(o / 3);
-            if (map_.fold_over[n] || !far_[n]) return CellState::NearFold;
+            if (map.fold_over[n] || (rules.far && !(*rules.far)[n])) return CellState::NearFold;
             Transition m;
-            if (!compose(map_.edges.across[c], to[t], m)) return CellState::Unknown;
+            if (!compose(map.edges.across[c], to[t], m)) return CellState::Unknown;
             if (stamp[n] == scratch.generation) {
                 if (!same(m, to[n])) return CellState::Cone; // the charts disagree: a cone inside
                 continue;
@@ -116,7 +195,8 @@ CellState Coverage::judge_cell(std::uint32_t t0, const GridPoint& p, RequiredCel
         double best = HUGE_VAL;
         for (const std::uint32_t t : queue) {
             const GridPoint c = map_point(to[t], corners[i]);
-            const double d = triangle_distance({0, 0}, uv(t, {static_cast<double>(c[0]), static_cast<double>(c[1])}));
+            const double d = triangle_distance(
+                {0, 0}, corner_uvs(map.in, t, {static_cast<double>(c[0]), static_cast<double>(c[1])}));
             if (d < best) best = d, cell.corner[i] = {t, c};
         }
         if (!(best <= kCornerReach)) return CellState::Unknown;
@@ -160,7 +240,8 @@ std::int64_t Coverage::enumerate(std::uint32_t t, Scratch& scratch, std::vector<
                 f.cell.cell = {t, lo};
                 f.cell.corner = {
                     Key{t, lo}, {t, {lo[0] + 1, lo[1]}}, {t, {lo[0] + 1, lo[1] + 1}}, {t, {lo[0], lo[1] + 1}}};
-            } else if (judge_cell(t, lo, f.cell, scratch) != CellState::Required) {
+            } else if (judge_cell({map_, &far_, claim_reach_, kBoundaryBand}, t, lo, f.cell, scratch) !=
+                       CellState::Required) {
                 continue;
             }
             ++required;
@@ -175,3 +256,48 @@ std::int64_t Coverage::enumerate(std::uint32_t t, Scratch& scratch, std::vector<
 }
 
 } // namespace qex::verify_detail::coverage
+
+namespace qex::verify_detail {
+
+BoundaryCells::BoundaryCells(const LocatedMap& map, double tol)
+    : map_(map),
+      reach_(std::max(coverage::kClaimReach, tol)),
+      band_(std::max(coverage::kBoundaryBand, tol)),
+      scratch_(std::make_unique<coverage::Scratch>(map.in.triangles.size())) {}
+
+BoundaryCells::~BoundaryCells() = default;
+
+CellsRound BoundaryCells::round(std::uint32_t t, const GridPoint& g) {
+    using coverage::P2;
+    CellsRound out;
+    std::vector<std::pair<std::uint32_t, Transition>> near;
+    if (!coverage::near_point(map_, t, g, reach_, *scratch_, near)) return out;
+    // The four cells at g in t's chart (lower-left g - (1, 1) + (i % 2, i / 2)), each with the
+    // first triangle near g that meets it farther than the band inside, and its lower-left in that
+    // triangle's chart. One chart round a point of the boundary tells its cells apart: its fan is
+    // open, and the caller asks for no corner of more than a turn.
+    std::array<std::pair<std::uint32_t, GridPoint>, 4> over{};
+    std::array<bool, 4> met{false, false, false, false};
+    const P2 lo{band_, band_}, hi{1 - band_, 1 - band_};
+    for (const auto& [n, m] : near) {
+        out.at.push_back({n, map_point(m, g)});
+        for (std::size_t i = 0; i < 4; ++i) {
+            const GridPoint c = coverage::carried_cell(
+                m, {g[0] - 1 + static_cast<std::int64_t>(i % 2), g[1] - 1 + static_cast<std::int64_t>(i / 2)});
+            const P2 origin{static_cast<double>(c[0]), static_cast<double>(c[1])};
+            if (!met[i] && coverage::triangle_meets_box(coverage::corner_uvs(map_.in, n, origin), lo, hi))
+                met[i] = true, over[i] = {n, c};
+        }
+    }
+    out.read = true;
+    for (std::size_t i = 0; i < 4; ++i) {
+        if (!met[i]) continue;
+        ++out.cells;
+        coverage::RequiredCell cell;
+        out.cut += coverage::judge_cell({map_, nullptr, reach_, band_}, over[i].first, over[i].second, cell,
+                                        *scratch_) == coverage::CellState::Cut;
+    }
+    return out;
+}
+
+} // namespace qex::verify_detail

@@ -39,11 +39,7 @@ Coverage::Coverage(const LocatedMap& map, const QuadMesh& mesh, const std::vecto
     }
 }
 
-std::array<P2, 3> Coverage::uv(std::uint32_t t, const P2& origin) const {
-    std::array<P2, 3> p;
-    for (std::size_t k = 0; k < 3; ++k) p[k] = {in_.uvs[3 * t + k][0] - origin[0], in_.uvs[3 * t + k][1] - origin[1]};
-    return p;
-}
+std::array<P2, 3> Coverage::uv(std::uint32_t t, const P2& origin) const { return corner_uvs(in_, t, origin); }
 
 bool Coverage::walk_to(std::uint32_t& t, GridPoint& p) const {
     for (int step = 0; step < kWalkSteps; ++step) {

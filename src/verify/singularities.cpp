@@ -10,13 +10,18 @@
 // it. Where that fan holds a flipped or degenerate triangle, the sum is known modulo a whole
 // turn only (a vertex pushed across its fan winds zero times; a repair corrects it by whole
 // turns): the valence must then match modulo 4. On the boundary, where the input's boundary runs
-// along iso-lines, a boundary vertex of the mesh has as many faces as the corner's quarter turns.
+// along iso-lines, a boundary vertex of the mesh has as many faces as the corner's quarter turns,
+// less those of the cells round its grid point that the input's boundary cuts (a notch inside a
+// cell): an extractor discards such partial faces, as the paper does.
 #include "cones.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <tuple>
 
 namespace qex::verify_detail {
 namespace {
@@ -113,6 +118,78 @@ Expected expected_valence(const LocatedMap& map, const ConeMap& k, const Located
 
 namespace {
 
+/// Where the input's boundary cuts cells round a grid point of the boundary (BoundaryCells), which
+/// the extractor may leave without their faces (coverage does not require them either). Read only
+/// where a boundary vertex has fewer faces than its corner, or a corner carries no vertex: few.
+class Cuts {
+public:
+    Cuts(const LocatedMap& map, const std::vector<Located>& loc, double tol) : map_(map), loc_(loc), tol_(tol) {}
+
+    /// Boundary vertex v has `faces` < n faces, n the corner's quarter turns: explained where the
+    /// map has n cells round its grid point, at most as many faces are missing as cells are cut,
+    /// and no other vertex lies on the grid point (a vertex split into copies along a slit from
+    /// the boundary leaves each copy fewer faces too).
+    bool explain(std::size_t v, int faces, int n) {
+        const Located& L = loc_[v];
+        const CellsRound c = round(L.triangle, L.grid);
+        return c.read && c.cells == n && faces >= n - c.cut && alone(v, c);
+    }
+
+    /// Corner x of n quarter turns carries no vertex: explained where its n cells are all cut.
+    bool explain_uncarried(const Cone& x, int n) {
+        if (first_corner_.empty()) {
+            first_corner_.assign(map_.in.positions.size(), SIZE_MAX);
+            for (std::size_t c = 3 * map_.in.triangles.size(); c-- > 0;)
+                first_corner_[static_cast<std::size_t>(map_.in.triangles[c / 3][c % 3])] = c;
+        }
+        const std::size_t c = first_corner_[static_cast<std::size_t>(x.vertex)];
+        if (c == SIZE_MAX) return false;
+        const auto& uv = map_.in.uvs[c];
+        const GridPoint g{static_cast<std::int64_t>(std::nearbyint(uv[0])),
+                          static_cast<std::int64_t>(std::nearbyint(uv[1]))};
+        if (!(std::abs(uv[0] - static_cast<double>(g[0])) <= tol_ &&
+              std::abs(uv[1] - static_cast<double>(g[1])) <= tol_))
+            return false;
+        const CellsRound r = round(static_cast<std::uint32_t>(c / 3), g);
+        return r.read && r.cells == n && r.cut == n;
+    }
+
+private:
+    CellsRound round(std::uint32_t t, const GridPoint& g) {
+        if (!cells_) cells_ = std::make_unique<BoundaryCells>(map_, tol_);
+        return cells_->round(t, g);
+    }
+
+    /// No vertex but v lies on the grid point (in the chart of any triangle near it).
+    bool alone(std::size_t v, const CellsRound& c) {
+        if (!indexed_) {
+            for (std::size_t w = 0; w < loc_.size(); ++w)
+                if (loc_[w].ok || loc_[w].surface_only || loc_[w].undecided)
+                    on_.push_back({loc_[w].triangle, loc_[w].grid, w});
+            std::sort(on_.begin(), on_.end());
+            indexed_ = true;
+        }
+        for (const auto& [t, g] : c.at)
+            for (auto it = std::lower_bound(on_.begin(), on_.end(), std::make_tuple(t, g, std::size_t{0}));
+                 it != on_.end() && std::get<0>(*it) == t && std::get<1>(*it) == g; ++it)
+                if (std::get<2>(*it) != v) return false;
+        return true;
+    }
+
+    const LocatedMap& map_;
+    const std::vector<Located>& loc_;
+    double tol_;
+    std::unique_ptr<BoundaryCells> cells_;
+    std::vector<std::size_t> first_corner_; ///< per input vertex its first corner (when first asked)
+    /// The located vertices by triangle and grid point (when first asked).
+    std::vector<std::tuple<std::uint32_t, GridPoint, std::size_t>> on_;
+    bool indexed_ = false;
+};
+
+} // namespace
+
+namespace {
+
 /// Where a finding lies on the map: the cone of the input vertex it sits on, or its triangle.
 struct Spot {
     std::int32_t cone = -1;
@@ -140,7 +217,7 @@ void mark_undecided(const ConeMap& k, const std::vector<char>& which, Findings& 
 }
 
 void judge_vertices(const LocatedMap& map, const ConeMap& k, const QuadMesh& mesh, const std::vector<Located>& loc,
-                    double tol, VerifyResult& r, Findings& f) {
+                    double tol, Cuts& cuts, VerifyResult& r, Findings& f) {
     const MeshValences m = mesh_valences(mesh);
     for (std::size_t v = 0; v < loc.size(); ++v) {
         const Located& L = loc[v];
@@ -153,6 +230,7 @@ void judge_vertices(const LocatedMap& map, const ConeMap& k, const QuadMesh& mes
         if (!e.judged) continue;
         ++r.valences_judged;
         if (e.cone ? e.cone->matches(m.faces[v], e.n) : m.faces[v] == e.n) continue;
+        if (boundary && m.faces[v] < e.n && cuts.explain(v, m.faces[v], e.n)) continue; // cut cells' faces
         f.pending.push_back({{ViolationKind::ValenceMismatch,
                               std::string(boundary ? "boundary " : "") + "vertex " + std::to_string(v) + " has " +
                                   std::to_string(m.faces[v]) + " faces; the map has " + e.where,
@@ -161,14 +239,15 @@ void judge_vertices(const LocatedMap& map, const ConeMap& k, const QuadMesh& mes
     }
 }
 
-void judge_cones(const ConeMap& k, VerifyResult& r, Findings& f) {
+void judge_cones(const ConeMap& k, Cuts& cuts, VerifyResult& r, Findings& f) {
     for (std::size_t c = 0; c < k.cones.size(); ++c) {
         const Cone& x = k.cones[c];
         int n = 0;
-        const bool singular = x.singular(), corner = x.boundary_corner();
+        const bool read = x.valence(n), singular = x.singular(), corner = x.boundary_corner();
         r.map_cones += singular;
-        if (x.interior && !x.valence(n)) ++r.unread_cones;
+        if (x.interior && !read) ++r.unread_cones;
         if (!(singular || corner) || f.carried[c]) continue;
+        if (corner && cuts.explain_uncarried(x, n)) continue; // every cell round it cut: no face there
         f.pending.push_back({{ViolationKind::SingularityNotCarried,
                               std::string(singular ? "the map's singularity of " : "the map's boundary corner of ") +
                                   valence_words(n, x.folded) + " at input vertex " + std::to_string(x.vertex) +
@@ -265,8 +344,9 @@ void check_singularities(const LocatedMap& map, const QuadMesh& mesh, const std:
                          VerifyResult& r, std::vector<Violation>& out) {
     ConeMap k = map_cones(map, tol);
     Findings f{{}, {}, std::vector<char>(k.cones.size(), 0), std::vector<char>(map.in.triangles.size(), 0)};
-    judge_vertices(map, k, mesh, loc, tol, r, f);
-    judge_cones(k, r, f);
+    Cuts cuts(map, loc, tol);
+    judge_vertices(map, k, mesh, loc, tol, cuts, r, f);
+    judge_cones(k, cuts, r, f);
     // The footprints whose sums do not explain their mismatches grow by a ring at a time: an
     // extractor that leaves a fold as the map gives it may move a singularity out of it.
     std::vector<char> grow(k.cones.size(), 0);
