@@ -4,7 +4,9 @@
    right but those named in KNOWN_WRONG (cases where qex extract exits 0 with a mesh qex check
    rejects; listed so that the test asserts everything else, and says when one is mended).
 2. qex_broken_extractor, each way of breaking its output: every case gets the outcome expected,
-   and summary.jsonl, the reproducer folders and the exit code 7 are as documented.
+   and summary.jsonl, the reproducer folders and the exit code 7 are as documented. A refined
+   mesh (the map's UVs x 2, as qex extract refines) is judged at grid scale 2: wrong_count on
+   a known case, valid on a user's map, and replay.sh checks it with --grid-scale 2.
 3. --shrink gives a smaller failing case, and a reproducer replays with one command.
 4. Every flag `qex conform --help` lists is in src/cli/README.md's section on it.
 """
@@ -27,6 +29,7 @@ BROKEN_MODES = {
     "none": "exact", "drop_face": "invalid_exit_0", "rotate_edge": "invalid_exit_0",
     "move_vertex": "invalid_exit_0", "one_triangle": "invalid_exit_0", "no_write": "no_output",
     "empty": "no_output", "crash": "crash", "hang": "timeout", "wrong_map": "invalid_exit_0",
+    "refined": "wrong_count",  # valid at grid scale 2, but a known case's count is at scale 1
 }
 
 
@@ -81,7 +84,36 @@ def check_broken_modes():
                 assert os.path.exists(os.path.join(r["folder"], "verdict.svg")), r
             if expected == "crash":
                 assert "SIGSEGV" in r["detail"], r
+            # Judged at grid scale 1 but the refined mesh, valid at scale 2 alone.
+            assert r["grid_scale"] == (2 if mode == "refined" else 1), (mode, r)
     print("qex_broken_extractor: all %d ways classified" % len(BROKEN_MODES))
+
+
+def check_refined():
+    """A refined mesh: judged at grid scale 2 on known cases and on the same maps as a user's."""
+    known = os.path.join(WORK, "broken_refined")  # check_broken_modes' run
+    rows = [json.loads(line) for line in open(os.path.join(known, "summary.jsonl"))]
+    maps = os.path.join(WORK, "refined_maps")
+    shutil.rmtree(maps, ignore_errors=True)
+    os.makedirs(maps)
+    for i, r in enumerate(rows):
+        assert "VALID at grid scale 2" in r["detail"], r
+        assert "known %d at grid scale 1" % r["expected_quads"] in r["detail"], r
+        assert r["quads"] == 4 * r["expected_quads"], r
+        script = open(os.path.join(r["folder"], "replay.sh")).read()
+        assert "check --param 'map.obj' 'output.obj' --grid-scale 2\n" in script, script
+        verdict = json.load(open(os.path.join(r["folder"], "verdict.json")))
+        assert verdict["valid"], verdict  # the verdict at the scale chosen
+        shutil.copy(os.path.join(r["folder"], "map.obj"), os.path.join(maps, "map%d.obj" % i))
+    replay = subprocess.run(["sh", os.path.join(rows[0]["folder"], "replay.sh")], capture_output=True, text=True)
+    assert replay.stdout.splitlines()[-1].startswith("VALID"), replay.stdout  # qex check --grid-scale 2 agrees
+    p, user = conform(os.path.join(WORK, "refined_user"), "'%s' refined {in} {out}" % BROKEN, "--cases", maps,
+                      "--jobs", "2")
+    assert p.returncode == 0 and len(user) == len(rows), (p.returncode, user)
+    for r in user:
+        assert r["right"] and r["outcome"] == "valid" and r["grid_scale"] == 2, r
+        assert r["quads"] >= 4 * r["area"] and "grid scale 2" in r["detail"], r
+    print("refined: judged at grid scale 2 (%d known cases wrong_count, %d user maps valid)" % (len(rows), len(user)))
 
 
 def check_shrink_and_replay():
@@ -115,4 +147,5 @@ os.makedirs(WORK, exist_ok=True)
 check_flags_documented()
 check_qex_extract()
 check_broken_modes()
+check_refined()
 check_shrink_and_replay()

@@ -9,7 +9,10 @@
 //   empty         exit 0 with an empty file                     (no_output)
 //   crash         ends by SIGSEGV                               (crash)
 //   hang          never ends                                    (timeout)
-//   wrong_map     the valid mesh of the map with its UVs x 2    (invalid_exit_0)
+//   wrong_map     the valid mesh of the map with its UVs x 3    (invalid_exit_0)
+//                 (no grid scale 2^j refines a grid of thirds: the wrong map at every scale)
+//   refined       the valid mesh of the map with its UVs x 2, as qex extract refines: valid at
+//                 grid scale 2 (wrong_count on a known case, valid on a user's map)
 #include "qex/qex.h"
 
 #include <csignal>
@@ -62,16 +65,20 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "qex_broken_extractor: %s\n", e.message.c_str());
         return 3;
     }
-    if (mode == "wrong_map")
-        for (auto& uv : input.uvs) uv = {2 * uv[0], 2 * uv[1]};
+    if (mode == "wrong_map" || mode == "refined") {
+        const double k = mode == "refined" ? 2 : 3;
+        for (auto& uv : input.uvs) uv = {k * uv[0], k * uv[1]};
+    }
     qex::Options options;
     options.threads = 1;
     qex::Result r = qex::extract(input, options);
     if (!r.ok() || !r.check.valid) return 5;
     qex::QuadMesh& m = r.mesh;
     m.face_uvs.clear(); // local UVs would no longer match the broken faces
-    if (mode == "drop_face") m.faces.erase(m.faces.begin());
-    else if (mode == "rotate_edge" && !rotate_edge(m)) return 6;
+    if (mode == "drop_face")
+        m.faces.erase(m.faces.begin());
+    else if (mode == "rotate_edge" && !rotate_edge(m))
+        return 6;
     else if (mode == "move_vertex") {
         const auto& f = m.faces[0];
         auto& p = m.positions[f[0]];

@@ -48,12 +48,12 @@ struct ConformRecipe {
 };
 
 struct ConformCase {
-    std::string name;             ///< stable for a seed: "known/torus/0003"
-    std::string family;           ///< the table's row: "known/torus", "hostile/fold", "user"
-    std::string kind;             ///< "known", "hostile" or "user"
-    std::string map_path;         ///< a user's map (then no recipe)
-    bool generated = false;       ///< built from `recipe`
-    ConformRecipe recipe;         ///< generated cases
+    std::string name;                 ///< stable for a seed: "known/torus/0003"
+    std::string family;               ///< the table's row: "known/torus", "hostile/fold", "user"
+    std::string kind;                 ///< "known", "hostile" or "user"
+    std::string map_path;             ///< a user's map (then no recipe)
+    bool generated = false;           ///< built from `recipe`
+    ConformRecipe recipe;             ///< generated cases
     std::int64_t expected_quads = -1; ///< known cases: the exact count; -1 unknown
 };
 
@@ -72,10 +72,10 @@ std::string conform_describe(const ConformCase& c);
 
 /// How the extractor's process ended.
 struct ConformRun {
-    int exit_code = 0;     ///< its exit status (when not signalled)
-    int signal = 0;        ///< the signal that ended it, 0 if none
+    int exit_code = 0;      ///< its exit status (when not signalled)
+    int signal = 0;         ///< the signal that ended it, 0 if none
     bool timed_out = false; ///< killed at the time limit
-    double seconds = 0.0;  ///< wall-clock time
+    double seconds = 0.0;   ///< wall-clock time
 };
 
 /// One case judged.
@@ -85,12 +85,16 @@ struct ConformResult {
     ConformOutcome outcome = ConformOutcome::NoOutput;
     bool right = false;
     std::int64_t quads = -1; ///< faces of the output mesh, -1 without one
-    std::int64_t area = -1;  ///< the map's signed UV area rounded, -1 for a map that is no valid input
-    std::string detail;      ///< why, in a line: the verdict line, the signal, the exit code
-    std::string verdict_json; ///< the checker's verdict on the output (empty if none was judged)
-    MeshQuality quality;     ///< of a valid mesh
-    std::string folder;      ///< the reproducer's folder (cases not right), else empty
-    std::string shrunk;      ///< --shrink: the smaller failing recipe in words, else empty
+    std::int64_t area = -1;  ///< the map's signed UV area rounded (at grid scale 1), -1 for a map no valid input
+    /// The grid scale the output was judged at: 1, or the first power of two (2 to 64, as
+    /// `qex check --grid-scale` takes) at which a mesh off the map's grid points is valid (a
+    /// refined mesh, as `qex extract` writes when the map's own scale gives none).
+    int grid_scale = 1;
+    std::string detail;       ///< why, in a line: the verdict line, the signal, the exit code
+    std::string verdict_json; ///< the checker's verdict on the output at grid_scale (empty if none was judged)
+    MeshQuality quality;      ///< of a valid mesh
+    std::string folder;       ///< the reproducer's folder (cases not right), else empty
+    std::string shrunk;       ///< --shrink: the smaller failing recipe in words, else empty
 };
 
 /// Whether `outcome` is right for a case of `kind`: known cases must be Exact; hostile cases
@@ -98,7 +102,8 @@ struct ConformResult {
 bool conform_right(const std::string& kind, ConformOutcome outcome);
 
 /// Judges one finished run through qex::check_mesh: the map at `map_path`, the output at
-/// `out_path` (OBJ or PLY by its extension).
+/// `out_path` (OBJ or PLY by its extension); at grid scale 1, and when the mesh is invalid there
+/// with vertices off the grid points, at grid scales 2 to 64 (ConformResult::grid_scale).
 ConformResult conform_judge(const ConformCase& c, const std::string& map_path, const std::string& out_path,
                             const ConformRun& run);
 
@@ -112,11 +117,11 @@ ConformExtractor shell_extractor(const std::string& command);
 std::string shell_command(const std::string& command, const std::string& in, const std::string& out);
 
 struct ConformOptions {
-    std::string out_dir;         ///< the report's folder: summary.jsonl, cases/ for the reproducers
-    int jobs = 1;                ///< cases run at once
-    double timeout = 60.0;       ///< seconds per case
-    std::int64_t memory_mb = 4096; ///< address-space limit per case (RLIMIT_AS), 0: none
-    bool shrink = false;         ///< reduce each failing generated case to a smaller one
+    std::string out_dir;               ///< the report's folder: summary.jsonl, cases/ for the reproducers
+    int jobs = 1;                      ///< cases run at once
+    double timeout = 60.0;             ///< seconds per case
+    std::int64_t memory_mb = 4096;     ///< address-space limit per case (RLIMIT_AS), 0: none
+    bool shrink = false;               ///< reduce each failing generated case to a smaller one
     std::string out_extension = "obj"; ///< the output file's extension ({out})
     /// The reproducer's command line with {in} and {out}, for replay.sh (the CLI's --extractor);
     /// empty: replay.sh says the extractor has no command line.
@@ -141,7 +146,7 @@ std::string write_reproducer(const ConformResult& r, const std::string& map_path
                              const std::string& stderr_path, const ConformOptions& options);
 
 /// A summary row as one line of JSON: case, family, kind, outcome, right, exit_code, signal,
-/// seconds, quads, expected_quads, area, detail, recipe, folder, shrunk.
+/// seconds, quads, expected_quads, area, grid_scale, detail, recipe, folder, shrunk.
 std::string conform_summary_line(const ConformResult& r);
 /// The table per family: counts per outcome, the extractor's seconds per case (median,
 /// worst), and the quality of the valid meshes (smallest scaled Jacobian, mean of the means).

@@ -45,6 +45,64 @@ std::string first_violations(const VerifyResult& v) {
     return out;
 }
 
+/// The grid scales above 1 that `qex check --grid-scale` accepts.
+constexpr int kFinerScales[] = {2, 4, 8, 16, 32, 64};
+
+bool names_off_grid(const std::vector<Violation>& list) {
+    return std::any_of(list.begin(), list.end(),
+                       [](const Violation& x) { return x.kind == ViolationKind::NotOnGridPoint; });
+}
+
+/// Whether a mesh invalid at grid scale 1 may be valid at grid scale k, a refined mesh's (qex
+/// extract's when the map's own scale gives none): vertices off the map's grid points (in a
+/// fold-over region such vertices are undecided, not violations), and a face for each of the
+/// k^2 cells every required cell splits into, as a valid mesh there has. So an ordinary
+/// invalid mesh (a face dropped, a vertex moved) costs no second check.
+bool may_be_valid_at(const VerifyResult& at_1, std::int64_t faces, int k) {
+    return (names_off_grid(at_1.violations) || names_off_grid(at_1.undecided)) &&
+           faces >= static_cast<std::int64_t>(k) * k * at_1.coverage_cells;
+}
+
+/// The verdict at grid scale 1, or at the first finer scale where the mesh is valid (then
+/// r.grid_scale is set to it): one verdict everywhere, as `qex check --grid-scale K` gives.
+/// r.area is the map's own area, from the verdict at scale 1.
+MeshCheck check_at_its_scale(const Input& map, const QuadMesh& mesh, ConformResult& r) {
+    VerifyOptions options;
+    options.threads = 1; // the cases run in parallel processes already
+    r.grid_scale = 1;
+    MeshCheck check = check_mesh(map, mesh, 1, options);
+    if (!check.map_ok()) return check;
+    r.area = check.verdict.input_signed_uv_area_rounded;
+    if (check.verdict.valid) return check;
+    for (const int k : kFinerScales) {
+        if (!may_be_valid_at(check.verdict, static_cast<std::int64_t>(mesh.faces.size()), k)) break; // k^2 grows
+        MeshCheck finer = check_mesh(map, mesh, k, options);
+        if (finer.verdict.valid) {
+            r.grid_scale = k;
+            return finer;
+        }
+    }
+    return check;
+}
+
+/// The outcome of a mesh the checker judged (at r.grid_scale), and the detail's tail.
+void classify(ConformResult& r, const VerifyResult& v) {
+    const std::string at = r.grid_scale == 1 ? "" : " at grid scale " + std::to_string(r.grid_scale);
+    if (!v.valid)
+        r.outcome = ConformOutcome::InvalidExit0;
+    else if (r.c.expected_quads >= 0)
+        r.outcome =
+            r.quads == r.c.expected_quads && r.grid_scale == 1 ? ConformOutcome::Exact : ConformOutcome::WrongCount;
+    else
+        r.outcome = r.quads < v.input_signed_uv_area_rounded ? ConformOutcome::ValidFewerQuads : ConformOutcome::Valid;
+    if (r.grid_scale != 1)
+        r.detail += at + " (qex check --grid-scale " + std::to_string(r.grid_scale) + "; the map's area there " +
+                    std::to_string(v.input_signed_uv_area_rounded) + ")";
+    if (r.outcome == ConformOutcome::WrongCount)
+        r.detail += ": " + std::to_string(r.quads) + " quads" + at + ", known " + std::to_string(r.c.expected_quads) +
+                    (r.grid_scale == 1 ? "" : " at grid scale 1");
+}
+
 /// Judges an output of a run that exited 0; the map read as the extractor read it.
 void judge_output(ConformResult& r, const std::string& map_path, const std::string& out_path) {
     Input map;
@@ -62,9 +120,7 @@ void judge_output(ConformResult& r, const std::string& map_path, const std::stri
         return;
     }
     r.quads = static_cast<std::int64_t>(mesh.faces.size());
-    VerifyOptions options;
-    options.threads = 1; // the cases run in parallel processes already
-    const MeshCheck check = check_mesh(map, mesh, 1, options);
+    const MeshCheck check = check_at_its_scale(map, mesh, r);
     if (!check.map_ok()) {
         r.outcome = ConformOutcome::InvalidExit0;
         r.detail = "exit 0 for a map that is no valid input (" + std::string(to_string(check.error.code)) + ": " +
@@ -72,16 +128,10 @@ void judge_output(ConformResult& r, const std::string& map_path, const std::stri
         return;
     }
     const VerifyResult& v = check.verdict;
-    r.area = v.input_signed_uv_area_rounded;
     r.detail = verdict_line(v) + first_violations(v);
-    if (v.valid) r.quality = mesh_quality(map, mesh);
+    if (v.valid) r.quality = mesh_quality(map, mesh); // on the map as given, whatever the scale
     r.verdict_json = r.quality.computed ? verify_json(v, r.quality) : verify_json(v);
-    if (!v.valid) r.outcome = ConformOutcome::InvalidExit0;
-    else if (r.c.expected_quads >= 0)
-        r.outcome = r.quads == r.c.expected_quads ? ConformOutcome::Exact : ConformOutcome::WrongCount;
-    else r.outcome = r.quads < r.area ? ConformOutcome::ValidFewerQuads : ConformOutcome::Valid;
-    if (r.outcome == ConformOutcome::WrongCount)
-        r.detail += ": " + std::to_string(r.quads) + " quads, known " + std::to_string(r.c.expected_quads);
+    classify(r, v);
 }
 
 } // namespace
@@ -122,7 +172,8 @@ ConformResult conform_judge(const ConformCase& c, const std::string& map_path, c
     } else if (run.exit_code > 128 && run.exit_code <= 128 + 64) {
         // The shell's status for a command a signal ended (/bin/sh -c need not exec it).
         r.outcome = ConformOutcome::Crash;
-        r.detail = "ended by " + signal_name(run.exit_code - 128) + " (exit status " + std::to_string(run.exit_code) + ")";
+        r.detail =
+            "ended by " + signal_name(run.exit_code - 128) + " (exit status " + std::to_string(run.exit_code) + ")";
     } else if (run.exit_code != 0) {
         r.outcome = ConformOutcome::CleanFailure;
         r.detail = "exit code " + std::to_string(run.exit_code);

@@ -19,25 +19,30 @@ using nlohmann::json;
 using namespace conform_detail;
 
 constexpr ConformOutcome kOutcomes[] = {
-    ConformOutcome::Exact,       ConformOutcome::Valid,      ConformOutcome::ValidFewerQuads,
+    ConformOutcome::Exact,        ConformOutcome::Valid,        ConformOutcome::ValidFewerQuads,
     ConformOutcome::CleanFailure, ConformOutcome::InvalidExit0, ConformOutcome::WrongCount,
-    ConformOutcome::Crash,       ConformOutcome::Timeout,    ConformOutcome::NoOutput};
+    ConformOutcome::Crash,        ConformOutcome::Timeout,      ConformOutcome::NoOutput};
 
 json recipe_json(const ConformRecipe& r) {
     json steps = json::array();
     for (const ConformStep& s : r.steps) steps.push_back({{"op", s.op}, {"a", s.a}, {"b", s.b}});
-    return {{"layout", r.layout}, {"n", r.n},       {"k", r.k},
+    return {{"layout", r.layout},       {"n", r.n},       {"k", r.k},
             {"diagonals", r.diagonals}, {"seed", r.seed}, {"steps", steps}};
 }
 
 /// The replay script: the extractor's command on the folder's map, then qex check on its output.
 std::string replay_script(const ConformResult& r, const std::string& map, const std::string& out,
                           const ConformOptions& o) {
-    std::string s = "#!/bin/sh\n# qex conform: " + r.c.name + " (" + conform_describe(r.c) + "): " +
-                    to_string(r.outcome) + ", " + r.detail + "\n# Replays it: sh replay.sh\ncd \"$(dirname \"$0\")\"\n";
-    if (o.replay_command.empty()) s += "echo 'the extractor has no command line: run it on " + map + "'\n";
-    else s += shell_command(o.replay_command, map, out) + "\necho \"extractor exit status $?\"\n";
-    return s + shell_quote(o.checker) + " check --param " + shell_quote(map) + " " + shell_quote(out) + "\n";
+    std::string s = "#!/bin/sh\n# qex conform: " + r.c.name + " (" + conform_describe(r.c) +
+                    "): " + to_string(r.outcome) + ", " + r.detail +
+                    "\n# Replays it: sh replay.sh\ncd \"$(dirname \"$0\")\"\n";
+    if (o.replay_command.empty())
+        s += "echo 'the extractor has no command line: run it on " + map + "'\n";
+    else
+        s += shell_command(o.replay_command, map, out) + "\necho \"extractor exit status $?\"\n";
+    // The check at the scale the judge chose, so that replay.sh gives the summary's verdict.
+    const std::string scale = r.grid_scale == 1 ? "" : " --grid-scale " + std::to_string(r.grid_scale);
+    return s + shell_quote(o.checker) + " check --param " + shell_quote(map) + " " + shell_quote(out) + scale + "\n";
 }
 
 void copy_if_there(const std::string& from, const std::string& to) {
@@ -45,9 +50,10 @@ void copy_if_there(const std::string& from, const std::string& to) {
     if (!from.empty() && fs::exists(from, ec)) fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
 }
 
-/// The verdict's picture, for a mesh that can be read and a map that is valid input.
+/// The verdict's picture, for a mesh that can be read and a map that is valid input; at grid
+/// scale K > 1 the map drawn is the one judged, its UVs times K (a power of two: exact).
 void write_picture(const std::string& map_path, const std::string& out_path, const std::string& svg_path,
-                   const ConformOptions& o) {
+                   int grid_scale, const ConformOptions& o) {
     if (!o.picture) return;
     Input map;
     QuadMesh mesh;
@@ -55,6 +61,7 @@ void write_picture(const std::string& map_path, const std::string& out_path, con
     if (!(ply ? read_ply(map_path, map) : read_obj(map_path, map, 1)).ok()) return;
     if (!(out_ply ? read_polygon_ply(out_path, mesh) : read_polygon_obj(out_path, mesh)).ok()) return;
     if (validate(map).code != ErrorCode::None) return;
+    for (auto& uv : map.uvs) uv = {uv[0] * grid_scale, uv[1] * grid_scale};
     VerifyOptions options;
     options.threads = 1;
     write_file(svg_path, o.picture(map, mesh, verify(map, mesh, options)));
@@ -69,8 +76,12 @@ double median(std::vector<double> v) {
 } // namespace
 
 std::string conform_case_json(const ConformCase& c) {
-    return json{{"name", c.name},           {"family", c.family},         {"kind", c.kind},
-                {"map_path", c.map_path},   {"generated", c.generated},   {"recipe", recipe_json(c.recipe)},
+    return json{{"name", c.name},
+                {"family", c.family},
+                {"kind", c.kind},
+                {"map_path", c.map_path},
+                {"generated", c.generated},
+                {"recipe", recipe_json(c.recipe)},
                 {"expected_quads", c.expected_quads}}
         .dump();
 }
@@ -92,21 +103,14 @@ ConformCase conform_case_from_json(const std::string& text) {
 }
 
 std::string conform_summary_line(const ConformResult& r) {
-    json j = {{"case", r.c.name},
-              {"family", r.c.family},
-              {"kind", r.c.kind},
-              {"outcome", to_string(r.outcome)},
-              {"right", r.right},
-              {"exit_code", r.run.exit_code},
-              {"signal", r.run.signal},
-              {"seconds", r.run.seconds},
-              {"quads", r.quads},
-              {"expected_quads", r.c.expected_quads},
-              {"area", r.area},
-              {"detail", r.detail},
-              {"recipe", conform_describe(r.c)},
-              {"folder", r.folder},
-              {"shrunk", r.shrunk}};
+    json j = {{"case", r.c.name},       {"family", r.c.family},
+              {"kind", r.c.kind},       {"outcome", to_string(r.outcome)},
+              {"right", r.right},       {"exit_code", r.run.exit_code},
+              {"signal", r.run.signal}, {"seconds", r.run.seconds},
+              {"quads", r.quads},       {"expected_quads", r.c.expected_quads},
+              {"area", r.area},         {"grid_scale", r.grid_scale},
+              {"detail", r.detail},     {"recipe", conform_describe(r.c)},
+              {"folder", r.folder},     {"shrunk", r.shrunk}};
     if (r.quality.computed)
         j["quality"] = {{"min_scaled_jacobian", r.quality.min_scaled_jacobian},
                         {"mean_scaled_jacobian", r.quality.mean_scaled_jacobian},
@@ -129,7 +133,7 @@ std::string write_reproducer(const ConformResult& r, const std::string& map_path
     copy_if_there(out_path, dir + "/" + out);
     copy_if_there(stderr_path, dir + "/stderr.txt");
     if (!r.verdict_json.empty()) write_file(dir + "/verdict.json", r.verdict_json + "\n");
-    if (!r.verdict_json.empty()) write_picture(map_path, out_path, dir + "/verdict.svg", o);
+    if (!r.verdict_json.empty()) write_picture(map_path, out_path, dir + "/verdict.svg", r.grid_scale, o);
     write_file(dir + "/case.json", conform_case_json(r.c) + "\n");
     write_file(dir + "/replay.sh", replay_script(r, map, out, o));
     fs::permissions(dir + "/replay.sh", fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
@@ -174,8 +178,10 @@ std::string conform_table(const std::vector<std::string>& rows) {
         std::snprintf(line, sizeof line, "  %8.3f %8.3f", median(f.seconds),
                       *std::max_element(f.seconds.begin(), f.seconds.end()));
         out += line;
-        if (f.valid > 0) std::snprintf(line, sizeof line, "         %6.3f %6.3f\n", f.min_jacobian, f.mean_jacobian / f.valid);
-        else std::snprintf(line, sizeof line, "              -      -\n");
+        if (f.valid > 0)
+            std::snprintf(line, sizeof line, "         %6.3f %6.3f\n", f.min_jacobian, f.mean_jacobian / f.valid);
+        else
+            std::snprintf(line, sizeof line, "              -      -\n");
         out += line;
     }
     return out;
