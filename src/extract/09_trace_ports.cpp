@@ -285,12 +285,12 @@ TriangleKey triangle_key(const TriMesh& m, int f) {
     TriangleKey best{};
     for (int c = 3 * f; c < 3 * f + 3; ++c) {
         const TriangleKey key{m.pos(c), m.pos(TriMesh::next(c)), m.pos(TriMesh::prev(c))};
-        if (c == 3 * f || key < best) best = key;
+        if (c == 3 * f || key_less(key, best)) best = key;
     }
     return best;
 }
 
-bool triangle_less(const TriMesh& m, int f, int g) { return triangle_key(m, f) < triangle_key(m, g); }
+bool triangle_less(const TriMesh& m, int f, int g) { return key_less(triangle_key(m, f), triangle_key(m, g)); }
 
 int canonical_half_edge(const TriMesh& m, int h) {
     const int o = m.opp[h];

@@ -277,6 +277,15 @@ FaceWalks extract_faces(const TriMesh& m, const QState& q, Report& report);
 using TriangleKey = std::array<std::array<double, 3>, 3>;
 TriangleKey triangle_key(const TriMesh& m, int f);
 
+/// a < b as std::array's operator< orders them, written out: positions are finite (validation
+/// refuses NaN), and the nested std::lexicographical_compare was a call per level in the sorts.
+inline bool key_less(const TriangleKey& a, const TriangleKey& b) {
+    for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j)
+            if (a[i][j] != b[i][j]) return a[i][j] < b[i][j];
+    return false;
+}
+
 /// Whether triangle f comes before triangle g in that order.
 bool triangle_less(const TriMesh& m, int f, int g);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace qex::detail::repair_impl {
@@ -12,11 +13,19 @@ namespace {
 /// Triangles in an order that does not depend on the input's: by their corners' 3D positions
 /// from the canonical base on.
 void sort_canonically(const TriMesh& m, std::vector<int>& faces) {
-    std::vector<std::pair<TriangleKey, int>> keyed;
-    keyed.reserve(faces.size());
-    for (const int f : faces) keyed.push_back({triangle_key(m, f), f});
-    std::sort(keyed.begin(), keyed.end());
-    for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = keyed[i].second;
+    // The keys once, then the faces sorted by them (ties by index): moving 4-byte indices, not
+    // 76-byte pairs, took a quarter off the last rings' region building (duck_miq_28).
+    std::vector<TriangleKey> keys(faces.size());
+    std::vector<std::uint32_t> order(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        keys[i] = triangle_key(m, faces[i]), order[i] = static_cast<std::uint32_t>(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        if (key_less(keys[a], keys[b])) return true;
+        return !key_less(keys[b], keys[a]) && faces[a] < faces[b];
+    });
+    std::vector<int> sorted(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) sorted[i] = faces[order[i]];
+    faces.swap(sorted);
 }
 
 } // namespace
