@@ -45,7 +45,8 @@ inline void prepare_heap(std::uintmax_t input_bytes) {
     // map with many quads per triangle: at least 1 GiB of address space is set aside.
     const std::uintmax_t pad = std::min(std::max(2 * input_bytes, std::uintmax_t{1} << 30), std::uintmax_t{1} << 36);
     void* volatile block = std::malloc(static_cast<std::size_t>(pad)); // volatile: not optimised away
-    std::free(block);                                                  // back to the top of the heap, which stays
+    // Freed at once: back to the top of the heap, which stays.
+    std::free(block);
 #else
     (void)input_bytes;
 #endif
