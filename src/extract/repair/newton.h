@@ -14,8 +14,9 @@ namespace qex::detail::repair_impl {
 /// Minimises the region's energy at eps = 0 (a pure barrier: no triangle can invert) from x, which
 /// must have every triangle positive, by Newton's method: each triangle's Hessian projected onto
 /// the positive semi-definite matrices, the sum solved by a sparse Cholesky factorisation
-/// (Eigen's), and a backtracking line search. It stops when the Newton decrement is below 1e-13 of
-/// the energy, or after `iterations`. Returns the iterations taken; x is left at the last accepted
+/// (Eigen's), and a backtracking line search. It stops after a whole step from a decrement below
+/// 1e-4 of the energy (the vertices are then as near the minimum as positions need), when the
+/// decrement is below 1e-13, or after `iterations`. Returns the iterations taken; x is left at the last accepted
 /// point (unchanged when none was).
 int minimise_newton(const Problem& p, std::vector<double>& x, int iterations);
 

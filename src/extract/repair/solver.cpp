@@ -287,7 +287,7 @@ void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMar
     const std::vector<Point2> before = region_uvs(m, r);
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
-    // L-BFGS's first iterations gain most; Newton's steps then end at the minimum to rounding.
+    // L-BFGS's first iterations gain most; Newton's steps then end near the minimum.
     minimise(p, x, 0.0, length, kPolishIterations, kPolishStall);
     minimise_newton(p, x, kNewtonIterations);
     for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
