@@ -10,7 +10,7 @@ PKGS="build-essential cmake ninja-build python3 \
   libopenmesh-dev \
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev \
   libcli11-dev nlohmann-json3-dev libfast-float-dev \
-  clang libclang-rt-dev \
+  clang libclang-rt-dev clang-19 libclang-rt-19-dev \
   libeigen3-dev python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
   python3-dask python3-distributed \
   python3-venv python3-pip python3-setuptools python3-wheel python3-build python3-mypy \

@@ -39,7 +39,7 @@ for t in "${targets[@]}"; do
 done
 {
   echo "Fuzz campaign $(date +%F), commit $commit: $seconds s per target$own_seconds, $jobs job(s), $(getconf _NPROCESSORS_ONLN) cores," \
-    "clang $(clang --version | sed -nE 's/.*version ([0-9.]+).*/\1/p' | head -n 1), ASan+UBSan," \
+    "clang $($qex_cxx --version | sed -nE 's/.*version ([0-9.]+).*/\1/p' | head -n 1), ASan+UBSan," \
     "OMP_NUM_THREADS=${OMP_NUM_THREADS:-unset}"
   echo
   echo "| target | seconds | executions | exec/s | cov / ft | new units | findings | slow units |"
