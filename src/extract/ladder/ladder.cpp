@@ -342,17 +342,18 @@ void judge(const Input& input, const Options& options, const Rung& rung,
            const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
     StageTimer timer(attempt.report);
     const bool relaxed = rung.untangle_rings > 0;
+    MapGraph graph(input); // the placement's map is the mesh's then, which mending searches too
     if (relaxed && !given_map.empty()) {
         // Every vertex moves onto its grid point in the given (sanitized) map, so the mesh is
         // judged against that map.
-        attempt.report.unplaced_vertices = place_on_given_map(input, given_map, attempt.mesh);
+        attempt.report.unplaced_vertices = place_on_given_map(graph, given_map, attempt.mesh);
         timer.done(Stage::place_on_given_map);
     }
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
     attempt.check = verify(input, attempt.mesh, verify_options);
     timer.done(Stage::check);
-    if (!attempt.check.valid) mend_if_accepted(input, relaxed, verify_options, timer, attempt);
+    if (!attempt.check.valid) mend_if_accepted(input, relaxed, verify_options, timer, attempt, &graph);
     if (relaxed && attempt.check.valid) {
         // And it must pass the oracle that judges it against the given map alone (as
         // `qex check` would), everywhere, or the rung is rejected.

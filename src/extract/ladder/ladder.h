@@ -32,11 +32,31 @@ namespace qex::detail {
 /// given map (place_on_given_map) and must pass the checker there.
 std::int64_t untangle(TriMesh& m, int rings, int iterations);
 
+/// The input's triangles with their topology and the transitions of one map, as the searches for
+/// preimages read them (place_on_given_map, separate_sheets): made on first use and kept for the
+/// next search on the same map. On armadillo_geo_180 each made took 30-40 ms, and one judgement
+/// made it up to three times (placement, then both separations of the sheets).
+class MapGraph {
+public:
+    explicit MapGraph(const Input& input) : input_(input) {}
+    const Input& input() const { return input_; }
+    /// The graph of `map` (per input corner); nullptr where the input's topology cannot be built.
+    const TriMesh* of(const std::vector<std::array<double, 2>>& map);
+
+private:
+    const Input& input_;
+    std::vector<std::array<double, 2>> map_;
+    TriMesh graph_;
+    bool made_ = false, ok_ = false;
+};
+
 /// For a mesh extracted from a relaxed map: moves every output vertex onto a preimage of its grid
 /// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
 /// by a breadth-first search from its provenance triangle, and sets its provenance and the
 /// mesh's map to that map. Returns the number of vertices it could not place.
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
+/// As above, the given map's graph taken from (or made into) `graph`.
+std::int64_t place_on_given_map(MapGraph& graph, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
 
 /// Where some vertices lie in space: the mean of their positions and the largest squared distance
 /// of one from it. A point within twice that distance of the mean is near them (the split and
@@ -65,7 +85,7 @@ struct Neighbourhood {
 /// positive triangles' first, then flipped ones'; one per place on the surface, with its
 /// position, in the order found.
 std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
-    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
+    MapGraph& graph, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points);
 
 /// For a mesh the checker rejected: each edge with more than two face sides (sheets of a
 /// fold-over joined there by merged clones) is cut by splitting an end into one vertex per fan
@@ -78,6 +98,8 @@ std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages
 /// split would coincide (a grid point with one preimage there: the sheets stay joined in space).
 /// A candidate only: the caller keeps it if the checker accepts the result.
 std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first);
+/// As above, the mesh's map's graph taken from (or made into) `graph`.
+std::vector<Defect> separate_sheets(MapGraph& graph, QuadMesh& mesh, bool larger_end_first);
 
 /// The cuts of separate_sheets alone, without moving a vertex: returns the explanations, and per
 /// vertex split, it then its copies (`groups`).
@@ -222,8 +244,9 @@ std::vector<Violation> located_violations(const Input& input, const QuadMesh& me
 /// closed, and the result kept if it is accepted. Nothing is tried (no stage runs) when the
 /// checker found what no mend step changes: a face that is no quad or whose local UVs are no unit
 /// square, or a fault of the carried map, its certificate or the mesh's size.
+/// `graph`, if given, is the input's (MapGraph), shared with the judgement's other searches.
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
-                      Result& attempt);
+                      Result& attempt, MapGraph* graph = nullptr);
 
 /// Stage fill_holes, the last resort, on an attempt (at the scale of `input`) that no rung made
 /// valid, then on `other` (another rung's rejected mesh at that scale, if given and another

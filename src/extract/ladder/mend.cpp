@@ -89,16 +89,18 @@ bool beyond_mending(const std::vector<Violation>& violations) {
 } // namespace
 
 void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& verify_options, StageTimer& timer,
-                      Result& attempt) {
+                      Result& attempt, MapGraph* graph) {
     // Fail fast: mending cannot change the verdict (decimated-knight_miq_18 spent 0.8 of its 1.8 s
     // mending meshes refined x8 and x16 with faces of other local UVs).
     if (beyond_mending(attempt.check.violations)) return;
     const bool joined = std::any_of(attempt.check.violations.begin(), attempt.check.violations.end(),
                                     [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
+    MapGraph own(input); // made only if no graph is given and a separation needs it
+    MapGraph& charts = graph ? *graph : own;
     for (const bool larger_end_first : {false, true}) {
         if (!joined) break;
         QuadMesh separated = attempt.mesh;
-        std::vector<Defect> explanations = separate_sheets(input, separated, larger_end_first);
+        std::vector<Defect> explanations = separate_sheets(charts, separated, larger_end_first);
         timer.done(Stage::separate_sheets);
         if (explanations.empty()) continue;
         VerifyResult check;
@@ -130,10 +132,11 @@ bool fill_candidate(const Input& input, const VerifyOptions& verify_options, con
                                     [](const Violation& v) { return v.kind == ViolationKind::NonManifoldEdge; });
     std::vector<std::pair<QuadMesh, std::vector<Defect>>> starts;
     starts.emplace_back(candidate.mesh, std::vector<Defect>{});
+    MapGraph graph(input); // the candidate's map's, for both separations
     for (const bool larger_end_first : {false, true}) {
         if (!joined) break;
         QuadMesh separated = candidate.mesh;
-        std::vector<Defect> cuts = separate_sheets(input, separated, larger_end_first);
+        std::vector<Defect> cuts = separate_sheets(graph, separated, larger_end_first);
         timer.done(Stage::separate_sheets);
         if (!cuts.empty()) starts.emplace_back(std::move(separated), std::move(cuts));
     }

@@ -9,13 +9,28 @@
 
 namespace qex::detail {
 
+const TriMesh* MapGraph::of(const std::vector<std::array<double, 2>>& map) {
+    if (made_ && map == map_) return ok_ ? &graph_ : nullptr;
+    made_ = true, map_ = map;
+    graph_ = make_mesh(input_);
+    ok_ = map.size() == input_.uvs.size() && build_topology(graph_, "input").code == ErrorCode::None;
+    if (!ok_) return nullptr;
+    graph_.uv = map;
+    // Transitions of the map, exact there: rotation from the edge, then the translation.
+    compute_transitions(graph_);
+    return &graph_;
+}
+
 std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh) {
-    TriMesh g = make_mesh(input);
-    if (build_topology(g, "input").code != ErrorCode::None) return static_cast<std::int64_t>(mesh.positions.size());
-    g.uv = given;
-    // Transitions of the given (sanitized) map, exact there: rotation from the edge, then the
-    // translation.
-    compute_transitions(g);
+    MapGraph graph(input);
+    return place_on_given_map(graph, given, mesh);
+}
+
+std::int64_t place_on_given_map(MapGraph& graph, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh) {
+    const Input& input = graph.input();
+    const TriMesh* made = graph.of(given);
+    if (!made) return static_cast<std::int64_t>(mesh.positions.size());
+    const TriMesh& g = *made;
     ChartSearch search(g);
     std::int64_t unplaced = 0;
     for (std::size_t i = 0; i < mesh.positions.size() && i < mesh.provenance.size(); ++i) {
@@ -36,12 +51,12 @@ std::int64_t place_on_given_map(const Input& input, const std::vector<std::array
 }
 
 std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> preimages(
-    const Input& input, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points) {
+    MapGraph& graph, const std::vector<std::array<double, 2>>& map, const std::vector<Provenance>& points) {
     std::vector<std::vector<std::pair<Provenance, std::array<double, 3>>>> out(points.size());
-    TriMesh g = make_mesh(input);
-    if (map.size() != input.uvs.size() || build_topology(g, "input").code != ErrorCode::None) return out;
-    g.uv = map;
-    compute_transitions(g);
+    const Input& input = graph.input();
+    const TriMesh* made = graph.of(map);
+    if (!made) return out;
+    const TriMesh& g = *made;
     ChartSearch search(g);
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Provenance& p = points[i];

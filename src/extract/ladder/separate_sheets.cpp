@@ -243,11 +243,11 @@ Defect explain(EdgeKey key, int sides, const std::vector<std::pair<int, int>>& s
 /// (those of its group left out): one no other vertex of its group took, if there is one within
 /// twice the fan's reach from that mean, else the nearest. False if two vertices of a group
 /// coincide then (as they do where no preimage is found, on a mesh without its map).
-bool place_on_own_sheets(const Input& input, const std::vector<std::vector<int>>& groups, QuadMesh& mesh) {
+bool place_on_own_sheets(MapGraph& graph, const std::vector<std::vector<int>>& groups, QuadMesh& mesh) {
     if (groups.empty()) return true;
     std::vector<Provenance> points;
     for (const std::vector<int>& group : groups) points.push_back(mesh.provenance[static_cast<std::size_t>(group[0])]);
-    const auto found = preimages(input, mesh.map_uvs, points);
+    const auto found = preimages(graph, mesh.map_uvs, points);
     std::vector<int> group_of(mesh.positions.size(), -1);
     for (std::size_t g = 0; g < groups.size(); ++g)
         for (const int v : groups[g]) group_of[static_cast<std::size_t>(v)] = static_cast<int>(g);
@@ -350,9 +350,14 @@ std::vector<Defect> cut_joined_edges(QuadMesh& mesh, bool larger_end_first, std:
 }
 
 std::vector<Defect> separate_sheets(const Input& input, QuadMesh& mesh, bool larger_end_first) {
+    MapGraph graph(input);
+    return separate_sheets(graph, mesh, larger_end_first);
+}
+
+std::vector<Defect> separate_sheets(MapGraph& graph, QuadMesh& mesh, bool larger_end_first) {
     std::vector<std::vector<int>> groups;
     std::vector<Defect> separated = cut_joined_edges(mesh, larger_end_first, groups);
-    if (separated.empty() || !place_on_own_sheets(input, groups, mesh)) return {};
+    if (separated.empty() || !place_on_own_sheets(graph, groups, mesh)) return {};
     return separated;
 }
 
