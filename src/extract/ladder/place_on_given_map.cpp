@@ -6,11 +6,15 @@
 #include "ladder.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace qex::detail {
 
 const TriMesh* MapGraph::of(const std::vector<std::array<double, 2>>& map) {
-    if (made_ && map == map_) return ok_ ? &graph_ : nullptr;
+    // The same bits: a collapsed corner's NaN equals nothing, itself included.
+    const bool same = made_ && map.size() == map_.size() &&
+                      (map.empty() || std::memcmp(map.data(), map_.data(), map.size() * sizeof map[0]) == 0);
+    if (same) return ok_ ? &graph_ : nullptr;
     made_ = true, map_ = map;
     graph_ = make_mesh(input_);
     ok_ = map.size() == input_.uvs.size() && build_topology(graph_, "input").code == ErrorCode::None;
