@@ -347,7 +347,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         for (const int f : group)
             if (m.map.face_sign[f] < 0 && m.map.singular[m.tri[f][0]] && m.map.singular[m.tri[f][1]] &&
                 m.map.singular[m.tri[f][2]])
-                out.proofs.push_back({DefectKind::FoldPinnedBySingularities, f});
+                out.proofs.push_back({DefectKind::FoldPinnedBySingularities, f, 0, 0, 0, 0, -1, 0, 0, 0.0, {}});
         out.unrepaired.push_back({std::move(group),
                                   "all its corners are singular, boundary or feature vertices, which stay fixed",
                                   out.proofs.size() > before});
@@ -363,11 +363,29 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
             const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
             if (!names_proof(m, f)) continue;
             if (f.why == RegionFailure::Why::RimShort)
-                out.proofs.push_back(
-                    {DefectKind::RimShortOfSingularity, f.cone, f.winds, f.target, f.radius, f.triangles});
+                out.proofs.push_back({DefectKind::RimShortOfSingularity,
+                                      f.cone,
+                                      f.winds,
+                                      f.target,
+                                      f.radius,
+                                      f.triangles,
+                                      -1,
+                                      0,
+                                      0,
+                                      0.0,
+                                      {}});
             else if (f.why == RegionFailure::Why::NoRoom)
-                out.proofs.push_back({DefectKind::AnglesLeaveNoRoom, f.first_face, 0, 0, f.radius, f.triangles, f.cone,
-                                      f.corners, f.singularities, f.amount});
+                out.proofs.push_back({DefectKind::AnglesLeaveNoRoom,
+                                      f.first_face,
+                                      0,
+                                      0,
+                                      f.radius,
+                                      f.triangles,
+                                      f.cone,
+                                      f.corners,
+                                      f.singularities,
+                                      f.amount,
+                                      {}});
             else
                 out.proofs.push_back({DefectKind::RegionAreaNotPositive, f.first_face, 0, 0, f.radius, f.triangles, -1,
                                       0, f.singularities, f.amount, f.faces});
