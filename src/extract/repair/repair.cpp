@@ -327,6 +327,34 @@ bool backed_by_proof(const TriMesh& m, const FailureLog& log, const std::vector<
     return false;
 }
 
+/// The proof a failure names (names_proof), each field by name.
+RepairOutcome::Proof proof_of(const RegionFailure& f) {
+    RepairOutcome::Proof p{};
+    p.kind = DefectKind::RegionAreaNotPositive;
+    p.radius = f.radius, p.triangles = f.triangles;
+    if (f.why == RegionFailure::Why::RimShort) {
+        p.kind = DefectKind::RimShortOfSingularity;
+        p.element = f.cone, p.winds = f.winds, p.target = f.target;
+        return p;
+    }
+    p.element = f.first_face, p.singularities = f.singularities, p.amount = f.amount;
+    if (f.why == RegionFailure::Why::NoRoom) {
+        p.kind = DefectKind::AnglesLeaveNoRoom;
+        p.vertex = f.cone, p.corners = f.corners;
+    } else {
+        p.faces = f.faces;
+    }
+    return p;
+}
+
+/// A flipped triangle whose corners are all singularities: none of them moves.
+RepairOutcome::Proof pinned_proof(int face) {
+    RepairOutcome::Proof p{};
+    p.kind = DefectKind::FoldPinnedBySingularities;
+    p.element = face;
+    return p;
+}
+
 /// The stage's outcome: the certificate's region (every triangle whose UVs differ from the
 /// sanitized map) and how many groups it forms, and the fold-overs left, each with why; updates
 /// MapState::face_sign.
@@ -347,7 +375,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         for (const int f : group)
             if (m.map.face_sign[f] < 0 && m.map.singular[m.tri[f][0]] && m.map.singular[m.tri[f][1]] &&
                 m.map.singular[m.tri[f][2]])
-                out.proofs.push_back({DefectKind::FoldPinnedBySingularities, f, 0, 0, 0, 0, -1, 0, 0, 0.0, {}});
+                out.proofs.push_back(pinned_proof(f));
         out.unrepaired.push_back({std::move(group),
                                   "all its corners are singular, boundary or feature vertices, which stay fixed",
                                   out.proofs.size() > before});
@@ -362,33 +390,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
         for (const int p : proved) {
             const RegionFailure& f = log.failures[static_cast<std::size_t>(p)];
             if (!names_proof(m, f)) continue;
-            if (f.why == RegionFailure::Why::RimShort)
-                out.proofs.push_back({DefectKind::RimShortOfSingularity,
-                                      f.cone,
-                                      f.winds,
-                                      f.target,
-                                      f.radius,
-                                      f.triangles,
-                                      -1,
-                                      0,
-                                      0,
-                                      0.0,
-                                      {}});
-            else if (f.why == RegionFailure::Why::NoRoom)
-                out.proofs.push_back({DefectKind::AnglesLeaveNoRoom,
-                                      f.first_face,
-                                      0,
-                                      0,
-                                      f.radius,
-                                      f.triangles,
-                                      f.cone,
-                                      f.corners,
-                                      f.singularities,
-                                      f.amount,
-                                      {}});
-            else
-                out.proofs.push_back({DefectKind::RegionAreaNotPositive, f.first_face, 0, 0, f.radius, f.triangles, -1,
-                                      0, f.singularities, f.amount, f.faces});
+            out.proofs.push_back(proof_of(f));
         }
         out.unrepaired.push_back({group, log.reason(m, group), backed_by_proof(m, log, group)});
     }
