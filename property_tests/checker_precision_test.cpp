@@ -120,16 +120,10 @@ struct Tally {
     Index rotations_face_rejected = 0; ///< of the rejected, by the face check (the others by coverage)
 };
 
-/// The mutations of mutations.h on a correct real-map mesh (positions as %.6g, as other tools
-/// write them): each rejected with its kind and place; a rotated edge named at least as undecided
-/// by the face check, and located by the coverage check where both its cells are required.
-void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tally& tally) {
-    // A face away from the boundary, so that dropping it leaves a hole of its own (a tiny mesh
-    // may have none).
-    const std::size_t inner = interior_face(good, good.faces.size() / 2);
-    const bool interior = inner < good.faces.size();
-    const std::size_t f = interior ? inner : good.faces.size() / 2;
-    const std::vector<int> q = good.faces[f];
+/// A quad dropped (a hole, named by its loop), and two neighbouring quads dropped with two
+/// opposite corners of their hexagonal hole pinched: each named at its place.
+void expect_holes_named(const Input& in, const QuadMesh& good, const VerifyOptions& opt, std::size_t f,
+                        const std::vector<int>& q, bool interior) {
     { // Drop a quad: a hole, named by its loop.
         QuadMesh m = good;
         m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
@@ -162,6 +156,12 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
         EXPECT_TRUE(names(p, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {x}));
         EXPECT_EQ(unplaced(p), "");
     }
+}
+
+/// A quad split into triangles, a quad glued to its reverse, the ends of an edge merged: each
+/// named at its place.
+void expect_broken_faces_named(const Input& in, const QuadMesh& good, const VerifyOptions& opt, std::size_t f,
+                               const std::vector<int>& q) {
     { // Split a quad into two triangles.
         QuadMesh m = good;
         m.faces[f] = {q[0], q[1], q[2]};
@@ -196,6 +196,10 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
         EXPECT_TRUE(names(v, ViolationKind::UnreferencedVertex, PlaceKind::Vertex, {e.b}));
         EXPECT_EQ(unplaced(v), "");
     }
+}
+
+/// Edges rotated between two quads, spread over the mesh and judged at once, counted in `tally`.
+void rotate_edges_and_tally(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tally& tally) {
     // Rotate edges between two quads, spread over the mesh, a face apart and judged at once: each
     // named, rejected where a corridor certifies it.
     Sites sites(good);
@@ -220,6 +224,21 @@ void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tal
             names_face(v, static_cast<Index>(e.f), true) || names_face(v, static_cast<Index>(e.g), true);
         EXPECT_TRUE(face_named) << "faces " << e.f << " and " << e.g;
     }
+}
+
+/// The mutations of mutations.h on a correct real-map mesh (positions as %.6g, as other tools
+/// write them): each rejected with its kind and place; a rotated edge named at least as undecided
+/// by the face check, and located by the coverage check where both its cells are required.
+void mutate(const Input& in, const QuadMesh& good, const VerifyOptions& opt, Tally& tally) {
+    // A face away from the boundary, so that dropping it leaves a hole of its own (a tiny mesh
+    // may have none).
+    const std::size_t inner = interior_face(good, good.faces.size() / 2);
+    const bool interior = inner < good.faces.size();
+    const std::size_t f = interior ? inner : good.faces.size() / 2;
+    const std::vector<int> q = good.faces[f];
+    expect_holes_named(in, good, opt, f, q, interior);
+    expect_broken_faces_named(in, good, opt, f, q);
+    rotate_edges_and_tally(in, good, opt, tally);
 }
 
 /// Rotated edges between two faces whose cells the coverage check requires: both cells named,

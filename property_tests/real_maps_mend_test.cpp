@@ -156,6 +156,107 @@ TEST(RealMaps, FoldsClosingConesFansAreOpened) {
     if (!expect_scaled_map_repaired("duck_miq_8", 16)) GTEST_SKIP() << "no duck_miq_8 in " << QEX_SHARED_DIR;
 }
 
+/// Local breaks of the good mesh at face f round vertex x (inside a repaired triangle): a quad
+/// dropped, x pinched to the opposite corner, the face reversed; each rejected.
+void expect_local_breaks_rejected(const Input& in, const QuadMesh& good, std::size_t f, int x) {
+    { // Dropped: a hole.
+        QuadMesh m = good;
+        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool hole = false;
+        for (const Violation& y : v.violations) hole = hole || y.kind == ViolationKind::BoundaryMismatch;
+        EXPECT_TRUE(hole);
+    }
+    { // Pinched: x glued to the corner opposite it in its face (whose other faces it keeps).
+        QuadMesh m = good;
+        const auto& q = good.faces[f];
+        const std::size_t i = static_cast<std::size_t>(std::find(q.begin(), q.end(), x) - q.begin());
+        const int y = q[(i + 2) % 4];
+        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        for (auto& face : m.faces)
+            for (int& c : face)
+                if (c == y) c = x;
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+    }
+    { // Flipped: the face reversed (inconsistent orientation with its neighbours).
+        QuadMesh m = good;
+        std::reverse(m.faces[f].begin(), m.faces[f].end());
+        const VerifyResult v = verify(in, m, with_fold_regions());
+        EXPECT_FALSE(v.valid);
+        bool flipped = false;
+        for (const Violation& y : v.violations)
+            flipped =
+                flipped || y.kind == ViolationKind::InconsistentOrientation || y.kind == ViolationKind::NonManifoldEdge;
+        EXPECT_TRUE(flipped) << (v.violations.empty() ? "" : v.violations[0].message);
+    }
+}
+
+/// Outside the fold-over regions a vertex off its grid point is still named: the vertex farthest
+/// (in 3D) from every flipped triangle, slid half way to a neighbour.
+void expect_off_grid_vertex_named(const Input& in, const QuadMesh& good) {
+    std::vector<std::array<double, 3>> folds;
+    for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+        const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) >= 0) continue;
+        folds.push_back(in.positions[static_cast<std::size_t>(in.triangles[t][0])]);
+    }
+    ASSERT_FALSE(folds.empty());
+    int far = -1;
+    double best = -1;
+    for (std::size_t v = 0; v < good.positions.size(); ++v) {
+        double d = HUGE_VAL;
+        for (const auto& p : folds) {
+            const auto& x = good.positions[v];
+            d = std::min(d,
+                         (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]));
+        }
+        if (d > best) best = d, far = static_cast<int>(v);
+    }
+    std::size_t g = 0;
+    while (std::find(good.faces[g].begin(), good.faces[g].end(), far) == good.faces[g].end()) ++g;
+    const auto& q = good.faces[g];
+    const int next = q[(static_cast<std::size_t>(std::find(q.begin(), q.end(), far) - q.begin()) + 1) % 4];
+    QuadMesh m = good;
+    for (int k = 0; k < 3; ++k)
+        m.positions[static_cast<std::size_t>(far)][k] = 0.5 * (good.positions[static_cast<std::size_t>(far)][k] +
+                                                               good.positions[static_cast<std::size_t>(next)][k]);
+    const VerifyResult v = verify(in, m, with_fold_regions());
+    EXPECT_FALSE(v.valid);
+    bool named = false;
+    for (const Violation& y : v.violations)
+        named = named ||
+                ((y.kind == ViolationKind::NotOnGridPoint || y.kind == ViolationKind::OffSurface) && y.element == far);
+    EXPECT_TRUE(named) << "vertex " << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
+}
+
+/// A vertex moved off the surface in a fold-over region is still named.
+void expect_off_surface_named(const Input& in, const QuadMesh& good, std::size_t f, int x) {
+    // Off the surface: moved by 0.1% of the diagonal along the face's normal direction.
+    QuadMesh m = good;
+    std::array<double, 3> lo = good.positions[0], hi = lo;
+    for (const auto& p : good.positions)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const auto& q = good.faces[f];
+    const auto& a = good.positions[static_cast<std::size_t>(q[0])];
+    const auto& b = good.positions[static_cast<std::size_t>(q[1])];
+    const auto& c = good.positions[static_cast<std::size_t>(q[2])];
+    const std::array<double, 3> e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    std::array<double, 3> n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    ASSERT_GT(len, 0);
+    for (int k = 0; k < 3; ++k) m.positions[static_cast<std::size_t>(x)][k] += 1e-3 * diag * n[k] / len;
+    const VerifyResult v = verify(in, m, with_fold_regions());
+    EXPECT_FALSE(v.valid);
+    bool off = false;
+    for (const Violation& y : v.violations) off = off || (y.kind == ViolationKind::OffSurface && y.element == x);
+    EXPECT_TRUE(off) << (v.violations.empty() ? "" : v.violations[0].message);
+}
+
 /// fandisk's repaired output without provenance: a quad dropped, a vertex pinched or a face
 /// flipped where the repair moved the map (in a fold-over region, where vertices are judged on
 /// the surface only) is still rejected, and a vertex moved off the surface there too; outside
@@ -190,98 +291,9 @@ TEST(RealMaps, BrokenMeshInAFoldRegionIsRejected) {
     while (f < good.faces.size() && std::find(good.faces[f].begin(), good.faces[f].end(), x) == good.faces[f].end())
         ++f;
     ASSERT_LT(f, good.faces.size());
-    { // Dropped: a hole.
-        QuadMesh m = good;
-        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
-        const VerifyResult v = verify(in, m, with_fold_regions());
-        EXPECT_FALSE(v.valid);
-        bool hole = false;
-        for (const Violation& y : v.violations) hole = hole || y.kind == ViolationKind::BoundaryMismatch;
-        EXPECT_TRUE(hole);
-    }
-    { // Pinched: x glued to the corner opposite it in its face (whose other faces it keeps).
-        QuadMesh m = good;
-        const auto& q = good.faces[f];
-        const std::size_t i = static_cast<std::size_t>(std::find(q.begin(), q.end(), x) - q.begin());
-        const int y = q[(i + 2) % 4];
-        m.faces.erase(m.faces.begin() + static_cast<std::ptrdiff_t>(f));
-        for (auto& face : m.faces)
-            for (int& c : face)
-                if (c == y) c = x;
-        const VerifyResult v = verify(in, m, with_fold_regions());
-        EXPECT_FALSE(v.valid);
-    }
-    { // Flipped: the face reversed (inconsistent orientation with its neighbours).
-        QuadMesh m = good;
-        std::reverse(m.faces[f].begin(), m.faces[f].end());
-        const VerifyResult v = verify(in, m, with_fold_regions());
-        EXPECT_FALSE(v.valid);
-        bool flipped = false;
-        for (const Violation& y : v.violations)
-            flipped =
-                flipped || y.kind == ViolationKind::InconsistentOrientation || y.kind == ViolationKind::NonManifoldEdge;
-        EXPECT_TRUE(flipped) << (v.violations.empty() ? "" : v.violations[0].message);
-    }
-    { // Outside the regions a vertex off its grid point is still a violation: the vertex farthest
-        // (in 3D) from every flipped triangle, slid half way to a neighbour.
-        std::vector<std::array<double, 3>> folds;
-        for (std::size_t t = 0; t < in.triangles.size(); ++t) {
-            const auto &a = in.uvs[3 * t], &b = in.uvs[3 * t + 1], &c = in.uvs[3 * t + 2];
-            if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) >= 0) continue;
-            folds.push_back(in.positions[static_cast<std::size_t>(in.triangles[t][0])]);
-        }
-        ASSERT_FALSE(folds.empty());
-        int far = -1;
-        double best = -1;
-        for (std::size_t v = 0; v < good.positions.size(); ++v) {
-            double d = HUGE_VAL;
-            for (const auto& p : folds) {
-                const auto& x = good.positions[v];
-                d = std::min(
-                    d, (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]));
-            }
-            if (d > best) best = d, far = static_cast<int>(v);
-        }
-        std::size_t g = 0;
-        while (std::find(good.faces[g].begin(), good.faces[g].end(), far) == good.faces[g].end()) ++g;
-        const auto& q = good.faces[g];
-        const int next = q[(static_cast<std::size_t>(std::find(q.begin(), q.end(), far) - q.begin()) + 1) % 4];
-        QuadMesh m = good;
-        for (int k = 0; k < 3; ++k)
-            m.positions[static_cast<std::size_t>(far)][k] = 0.5 * (good.positions[static_cast<std::size_t>(far)][k] +
-                                                                   good.positions[static_cast<std::size_t>(next)][k]);
-        const VerifyResult v = verify(in, m, with_fold_regions());
-        EXPECT_FALSE(v.valid);
-        bool named = false;
-        for (const Violation& y : v.violations)
-            named = named || ((y.kind == ViolationKind::NotOnGridPoint || y.kind == ViolationKind::OffSurface) &&
-                              y.element == far);
-        EXPECT_TRUE(named) << "vertex " << far << ": " << (v.violations.empty() ? "" : v.violations[0].message);
-    }
-    { // Off the surface: moved by 0.1% of the diagonal along the face's normal direction.
-        QuadMesh m = good;
-        std::array<double, 3> lo = good.positions[0], hi = lo;
-        for (const auto& p : good.positions)
-            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-        const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
-        const auto& q = good.faces[f];
-        const auto& a = good.positions[static_cast<std::size_t>(q[0])];
-        const auto& b = good.positions[static_cast<std::size_t>(q[1])];
-        const auto& c = good.positions[static_cast<std::size_t>(q[2])];
-        const std::array<double, 3> e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
-            e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        std::array<double, 3> n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                                e1[0] * e2[1] - e1[1] * e2[0]};
-        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        ASSERT_GT(len, 0);
-        for (int k = 0; k < 3; ++k) m.positions[static_cast<std::size_t>(x)][k] += 1e-3 * diag * n[k] / len;
-        const VerifyResult v = verify(in, m, with_fold_regions());
-        EXPECT_FALSE(v.valid);
-        bool off = false;
-        for (const Violation& y : v.violations) off = off || (y.kind == ViolationKind::OffSurface && y.element == x);
-        EXPECT_TRUE(off) << (v.violations.empty() ? "" : v.violations[0].message);
-    }
+    expect_local_breaks_rejected(in, good, f, x);
+    expect_off_grid_vertex_named(in, good);
+    expect_off_surface_named(in, good, f, x);
 }
 
 } // namespace

@@ -152,6 +152,69 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
     }
 }
 
+/// The patch fill_holes laid (faces from holed.faces.size() on): every corner on the rim of eight
+/// vertices `done` names, the hole's centre not among them, and two new diagonals.
+void expect_patch_on_rim(const Input& in, const QuadMesh& holed, const QuadMesh& filled, const Defect& done,
+                         std::size_t centre, const std::string& name) {
+    // Every corner of the patch is a vertex of the rim the explanation names (eight of them).
+    std::set<int> rim;
+    const std::size_t at = done.message.find("output vertices ");
+    ASSERT_NE(at, std::string::npos) << done.message;
+    std::istringstream named(done.message.substr(at + 16));
+    for (int v = 0; named >> v;) rim.insert(v);
+    EXPECT_EQ(rim.size(), 8u) << done.message;
+    EXPECT_EQ(rim.count(static_cast<int>(centre)), 0u) << done.message;
+    for (std::size_t f = holed.faces.size(); f < filled.faces.size(); ++f)
+        for (const int v : filled.faces[f])
+            EXPECT_EQ(rim.count(v), 1u) << name << ": vertex " << v << " is not on " << done.message;
+    EXPECT_TRUE(topology_kept(in, filled)) << name;
+    // No diagonal of the patch is an edge of the mesh already.
+    std::set<std::pair<int, int>> edges;
+    for (std::size_t f = 0; f < holed.faces.size(); ++f)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const int a = holed.faces[f][k], b = holed.faces[f][(k + 1) % 4];
+            edges.insert({std::min(a, b), std::max(a, b)});
+        }
+    int new_edges = 0;
+    for (std::size_t f = holed.faces.size(); f < filled.faces.size(); ++f)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const int a = filled.faces[f][k], b = filled.faces[f][(k + 1) % 4];
+            new_edges += edges.count({std::min(a, b), std::max(a, b)}) == 0;
+        }
+    EXPECT_EQ(new_edges, 2 * 2) << name << ": two diagonals, each a side of two quads";
+}
+
+/// On the torus (flat, no singularity), the 4 x 4 faces round the centre out: a rim of 16,
+/// whose 7,752 quadrangulations the test judges all; and the 6 x 6 faces: a rim of 24
+/// vertices, past what close_holes closes (8.4 million quadrangulations), filled.
+void expect_torus_holes_filled(const Input& in, const QuadMesh& mesh,
+                               const std::vector<std::vector<std::size_t>>& around, std::size_t centre,
+                               const std::string& name) {
+    std::set<std::size_t> block(around[centre].begin(), around[centre].end());
+    for (int ring = 1; ring < 3; ++ring) {
+        if (ring == 2) {
+            QuadMesh sixteen = without_faces(mesh, {block.begin(), block.end()});
+            const QuadMesh before = sixteen;
+            const std::vector<Defect> d = detail::fill_holes(in, sixteen);
+            ASSERT_EQ(d.size(), 1u) << name;
+            EXPECT_EQ(patch_difference(before, sixteen), least_difference(before, d[0])) << name;
+        }
+        std::set<std::size_t> grown = block;
+        for (const std::size_t f : block)
+            for (const int u : mesh.faces[f])
+                grown.insert(around[static_cast<std::size_t>(u)].begin(), around[static_cast<std::size_t>(u)].end());
+        block = std::move(grown);
+    }
+    ASSERT_EQ(block.size(), 36u) << name;
+    QuadMesh big = without_faces(mesh, {block.begin(), block.end()});
+    const std::size_t before = big.faces.size();
+    const std::vector<Defect> big_done = detail::fill_holes(in, big);
+    ASSERT_EQ(big_done.size(), 1u) << name;
+    EXPECT_EQ(big_done[0].kind, DefectKind::HoleFilled) << name;
+    EXPECT_EQ(big.faces.size(), before + 11) << name << ": (24 - 2) / 2 quads";
+    EXPECT_TRUE(topology_kept(in, big)) << name;
+}
+
 TEST(FillHoles, AHoleNoCellsCloseIsFilledFromItsRimAndTheCheckerStillJudgesIt) {
     // The four faces round an interior vertex taken out: the rim of eight vertices encloses a grid
     // point with no vertex, so no cells close it; fill_holes joins rim vertices with three quads
@@ -174,32 +237,7 @@ TEST(FillHoles, AHoleNoCellsCloseIsFilledFromItsRimAndTheCheckerStillJudgesIt) {
         EXPECT_EQ(filled.positions.size(), mesh.positions.size()) << layout.name;
         ASSERT_EQ(filled.faces.size(), holed.faces.size() + 3) << layout.name;
         EXPECT_EQ(filled.face_uvs.size(), filled.faces.size()) << layout.name;
-        // Every corner of the patch is a vertex of the rim the explanation names (eight of them).
-        std::set<int> rim;
-        const std::size_t at = done[0].message.find("output vertices ");
-        ASSERT_NE(at, std::string::npos) << done[0].message;
-        std::istringstream named(done[0].message.substr(at + 16));
-        for (int v = 0; named >> v;) rim.insert(v);
-        EXPECT_EQ(rim.size(), 8u) << done[0].message;
-        EXPECT_EQ(rim.count(static_cast<int>(centre)), 0u) << done[0].message;
-        for (std::size_t f = holed.faces.size(); f < filled.faces.size(); ++f)
-            for (const int v : filled.faces[f])
-                EXPECT_EQ(rim.count(v), 1u) << layout.name << ": vertex " << v << " is not on " << done[0].message;
-        EXPECT_TRUE(topology_kept(in, filled)) << layout.name;
-        // No diagonal of the patch is an edge of the mesh already.
-        std::set<std::pair<int, int>> edges;
-        for (std::size_t f = 0; f < holed.faces.size(); ++f)
-            for (std::size_t k = 0; k < 4; ++k) {
-                const int a = holed.faces[f][k], b = holed.faces[f][(k + 1) % 4];
-                edges.insert({std::min(a, b), std::max(a, b)});
-            }
-        int new_edges = 0;
-        for (std::size_t f = holed.faces.size(); f < filled.faces.size(); ++f)
-            for (std::size_t k = 0; k < 4; ++k) {
-                const int a = filled.faces[f][k], b = filled.faces[f][(k + 1) % 4];
-                new_edges += edges.count({std::min(a, b), std::max(a, b)}) == 0;
-            }
-        EXPECT_EQ(new_edges, 2 * 2) << layout.name << ": two diagonals, each a side of two quads";
+        expect_patch_on_rim(in, holed, filled, done[0], centre, layout.name);
         // The map requires the cells the patch does not follow: the grid point inside has no
         // vertex (the mesh judged without its provenance, the vertex no face uses left out).
         const std::vector<Violation> judged = verify(in, compacted(filled)).violations;
@@ -215,35 +253,8 @@ TEST(FillHoles, AHoleNoCellsCloseIsFilledFromItsRimAndTheCheckerStillJudgesIt) {
         EXPECT_FALSE(attempt.check.valid) << layout.name;
         // The patch leaves the rim's face counts as near their four as any quadrangulation can.
         EXPECT_EQ(patch_difference(holed, filled), least_difference(holed, done[0])) << layout.name;
-        // On the torus (flat, no singularity), the 4 x 4 faces round the centre out: a rim of 16,
-        // whose 7,752 quadrangulations the test judges all; and the 6 x 6 faces: a rim of 24
-        // vertices, past what close_holes closes (8.4 million quadrangulations), filled.
-        if (layout.name.find("torus") != std::string::npos) {
-            std::set<std::size_t> block(around[centre].begin(), around[centre].end());
-            for (int ring = 1; ring < 3; ++ring) {
-                if (ring == 2) {
-                    QuadMesh sixteen = without_faces(mesh, {block.begin(), block.end()});
-                    const QuadMesh before = sixteen;
-                    const std::vector<Defect> d = detail::fill_holes(in, sixteen);
-                    ASSERT_EQ(d.size(), 1u) << layout.name;
-                    EXPECT_EQ(patch_difference(before, sixteen), least_difference(before, d[0])) << layout.name;
-                }
-                std::set<std::size_t> grown = block;
-                for (const std::size_t f : block)
-                    for (const int u : mesh.faces[f])
-                        grown.insert(around[static_cast<std::size_t>(u)].begin(),
-                                     around[static_cast<std::size_t>(u)].end());
-                block = std::move(grown);
-            }
-            ASSERT_EQ(block.size(), 36u) << layout.name;
-            QuadMesh big = without_faces(mesh, {block.begin(), block.end()});
-            const std::size_t before = big.faces.size();
-            const std::vector<Defect> big_done = detail::fill_holes(in, big);
-            ASSERT_EQ(big_done.size(), 1u) << layout.name;
-            EXPECT_EQ(big_done[0].kind, DefectKind::HoleFilled) << layout.name;
-            EXPECT_EQ(big.faces.size(), before + 11) << layout.name << ": (24 - 2) / 2 quads";
-            EXPECT_TRUE(topology_kept(in, big)) << layout.name;
-        }
+        if (layout.name.find("torus") != std::string::npos)
+            expect_torus_holes_filled(in, mesh, around, centre, layout.name);
         // One face out: its cell closes the hole, and nothing is filled.
         QuadMesh one = without_faces(mesh, {around[centre][0]});
         const std::vector<Defect> closed = detail::fill_holes(in, one);
