@@ -156,7 +156,6 @@ TEST(CloseHoles, TheCellsAHoleLostComeBackAndNothingElse) {
 /// vertices `done` names, the hole's centre not among them, and two new diagonals.
 void expect_patch_on_rim(const Input& in, const QuadMesh& holed, const QuadMesh& filled, const Defect& done,
                          std::size_t centre, const std::string& name) {
-    // Every corner of the patch is a vertex of the rim the explanation names (eight of them).
     std::set<int> rim;
     const std::size_t at = done.message.find("output vertices ");
     ASSERT_NE(at, std::string::npos) << done.message;

@@ -159,31 +159,28 @@ Holes find_holes(const Input& input, const QuadMesh& mesh, std::size_t max_rim) 
             holes.rims.push_back(std::move(rim));
     }
     holes.wound.assign(nv, 4);
-    if (!holes.rims.empty()) {
-        TriMesh g = make_mesh(input);
-        if (build_topology(g, "input").code != ErrorCode::None) return Holes{};
-        // A rim along the input's boundary is the surface's own edge, no hole.
-        const auto on_boundary = [&](const std::vector<int>& rim) {
-            return std::any_of(rim.begin(), rim.end(), [&](int v) {
-                return on_input_boundary(g, mesh.provenance[static_cast<std::size_t>(v)]);
-            });
-        };
-        holes.rims.erase(std::remove_if(holes.rims.begin(), holes.rims.end(), on_boundary), holes.rims.end());
-    }
-    if (!holes.rims.empty()) {
-        // Every vertex has four quarter turns, or a vertex on an input vertex has as many as that
-        // vertex's fan winds: a singularity's valence, unless a fold-over left in its fan changes
-        // the count.
-        const std::vector<int> fan_turns = fan_quarter_turns(input, mesh.map_uvs);
-        for (std::size_t v = 0; v < nv; ++v) {
-            const Provenance& p = mesh.provenance[v];
-            if (p.kind == QVertexKind::Vertex && p.element >= 0 &&
-                static_cast<std::size_t>(p.element) < fan_turns.size() && fan_turns[static_cast<std::size_t>(p.element)] > 0)
-                holes.wound[v] = fan_turns[static_cast<std::size_t>(p.element)];
-        }
-    }
     holes.corners = std::move(corners);
     holes.half = std::move(half);
+    if (holes.rims.empty()) return holes;
+    TriMesh g = make_mesh(input);
+    if (build_topology(g, "input").code != ErrorCode::None) return Holes{};
+    // A rim along the input's boundary is the surface's own edge, no hole.
+    const auto on_boundary = [&](const std::vector<int>& rim) {
+        return std::any_of(rim.begin(), rim.end(),
+                           [&](int v) { return on_input_boundary(g, mesh.provenance[static_cast<std::size_t>(v)]); });
+    };
+    holes.rims.erase(std::remove_if(holes.rims.begin(), holes.rims.end(), on_boundary), holes.rims.end());
+    if (holes.rims.empty()) return holes;
+    // Every vertex has four quarter turns, or a vertex on an input vertex has as many as that
+    // vertex's fan winds: a singularity's valence, unless a fold-over left in its fan changes the
+    // count.
+    const std::vector<int> fan_turns = fan_quarter_turns(input, mesh.map_uvs);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Provenance& p = mesh.provenance[v];
+        if (p.kind == QVertexKind::Vertex && p.element >= 0 && static_cast<std::size_t>(p.element) < fan_turns.size() &&
+            fan_turns[static_cast<std::size_t>(p.element)] > 0)
+            holes.wound[v] = fan_turns[static_cast<std::size_t>(p.element)];
+    }
     return holes;
 }
 

@@ -54,8 +54,7 @@ private:
 /// point in `given` (the sanitized map as given, per input corner, NaN where collapsed), found
 /// by a breadth-first search from its provenance triangle, and sets its provenance and the
 /// mesh's map to that map. Returns the number of vertices it could not place.
-std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
-/// As above, the given map's graph taken from (or made into) `graph`.
+/// The given map's graph is taken from (or made into) `graph`.
 std::int64_t place_on_given_map(MapGraph& graph, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh);
 
 /// Where some vertices lie in space: the mean of their positions and the largest squared distance

@@ -25,11 +25,6 @@ const TriMesh* MapGraph::of(const std::vector<std::array<double, 2>>& map) {
     return &graph_;
 }
 
-std::int64_t place_on_given_map(const Input& input, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh) {
-    MapGraph graph(input);
-    return place_on_given_map(graph, given, mesh);
-}
-
 std::int64_t place_on_given_map(MapGraph& graph, const std::vector<std::array<double, 2>>& given, QuadMesh& mesh) {
     const Input& input = graph.input();
     const TriMesh* made = graph.of(given);
