@@ -256,6 +256,7 @@ void set_face_signs(TriMesh& m) { m.map.face_sign = triangle_signs(m); }
 void walk_fan_corners(const TriMesh& m, int v, bool canonical_start, std::vector<int>& corners,
                       std::vector<GridAutomorphism>& to_c) {
     corners.clear();
+    corners.reserve(static_cast<std::size_t>(std::max(m.fan_size[v], 0)));
     for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) corners.push_back(h);
     if (canonical_start)
         std::rotate(

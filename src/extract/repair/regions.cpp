@@ -128,6 +128,7 @@ std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& se
 
 std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
     std::vector<Region> regions;
+    std::vector<char> listed(static_cast<std::size_t>(m.num_faces()), 0); // per triangle: in the region's list
     for (const int v : free) label[v] = -2; // free, unassigned
     for (const int start : free) {
         if (label[start] != -2) continue;
@@ -144,15 +145,20 @@ std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free
                     if (label[w] == -2) label[w] = id, stack.push_back(w);
         }
         std::vector<std::pair<VertexKey, int>> keyed;
+        keyed.reserve(members.size());
         for (const int v : members) keyed.push_back({vertex_key(m, v), v});
         std::sort(keyed.begin(), keyed.end());
         Region& r = regions.back();
+        r.fans.reserve(keyed.size());
         for (const auto& kv : keyed) {
             r.fans.push_back(free_fan(m, kv.second));
-            for (const int c : r.fans.back().corners) r.faces.push_back(TriMesh::face(c));
+            for (const int c : r.fans.back().corners) {
+                char& once = listed[static_cast<std::size_t>(TriMesh::face(c))];
+                if (!once) once = 1, r.faces.push_back(TriMesh::face(c));
+            }
         }
-        std::sort(r.faces.begin(), r.faces.end());
-        r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+        for (const int f : r.faces) listed[static_cast<std::size_t>(f)] = 0;
+        // Listed once each; their order is then the keys' alone (ties by index).
         sort_canonically(m, r.faces);
     }
     for (const int v : free) label[v] = -1;
