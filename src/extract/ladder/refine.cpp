@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 namespace qex::detail {
@@ -30,13 +31,6 @@ bool within_refinement_budget(double area, std::int64_t triangles, std::int64_t 
 }
 
 // ============================================================================ the repair, kept
-
-/// The transitions of every half-edge of m.
-std::vector<GridAutomorphism> all_transitions(const TriMesh& m) {
-    std::vector<GridAutomorphism> out(m.map.transition.size());
-    for (std::size_t h = 0; h < out.size(); ++h) out[h] = m.map.transition[h];
-    return out;
-}
 
 /// A UV of the map at its own scale, `factor` times (exact for a power of two; NaN stays NaN).
 Point2 times(const Point2& u, std::int64_t factor) {
@@ -67,9 +61,13 @@ bool memo_applies(const TriMesh& m, const RepairMemo& memo, std::int64_t factor)
 /// The repair at the map's own scale, times `factor` (memo_applies), put into m: UVs,
 /// transitions, singularities and valences, and its explanations into the report.
 RepairOutcome repair_from_memo(TriMesh& m, const RepairMemo& memo, std::int64_t factor, Report& report) {
-    for (std::size_t c = 0; c < m.uv.size(); ++c) m.uv[c] = times(memo.repaired[c], factor);
-    for (std::size_t h = 0; h < memo.repaired_transitions.size(); ++h)
-        m.map.transition.set(h, times(memo.repaired_transitions[h], factor));
+    // m is the memo's sanitized map times the factor (memo_applies, which takes -0.0 for 0.0: the
+    // UVs are written from the memo's bits); only what the repair changed differs.
+    for (std::size_t c = 0; c < m.uv.size(); ++c) m.uv[c] = times(memo.sanitized[c], factor);
+    for (std::size_t i = 0; i < memo.repaired_corners.size(); ++i)
+        m.uv[memo.repaired_corners[i]] = times(memo.repaired_uvs[i], factor);
+    for (std::size_t i = 0; i < memo.repaired_half_edges.size(); ++i)
+        m.map.transition.set(memo.repaired_half_edges[i], times(memo.repaired_transitions[i], factor));
     m.map.singular = memo.repaired_singular;
     m.map.valence = memo.repaired_valence;
     m.map.winding_valence = memo.repaired_winding_valence;
@@ -88,14 +86,18 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
     memo.input_vertex = m.input_vertex;
     memo.corner_vertex = m.corner_vertex;
     memo.sanitized = m.uv;
-    memo.transitions = all_transitions(m);
+    memo.transitions = m.map.transition;
     memo.singular = m.map.singular;
     memo.valence = m.map.valence;
     memo.winding_valence = m.map.winding_valence;
     const std::size_t explained = report.explanations.size();
     RepairOutcome outcome = repair(m, features, valences_given, threads, report, look);
-    memo.repaired = m.uv;
-    memo.repaired_transitions = all_transitions(m);
+    for (std::size_t c = 0; c < m.uv.size(); ++c)
+        if (std::memcmp(&m.uv[c], &memo.sanitized[c], sizeof(Point2)) != 0)
+            memo.repaired_corners.push_back(c), memo.repaired_uvs.push_back(m.uv[c]);
+    for (std::size_t h = 0; h < m.map.transition.size(); ++h)
+        if (const GridAutomorphism g = m.map.transition[h]; !(g == memo.transitions[h]))
+            memo.repaired_half_edges.push_back(h), memo.repaired_transitions.push_back(g);
     memo.repaired_singular = m.map.singular;
     memo.repaired_valence = m.map.valence;
     memo.repaired_winding_valence = m.map.winding_valence;
