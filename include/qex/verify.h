@@ -5,7 +5,9 @@
 
 #include "qex/mesh.h"
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -224,6 +226,8 @@ struct VerifyResult {
     std::int64_t input_signed_uv_area_rounded = 0;
 };
 
+class PreparedInput;
+
 struct VerifyOptions {
     /// Meshes without provenance are located on the input surface (see below); off: topology only.
     bool locate = true;
@@ -262,6 +266,31 @@ struct VerifyOptions {
     /// Threads for the checker's parallel loops (0: every core, 1: serial). The verdict and the
     /// violations do not depend on it.
     int threads = 0;
+    /// The input's topology, found once for many checks (PreparedInput). Taken where it was made
+    /// from an input with the same vertex count and triangles; otherwise the input is analysed
+    /// as without it. The verdict and the violations are the same either way.
+    const PreparedInput* prepared = nullptr;
+};
+
+/// An input's topology (its edges, fans, Euler characteristic, boundary loops and components),
+/// found once to judge many meshes against it, as an extractor judges its attempts: without it,
+/// every verify() call finds it again. It keeps a pointer to the input's triangles, which must
+/// outlive it unchanged.
+class PreparedInput {
+public:
+    explicit PreparedInput(const Input& input, int threads = 0);
+    ~PreparedInput();
+    PreparedInput(const PreparedInput&) = delete;
+    PreparedInput& operator=(const PreparedInput&) = delete;
+    /// Whether it is the topology of `input`: the same vertex count and triangles.
+    bool describes(const Input& input) const;
+    struct Analysis; ///< the checker's own (verify.cpp)
+    const Analysis& analysis() const { return *analysis_; }
+
+private:
+    const std::vector<std::array<int, 3>>* triangles_;
+    std::size_t vertices_;
+    std::unique_ptr<const Analysis> analysis_;
 };
 
 /// Judges `mesh` against `input` with its own code (no extraction code is shared) and exact

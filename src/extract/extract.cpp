@@ -49,7 +49,8 @@ Result extract(const Input& input, const Options& options) {
     RepairMemo memo;
     const bool may_refine = options.fallback_ladder && options.max_refinement >= 2;
     Result fillable; // the last resort's other candidate at the map's own scale
-    Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr},
+    CheckedInput checked(input, thread_count(options.threads)); // one analysis for every check
+    Result result = extract_at_scale(input, options, AtScale{1, false, may_refine ? &memo : nullptr, &checked},
                                      options.fallback_ladder && options.fill_holes ? &fillable : nullptr);
     if (!result.ok()) return result;
     if (!options.fallback_ladder) {
@@ -73,9 +74,9 @@ Result extract(const Input& input, const Options& options) {
     // fast), unless Options::best_effort looks for the mesh that loses only that handle.
     std::vector<CollapsedHandle> handles = find_collapsed_handles(input, options.max_refinement);
     if (refinement_can_help(options, !handles.empty(), result))
-        extract_refined(input, options, memo, !handles.empty(), fillable, result);
+        extract_refined(input, options, memo, &checked, !handles.empty(), fillable, result);
     else if (options.fill_holes) // the last resort, which extract_refined tries after every scale
-        (void)fill_holes_if_accepted(input, options, result, &fillable);
+        (void)fill_holes_if_accepted(input, options, result, &fillable, &checked);
     name_collapsed_handles(input, options, std::move(handles), result);
     return result;
 }

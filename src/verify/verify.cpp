@@ -136,36 +136,47 @@ double boundary_tolerance(const Input& input, const QuadMesh& mesh, const Verify
     return opt.distance_tolerance * std::sqrt(diag2) + rounding * norm;
 }
 
-/// The input's topology, for the comparison and the map check: valid when its UVs are 3 per
-/// triangle and its indices in range (the input's own problems are validation's to name).
+} // namespace
+
+/// The input's topology, for the comparison and the map check (PreparedInput holds one):
+/// found when its indices are in range (the input's own problems are validation's to name).
 struct InputTopology {
-    bool ok = false;
+    bool indices_ok = false;
     EdgePairs pairs;
     std::vector<char> single_fan;
+    std::int64_t euler = 0, boundary_loops = 0, components = 0;
 };
 
-InputTopology analyse_input(const Input& input, int threads, VerifyResult& r) {
+InputTopology analyse_input(const Input& input, int threads) {
     InputTopology it;
-    it.ok = input.uvs.size() == 3 * input.triangles.size();
+    it.indices_ok = true;
     std::vector<std::size_t> tri_offset(input.triangles.size() + 1);
     std::vector<int> tri_corners;
     tri_corners.reserve(3 * input.triangles.size());
     for (std::size_t f = 0; f < input.triangles.size(); ++f) {
         tri_offset[f + 1] = 3 * (f + 1);
         for (int v : input.triangles[f]) {
-            it.ok = it.ok && v >= 0 && static_cast<std::size_t>(v) < input.positions.size();
+            it.indices_ok = it.indices_ok && v >= 0 && static_cast<std::size_t>(v) < input.positions.size();
             tri_corners.push_back(v);
         }
     }
-    if (!it.ok) return it;
+    if (!it.indices_ok) return it;
     const Topology ti =
         analyse(input.positions.size(), tri_offset, tri_corners, nullptr, threads, &it.pairs, &it.single_fan);
-    r.input_euler = ti.euler();
-    r.input_triangles = static_cast<std::int64_t>(input.triangles.size());
-    r.input_boundary_loops = ti.boundary_loops;
-    r.input_components = ti.components;
+    it.euler = ti.euler();
+    it.boundary_loops = ti.boundary_loops;
+    it.components = ti.components;
     return it;
 }
+
+} // namespace verify_detail
+
+struct PreparedInput::Analysis {
+    verify_detail::InputTopology topology;
+};
+
+namespace verify_detail {
+namespace {
 
 /// The mesh's Euler characteristic, boundary loops and components against the input's.
 void compare_topology(const VerifyResult& r, std::vector<Violation>& out) {
@@ -189,6 +200,15 @@ void compare_topology(const VerifyResult& r, std::vector<Violation>& out) {
 
 namespace verify_detail {
 namespace {
+
+/// The input's topology: the prepared one where it describes this input, else found into `own`
+/// (not when the input's UVs are not 3 per triangle: nothing is judged against it then).
+const InputTopology& input_topology(const Input& input, const VerifyOptions& options, int threads,
+                                    InputTopology& own) {
+    if (options.prepared && options.prepared->describes(input)) return options.prepared->analysis().topology;
+    if (input.uvs.size() == 3 * input.triangles.size()) own = analyse_input(input, threads);
+    return own;
+}
 
 /// verify(), with the map's solver noise multiplied by `noise_scale` (a refined mesh's map).
 VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOptions& options, double noise_scale) {
@@ -223,12 +243,18 @@ VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOpt
     }
     if (indices_ok) check_mesh_topology(mesh, threads, r, out);
     // The input's topology and exact signed UV area.
-    const InputTopology it = analyse_input(input, threads, r);
-    if (it.ok) {
+    InputTopology own;
+    const InputTopology& it = input_topology(input, options, threads, own);
+    const bool input_ok = it.indices_ok && input.uvs.size() == 3 * input.triangles.size();
+    if (input_ok) {
+        r.input_euler = it.euler;
+        r.input_triangles = static_cast<std::int64_t>(input.triangles.size());
+        r.input_boundary_loops = it.boundary_loops;
+        r.input_components = it.components;
         signed_uv_area(input, r);
         if (indices_ok && !mesh.faces.empty()) compare_topology(r, out);
     }
-    if (it.ok && !mesh.map_uvs.empty()) {
+    if (input_ok && !mesh.map_uvs.empty()) {
         if (mesh.map_uvs.size() != input.uvs.size())
             out.push_back({ViolationKind::MapNotIntegerGrid,
                            "the mesh's map has " + std::to_string(mesh.map_uvs.size()) + " corner UVs, the input " +
@@ -241,15 +267,15 @@ VerifyResult verify_at(const Input& input, const QuadMesh& mesh, const VerifyOpt
         out.push_back({ViolationKind::RepairNotCertified, "the mesh lists repaired triangles but carries no map", -1});
     PlaceContext places;
     places.indices_ok = indices_ok;
-    if (it.ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
+    if (input_ok && indices_ok && options.locate && mesh.provenance.empty() && !input.triangles.empty())
         check_located(input, mesh, options, r, out, &places.located_triangle, &places.closest_triangle, noise_scale);
-    if (it.ok) places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
+    if (input_ok) places.boundary_tolerance = boundary_tolerance(input, mesh, options, r);
     // Holes (a mesh without boundary loops has none), and in located mode missing components.
-    if (it.ok && indices_ok && !mesh.faces.empty() && (r.boundary_loops > 0 || !places.located_triangle.empty()))
+    if (input_ok && indices_ok && !mesh.faces.empty() && (r.boundary_loops > 0 || !places.located_triangle.empty()))
         check_holes(input, mesh, r.boundary_loops > 0, places.boundary_tolerance, places.closest_triangle,
                     places.located_triangle, out);
     r.valid = out.empty();
-    if (it.ok) place_violations(input, mesh, places, r);
+    if (input_ok) place_violations(input, mesh, places, r);
     return r;
 }
 
@@ -270,6 +296,29 @@ VerifyResult verify(const Input& input, const QuadMesh& mesh, const VerifyOption
         r.valid = false;
     }
     return r;
+}
+
+// ============================================================================ PreparedInput
+
+namespace {
+
+std::unique_ptr<const PreparedInput::Analysis> analysed(const Input& input, int threads) {
+    auto a = std::make_unique<PreparedInput::Analysis>();
+    // Beyond the checker's 32-bit tables verify() judges nothing against the input.
+    if (3 * input.triangles.size() <= static_cast<std::size_t>(INT32_MAX))
+        a->topology = verify_detail::analyse_input(input, verify_detail::thread_count(threads));
+    return a;
+}
+
+} // namespace
+
+PreparedInput::PreparedInput(const Input& input, int threads)
+    : triangles_(&input.triangles), vertices_(input.positions.size()), analysis_(analysed(input, threads)) {}
+
+PreparedInput::~PreparedInput() = default;
+
+bool PreparedInput::describes(const Input& input) const {
+    return input.positions.size() == vertices_ && (&input.triangles == triangles_ || input.triangles == *triangles_);
 }
 
 } // namespace qex

@@ -111,7 +111,7 @@ void run_side_by_side(const Input& input, const Options& options, const AtScale&
                 }
                 if (!ok[i]) continue;
                 if (kLadder[r].untangle_rings > 0) ready.wait();
-                judge(input, inner, kLadder[r], given, out[i]);
+                judge(input, inner, kLadder[r], given, out[i], scale.checked);
             }
         } catch (...) {
             thrown[t] = std::current_exception();
@@ -124,12 +124,28 @@ void run_side_by_side(const Input& input, const Options& options, const AtScale&
 
 } // namespace
 
+void CheckedInput::start() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (threads_ < 2 || prepared_ || beside_.valid()) return;
+    try {
+        beside_ = std::async(std::launch::async, [this] { return std::make_unique<PreparedInput>(input_, 1); });
+    } catch (const std::system_error&) { // no thread to be had: get() makes it
+    }
+}
+
+const PreparedInput& CheckedInput::get() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!prepared_) prepared_ = beside_.valid() ? beside_.get() : std::make_unique<PreparedInput>(input_, threads_);
+    return *prepared_;
+}
+
 Result extract_at_scale(const Input& input, const Options& options, const AtScale& scale, Result* fillable) {
     Result prepared;
     prepared.report.input_vertices = static_cast<std::int64_t>(input.positions.size());
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
     TriMesh m;
     if ((prepared.error = prepare_mesh(input, options, m, prepared.report)).code != ErrorCode::None) return prepared;
+    if (scale.checked) scale.checked->start(); // the input is valid: the checker's analysis beside the stages
     // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
     // with the fewest violations is returned, its defects and violations in the report.
     const int first = options.repair_fold_overs ? 0 : kAsGiven;
@@ -140,7 +156,7 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
     Result attempt = start_attempt(prepared.report, first, 1);
     bool judged = false;
     if (!run_rung(std::move(m), input, options, kLadder[first], attempt, scale, &judged)) return attempt;
-    if (!judged) judge(input, options, kLadder[first], {}, attempt);
+    if (!judged) judge(input, options, kLadder[first], {}, attempt, scale.checked);
     prepared.report.stage_seconds.clear(); // in the first attempt's, which the totals take
     // A repair that changed nothing had the map as given: the as-given rung would repeat it.
     const bool as_given = kLadder[first].untangle_rings == 0 && attempt.report.repaired_triangles == 0;

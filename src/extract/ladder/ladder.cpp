@@ -147,7 +147,8 @@ struct LookedMesh {
 /// signed UV area (`report`'s); when it has fewer and its extraction no defect, the vertices
 /// round where it lost them (place_vertices). What it made is kept in `looked`.
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report, std::optional<LookedMesh>& looked);
+                       const Rung& rung, const Report& report, CheckedInput* checked,
+                       std::optional<LookedMesh>& looked);
 
 /// The output's faces from the face walks: in canonical order when the options ask for it (the
 /// defects that name an output face renumbered with them), else as walked.
@@ -196,7 +197,7 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     timer.done(Stage::sanitize);
     if (rung.repair && report.flipped_triangles + report.degenerate_triangles > 0) {
         const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
-            return look_so_far(so_far, outcome, input, options, rung, report, repaired.looked);
+            return look_so_far(so_far, outcome, input, options, rung, report, scale.checked, repaired.looked);
         };
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
@@ -254,7 +255,8 @@ std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int
 // ============================================================================ the repair's look before its last ring
 
 RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report, std::optional<LookedMesh>& looked) {
+                       const Rung& rung, const Report& report, CheckedInput* checked,
+                       std::optional<LookedMesh>& looked) {
     Result attempt;
     attempt.report.signed_uv_area = report.signed_uv_area;
     StageTimer timer(attempt.report);
@@ -272,7 +274,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
         order_faces(options, std::move(faces), attempt);
         timer.done(Stage::canonicalize);
-        judge(input, options, rung, {}, attempt);
+        judge(input, options, rung, {}, attempt, checked);
         look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
         looked = LookedMesh{std::move(attempt), {}, true};
         return look;
@@ -339,7 +341,7 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
 }
 
 void judge(const Input& input, const Options& options, const Rung& rung,
-           const std::vector<std::array<double, 2>>& given_map, Result& attempt) {
+           const std::vector<std::array<double, 2>>& given_map, Result& attempt, CheckedInput* checked) {
     StageTimer timer(attempt.report);
     const bool relaxed = rung.untangle_rings > 0;
     MapGraph graph(input); // the placement's map is the mesh's then, which mending searches too
@@ -351,6 +353,7 @@ void judge(const Input& input, const Options& options, const Rung& rung,
     }
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
+    if (checked) verify_options.prepared = &checked->get();
     attempt.check = verify(input, attempt.mesh, verify_options);
     timer.done(Stage::check);
     if (!attempt.check.valid) mend_if_accepted(input, relaxed, verify_options, timer, attempt, &graph);

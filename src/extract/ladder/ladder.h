@@ -17,7 +17,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <future>
 #include <iterator>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -187,6 +190,28 @@ struct RepairMemo {
 };
 
 /// One attempt at the ladder: the map's own scale, or a refinement of it.
+/// The checker's analysis of the input (qex::PreparedInput), made once for every check in one
+/// extract() call, at every scale (a scaled map keeps the triangles). With threads to spare it
+/// is made on a thread of its own from start() on, beside the stages; else at the first check.
+/// The checker's own code makes it: the extractor only keeps it.
+class CheckedInput {
+public:
+    CheckedInput(const Input& input, int threads) : input_(input), threads_(threads) {}
+    CheckedInput(const CheckedInput&) = delete;
+    CheckedInput& operator=(const CheckedInput&) = delete;
+    /// Starts the analysis beside the caller (once; the input must be valid).
+    void start();
+    /// The analysis, once it is made (here, if it was not started).
+    const PreparedInput& get();
+
+private:
+    const Input& input_;
+    int threads_;
+    std::mutex mutex_;
+    std::future<std::unique_ptr<PreparedInput>> beside_; ///< waited for when destroyed
+    std::unique_ptr<PreparedInput> prepared_;
+};
+
 struct AtScale {
     /// The UVs times this power of two (1: the map as given).
     std::int64_t factor = 1;
@@ -196,6 +221,9 @@ struct AtScale {
     /// Factor 1: filled by the repair, if one runs. Larger: the repair it holds is taken, times
     /// the factor, where it applies (RepairMemo).
     RepairMemo* memo = nullptr;
+    /// The checker's analysis of the input, for every check at this scale (none: each check
+    /// analyses the input itself).
+    CheckedInput* checked = nullptr;
 };
 
 // ============================================================================ the ladder (ladder.cpp)
@@ -259,7 +287,9 @@ void mend_if_accepted(const Input& input, bool relaxed, const VerifyOptions& ver
 /// gain the cuts and filled holes, its located checker violations go (its extraction defects
 /// stay), and its report keeps `attempt`'s totals (stage times, rungs and refinements tried). False, and
 /// nothing changed but the stages' time, otherwise.
-bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other = nullptr);
+/// `checked`: the checker's analysis of the input, if kept (AtScale::checked).
+bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other = nullptr,
+                            CheckedInput* checked = nullptr);
 
 /// Whether a rejected mesh's violations are all of its topology (non-manifold edges and
 /// vertices, holes, Euler characteristic, boundary loops, components), a hole or an edge joining
@@ -288,8 +318,9 @@ bool refinement_can_help(const Options& options, bool handle_collapsed, const Re
 /// that loses only the surface's topology. Before that, with Options::fill_holes and no scale
 /// valid, the last resort (fill_holes_if_accepted) at the smallest scale where it passes: the map's
 /// own (`result`, then `fillable`, its other candidate there), then each refinement tried.
-void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
-                     const Result& fillable, Result& result);
+/// `checked`: the checker's analysis of the input, for every check (AtScale::checked).
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, CheckedInput* checked,
+                     bool handle_collapsed, const Result& fillable, Result& result);
 
 /// The explanation of a best-effort mesh (Options::best_effort): which attempt it is (`scale`,
 /// 1 for the map's own), its violations, and `tried`, the violations of each attempt.

@@ -158,10 +158,12 @@ bool fill_candidate(const Input& input, const VerifyOptions& verify_options, con
 
 } // namespace
 
-bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other) {
+bool fill_holes_if_accepted(const Input& input, const Options& options, Result& attempt, const Result* other,
+                            CheckedInput* checked) {
     if (attempt.check.valid) return false;
     VerifyOptions verify_options;
     verify_options.threads = options.threads;
+    if (checked) verify_options.prepared = &checked->get();
     Result filled;
     {
         StageTimer timer(attempt.report);

@@ -239,8 +239,8 @@ bool refinement_can_help(const Options& options, bool handle_collapsed, const Re
 
 // ============================================================================ the map refined
 
-void extract_refined(const Input& input, const Options& options, RepairMemo& memo, bool handle_collapsed,
-                     const Result& fillable, Result& result) {
+void extract_refined(const Input& input, const Options& options, RepairMemo& memo, CheckedInput* checked,
+                     bool handle_collapsed, const Result& fillable, Result& result) {
     // The map at twice, four times, ... its scale. Multiplying by two is exact; a map that would
     // leave the range integer transitions need comes back as an input error, and ends the
     // refinement with the scale-1 result.
@@ -260,11 +260,11 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
         // The map at scale 1 passed the seam check (or this would not run).
         Result other; // the last resort's other candidate at this scale
         Result refined =
-            extract_at_scale(scaled, options, AtScale{scale, true, &memo}, filled_scale == 0 ? &other : nullptr);
+            extract_at_scale(scaled, options, AtScale{scale, true, &memo, checked}, filled_scale == 0 ? &other : nullptr);
         ++result.report.refinements_tried;
         // The last resort, kept for the end: the smallest scale whose holes, filled, pass.
         const bool filled_here = options.fill_holes && refined.ok() && !refined.check.valid && filled_scale == 0 &&
-                                 fill_holes_if_accepted(scaled, options, refined, &other);
+                                 fill_holes_if_accepted(scaled, options, refined, &other, checked);
         add_stage_seconds(refined.report, result.report);
         if (!refined.ok()) break;
         if (filled_here) {
@@ -287,7 +287,7 @@ void extract_refined(const Input& input, const Options& options, RepairMemo& mem
     // No scale gives a valid mesh as extracted: the last resort, holes filled, at the smallest
     // scale where that passes.
     StageTimer::hook_scale = 1;
-    if (options.fill_holes && fill_holes_if_accepted(input, options, result, &fillable)) return;
+    if (options.fill_holes && fill_holes_if_accepted(input, options, result, &fillable, checked)) return;
     if (filled_scale > 0) return take_valid_refined(std::move(filled), filled_scale, result);
     if (closest_scale > 1) return take_refined(closest, closest_scale, std::move(failed), tried, result);
     result.report.explanations.insert(result.report.explanations.end(), failed.begin(), failed.end());

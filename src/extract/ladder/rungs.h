@@ -76,8 +76,9 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
 
 /// Stages place_on_given_map (last resorts) and check: the checker's verdict on the rung's mesh
 /// (mended where it is rejected). A relaxed rung's mesh is moved onto `given_map` first.
+/// `checked`: the checker's analysis of the input, if kept (AtScale::checked).
 void judge(const Input& input, const Options& options, const Rung& rung,
-           const std::vector<std::array<double, 2>>& given_map, Result& attempt);
+           const std::vector<std::array<double, 2>>& given_map, Result& attempt, CheckedInput* checked);
 
 /// A fresh result for rung `r`, with what stages validate and collapse reported (`prepared`),
 /// and the stage times so far.
