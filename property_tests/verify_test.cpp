@@ -265,7 +265,7 @@ TEST(Checker, MixedPolygonsAreWalkedFaceByFace) {
 
 TEST(Checker, ParallelLoopsGiveTheSerialVerdict) {
     // VerifyOptions::threads changes who computes, not what: the same violations in the same
-    // order. The checker's loops run in parallel from 2^12 corners on (input or mesh).
+    // order. The checker's loops run in parallel from 2^16 corners on (input or mesh).
     VerifyOptions serial, parallel;
     serial.threads = 1;
     parallel.threads = 2;
