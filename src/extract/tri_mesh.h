@@ -9,10 +9,26 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
 namespace qex::detail {
+
+/// The indices i < n where a[i] and b[i] differ as bytes, in order: blocks of entries compared
+/// whole first (most of two copies of a map are the same).
+template <class T>
+std::vector<std::size_t> differing_entries(const T* a, const T* b, std::size_t n) {
+    constexpr std::size_t kBlock = 256;
+    std::vector<std::size_t> out;
+    for (std::size_t lo = 0; lo < n; lo += kBlock) {
+        const std::size_t hi = std::min(n, lo + kBlock);
+        if (std::memcmp(a + lo, b + lo, (hi - lo) * sizeof(T)) == 0) continue;
+        for (std::size_t i = lo; i < hi; ++i)
+            if (std::memcmp(a + i, b + i, sizeof(T)) != 0) out.push_back(i);
+    }
+    return out;
+}
 
 /// Transitions per half-edge, 16 bytes each instead of GridAutomorphism's 24: the rotation sits
 /// in the two low bits of 4 * tx. Exact while |tx| < 2^61; transitions between charts of a map
@@ -41,6 +57,11 @@ public:
     GridAutomorphism operator[](std::size_t h) const {
         const Packed& p = data_[h];
         return {static_cast<int>(p.tx_r & 3), p.tx_r >> 2, p.ty};
+    }
+    /// The half-edges whose transitions differ from `other`'s (of the same size), in order:
+    /// compared a block at a time, as bytes (each transition has one packed form).
+    std::vector<std::size_t> differing(const TransitionTable& other) const {
+        return differing_entries(data_.get(), other.data_.get(), size_);
     }
     void set(std::size_t h, const GridAutomorphism& g) {
         // 4 * tx as an unsigned product: no signed overflow, and exact in the stated range.

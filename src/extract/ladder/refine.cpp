@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <string>
 
 namespace qex::detail {
@@ -91,13 +90,11 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
     memo.valence = m.map.valence;
     memo.winding_valence = m.map.winding_valence;
     const std::size_t explained = report.explanations.size();
-    RepairOutcome outcome = repair(m, features, valences_given, threads, report, look);
-    for (std::size_t c = 0; c < m.uv.size(); ++c)
-        if (std::memcmp(&m.uv[c], &memo.sanitized[c], sizeof(Point2)) != 0)
-            memo.repaired_corners.push_back(c), memo.repaired_uvs.push_back(m.uv[c]);
-    for (std::size_t h = 0; h < m.map.transition.size(); ++h)
-        if (const GridAutomorphism g = m.map.transition[h]; !(g == memo.transitions[h]))
-            memo.repaired_half_edges.push_back(h), memo.repaired_transitions.push_back(g);
+    RepairOutcome outcome = repair(m, features, valences_given, threads, report, look, &memo.sanitized);
+    memo.repaired_corners = differing_entries(m.uv.data(), memo.sanitized.data(), m.uv.size());
+    for (const std::size_t c : memo.repaired_corners) memo.repaired_uvs.push_back(m.uv[c]);
+    memo.repaired_half_edges = m.map.transition.differing(memo.transitions);
+    for (const std::size_t h : memo.repaired_half_edges) memo.repaired_transitions.push_back(m.map.transition[h]);
     memo.repaired_singular = m.map.singular;
     memo.repaired_valence = m.map.valence;
     memo.repaired_winding_valence = m.map.winding_valence;

@@ -401,7 +401,7 @@ RepairOutcome outcome_of(TriMesh& m, const std::vector<Point2>& sanitized, const
 } // namespace repair_impl
 
 RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_edges, bool valences_given, int threads,
-                     Report& report, const LookBeforeLastRing& look) {
+                     Report& report, const LookBeforeLastRing& look, const std::vector<Point2>* given) {
     using namespace repair_impl;
     std::vector<int> seeds_faces, stuck;
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
@@ -415,7 +415,10 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
         pinned = pinned_vertices(m, feature_edges);
         bad_triangles(m, pinned, seeds_faces, stuck);
     }
-    const std::vector<Point2> sanitized = m.uv;
+    // The merges change transitions, never UVs: m's UVs are still the sanitized ones.
+    std::vector<Point2> own;
+    if (!given) own = m.uv;
+    const std::vector<Point2>& sanitized = given ? *given : own;
     Attempts attempts(m, thread_count(threads));
     std::function<RepairLook()> before_last;
     if (look)
