@@ -6,11 +6,11 @@
 #include "ladder.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <string>
-#include <system_error>
-#include <thread>
 
 namespace qex::detail {
 namespace {
@@ -91,16 +91,23 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
         memo.corner_vertex = m.corner_vertex;
         memo.transitions = m.map.transition;
     };
-    std::thread beside;
-    if (thread_count(threads) > 1 && m.parallel(3 * m.num_faces())) try {
-            beside = std::thread(connectivity);
-        } catch (const std::system_error&) { // no thread to be had: copied here
+    // Two copies, taken by up to two threads (run_workers: what one throws is rethrown here).
+    std::atomic<int> next{0};
+    std::vector<std::exception_ptr> thrown(2);
+    const auto work = [&](std::size_t t) {
+        try {
+            for (int i = next++; i < 2; i = next++) {
+                if (i == 0)
+                    memo.sanitized = m.uv;
+                else
+                    connectivity();
+            }
+        } catch (...) {
+            thrown[t] = std::current_exception();
+            next = 2;
         }
-    memo.sanitized = m.uv;
-    if (beside.joinable())
-        beside.join();
-    else
-        connectivity();
+    };
+    run_workers(thread_count(threads) > 1 && m.parallel(3 * m.num_faces()) ? 2 : 1, work, thrown);
     memo.singular = m.map.singular;
     memo.valence = m.map.valence;
     memo.winding_valence = m.map.winding_valence;
