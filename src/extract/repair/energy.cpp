@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace qex::detail::repair_impl {
@@ -80,28 +81,53 @@ inline __attribute__((always_inline)) void edge_vectors_in_lanes(const Problem::
     const std::int32_t *__restrict ix = pc.ix.data(), *__restrict iy = pc.iy.data();
     const double *__restrict sx = pc.sx.data(), *__restrict sy = pc.sy.data();
     const double *__restrict tx = pc.tx.data(), *__restrict ty = pc.ty.data();
+    // Corner k of triangle t is entry k n + t: each corner's reads are contiguous, one gather.
+    const std::size_t c1 = n, c2 = 2 * n;
     for (std::size_t t = 0; t < n; ++t) {
-        const std::size_t c = 3 * t;
-        const double u0x = sx[c] * X[ix[c]] + tx[c], u0y = sy[c] * X[iy[c]] + ty[c];
-        const double u1x = sx[c + 1] * X[ix[c + 1]] + tx[c + 1], u1y = sy[c + 1] * X[iy[c + 1]] + ty[c + 1];
-        const double u2x = sx[c + 2] * X[ix[c + 2]] + tx[c + 2], u2y = sy[c + 2] * X[iy[c + 2]] + ty[c + 2];
+        const double u0x = sx[t] * X[ix[t]] + tx[t], u0y = sy[t] * X[iy[t]] + ty[t];
+        const double u1x = sx[c1 + t] * X[ix[c1 + t]] + tx[c1 + t], u1y = sy[c1 + t] * X[iy[c1 + t]] + ty[c1 + t];
+        const double u2x = sx[c2 + t] * X[ix[c2 + t]] + tx[c2 + t], u2y = sy[c2 + t] * X[iy[c2 + t]] + ty[c2 + t];
         in[Problem::a0 * n + t] = u1x - u0x, in[Problem::a1 * n + t] = u1y - u0y;
         in[Problem::b0 * n + t] = u2x - u0x, in[Problem::b1 * n + t] = u2y - u0y;
     }
 }
 
-/// The gradient per unknown, gathered from the triangles' rows in their order (Problem::Gather):
-/// the sums the scatter into a zero gradient made, term by term, so the same bits (a zero's sign
-/// aside, which no sum from +0.0 keeps).
-void gather_gradient(const Problem::Gather& pg, const double* __restrict out, double* __restrict g,
-                     std::size_t unknowns) {
+/// The gradient per unknown, gathered from the triangles' rows in their order (Problem::Gather),
+/// four unknowns side by side: each lane sums its unknown's terms as a scalar loop would, so the
+/// same bits as the scatter into a zero gradient made (a zero's sign aside, which no sum from
+/// +0.0 keeps). No branch inside a block, whose terms all unknowns share in count.
+inline __attribute__((always_inline)) void gather_in_lanes(const Problem::Gather& pg, const double* __restrict out,
+                                                           double* __restrict g, std::size_t unknowns) {
+    typedef double Lanes __attribute__((vector_size(32)));
     const std::int32_t *__restrict first = pg.first.data(), *__restrict from = pg.from.data();
     const double* __restrict sign = pg.sign.data();
-    for (std::size_t j = 0; j < unknowns; ++j) {
-        double sum = 0.0;
-        for (std::int32_t k = first[j]; k < first[j + 1]; ++k) sum += sign[k] * out[from[k]];
-        g[j] = sum;
+    const std::size_t blocks = pg.first.size() - 1;
+    for (std::size_t b = 0; b < blocks; ++b) {
+        Lanes sum = {0.0, 0.0, 0.0, 0.0};
+        for (std::int32_t k = first[b]; k < first[b + 1]; k += 4) {
+            const Lanes term = {out[from[k]], out[from[k + 1]], out[from[k + 2]], out[from[k + 3]]};
+            Lanes s;
+            std::memcpy(&s, sign + k, sizeof s);
+            sum += s * term;
+        }
+        const std::size_t j = 4 * b, lanes = std::min<std::size_t>(4, unknowns - j);
+        for (std::size_t l = 0; l < lanes; ++l) g[j + l] = sum[l];
     }
+}
+
+#if defined(QEX_REPAIR_AVX2)
+__attribute__((target("avx2"))) void gather_avx2(const Problem::Gather& pg, const double* out, double* g,
+                                                 std::size_t unknowns) {
+    gather_in_lanes(pg, out, g, unknowns);
+}
+#endif
+
+void gather_gradient(const Problem::Gather& pg, const double* out, double* g, std::size_t unknowns) {
+#if defined(QEX_REPAIR_AVX2)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) return gather_avx2(pg, out, g, unknowns);
+#endif
+    gather_in_lanes(pg, out, g, unknowns);
 }
 
 #if defined(QEX_REPAIR_AVX2)
@@ -125,17 +151,27 @@ struct GradientTerm {
     double sign;
 };
 
-/// The terms by unknown, each unknown's in their order (a counting sort keeps it).
-Problem::Gather by_unknown(const std::vector<GradientTerm>& terms, std::size_t unknowns) {
+/// The terms by unknown, each unknown's in their order, in blocks of four unknowns padded to the
+/// block's longest (Problem::Gather); `zero` is the place of the zero after out's rows.
+Problem::Gather by_unknown(const std::vector<GradientTerm>& terms, std::size_t unknowns, std::int32_t zero) {
+    std::vector<std::int32_t> count(unknowns + 1, 0), at(unknowns + 1, 0);
+    for (const GradientTerm& term : terms) ++count[static_cast<std::size_t>(term.unknown)];
+    const std::size_t blocks = (unknowns + 3) / 4;
     Problem::Gather pg;
-    pg.first.assign(unknowns + 1, 0);
-    for (const GradientTerm& term : terms) ++pg.first[static_cast<std::size_t>(term.unknown) + 1];
-    for (std::size_t j = 0; j < unknowns; ++j) pg.first[j + 1] += pg.first[j];
-    pg.from.resize(terms.size()), pg.sign.resize(terms.size());
-    std::vector<std::int32_t> at(pg.first.begin(), pg.first.end() - 1);
+    pg.first.assign(blocks + 1, 0);
+    for (std::size_t b = 0; b < blocks; ++b) {
+        std::int32_t width = 0;
+        for (std::size_t j = 4 * b; j < std::min(4 * b + 4, unknowns); ++j) width = std::max(width, count[j]);
+        pg.first[b + 1] = pg.first[b] + 4 * width;
+    }
+    pg.from.assign(static_cast<std::size_t>(pg.first[blocks]), zero);
+    pg.sign.assign(pg.from.size(), 1.0);
+    // Unknown j's k-th term at first[j / 4] + 4 k + j % 4.
+    for (std::size_t j = 0; j < unknowns; ++j) at[j] = pg.first[j / 4] + static_cast<std::int32_t>(j % 4);
     for (const GradientTerm& term : terms) {
-        const auto k = static_cast<std::size_t>(at[static_cast<std::size_t>(term.unknown)]++);
-        pg.from[k] = term.from, pg.sign[k] = term.sign;
+        auto& k = at[static_cast<std::size_t>(term.unknown)];
+        pg.from[static_cast<std::size_t>(k)] = term.from, pg.sign[static_cast<std::size_t>(k)] = term.sign;
+        k += 4;
     }
     return pg;
 }
@@ -236,7 +272,7 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
         const int b = rest[t].base;
         const int order[3] = {b, TriMesh::next(b), TriMesh::prev(b)};
         for (std::size_t k = 0; k < 3; ++k) {
-            const std::size_t c = 3 * t + k;
+            const std::size_t c = k * n + t;
             const int e = corner_slot[order[k]];
             if (e < 0) { // read as is: (1 X + -0.0); its gradient goes to the slots nobody reads
                 pc.ix[c] = static_cast<std::int32_t>(p.unknowns + fixed.size());
@@ -267,11 +303,11 @@ Problem make_problem(const TriMesh& m, const Region& r, const std::vector<RestSh
     }
     p.point.resize(p.unknowns + fixed.size());
     std::copy(fixed.begin(), fixed.end(), p.point.begin() + static_cast<std::ptrdiff_t>(p.unknowns));
-    p.gather = by_unknown(terms, p.unknowns);
+    p.gather = by_unknown(terms, p.unknowns, static_cast<std::int32_t>(Problem::out_rows * n));
     for (const FreeFan& fan : r.fans)
         for (const int c : fan.corners) corner_slot[c] = -1;
     p.in.resize(Problem::in_rows * n);
-    p.out.resize(Problem::out_rows * n);
+    p.out.assign(Problem::out_rows * n + 1, 0.0); // the last: the zero that padding terms read
     p.gdet.resize(n);
     for (std::size_t t = 0; t < n; ++t) {
         const RestShape& s = rest[t];

@@ -42,19 +42,22 @@ bool rest_shapes(const TriMesh& m, const Region& r, std::vector<RestShape>& rest
 /// region's order and in separate arrays (structure of arrays), so that the energy's arithmetic,
 /// triangle by triangle independent, runs in vector lanes.
 struct Problem {
-    /// Per corner (3 per triangle, from its rest shape's base on), how its UV is read from the
-    /// point X (the free vertices' UVs, then the fixed corners' UVs), with no branch: the rotation
-    /// as a pick and a sign (-1.0 * v is -v, 1.0 * v is v), the translation added (-0.0 for a
-    /// fixed corner: v + -0.0 is v, zeros' signs included).
+    /// Per corner (corner k of triangle t at k n + t, k from its rest shape's base on), how its UV
+    /// is read from the point X (the free vertices' UVs, then the fixed corners' UVs), with no
+    /// branch: the rotation as a pick and a sign (-1.0 * v is -v, 1.0 * v is v), the translation
+    /// added (-0.0 for a fixed corner: v + -0.0 is v, zeros' signs included).
     struct Corners {
         std::vector<std::int32_t> ix, iy; ///< u = (sx X[ix] + tx, sy X[iy] + ty)
         std::vector<double> sx, sy, tx, ty;
     };
     Corners corners;
-    /// The gradient as gathered per unknown: unknown j sums sign[k] * out[from[k]] for k from
-    /// first[j] to first[j + 1], in the order of the triangles and their corners (so its bits
-    /// depend on nothing else); `from` names a row of `out` and a triangle. A fixed corner's
-    /// gradient goes nowhere.
+    /// The gradient as gathered per unknown: unknown j sums sign * out[from] over its terms, in
+    /// the order of the triangles and their corners (so its bits depend on nothing else); `from`
+    /// names a row of `out` and a triangle. A fixed corner's gradient goes nowhere. The unknowns
+    /// go in blocks of four, summed side by side in vector lanes: block b's terms are from
+    /// first[b] to first[b + 1], four at a time (one per unknown), each unknown's padded to the
+    /// block's longest with +1 * the zero after out's rows (a sum from +0.0 is never -0.0, so
+    /// adding +0.0 keeps its bits).
     struct Gather {
         std::vector<std::int32_t> first, from;
         std::vector<double> sign;
@@ -74,7 +77,7 @@ struct Problem {
     /// and u0 (dc = -(da + db))).
     enum In : std::size_t { a0, a1, b0, b1, eps, g00, g01, g10, g11, area, in_rows };
     enum Out : std::size_t { energy, da0, da1, db0, db1, dc0, dc1, out_rows };
-    mutable std::vector<double> in, out; ///< row by row (structure of arrays)
+    mutable std::vector<double> in, out; ///< row by row (structure of arrays); out ends in a zero
     std::vector<double> gdet;            ///< per triangle: the inverse edge matrix's determinant
 };
 

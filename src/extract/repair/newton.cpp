@@ -66,7 +66,7 @@ struct CornerUnknowns {
 CornerUnknowns corner_unknowns(const Problem& p, std::size_t t) {
     CornerUnknowns u;
     for (std::size_t k = 0; k < 3; ++k) {
-        const std::size_t c = 3 * t + k;
+        const std::size_t c = k * p.triangles + t;
         u.index[2 * k] = p.corners.ix[c], u.sign[2 * k] = p.corners.sx[c];
         u.index[2 * k + 1] = p.corners.iy[c], u.sign[2 * k + 1] = p.corners.sy[c];
     }
