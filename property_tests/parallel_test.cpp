@@ -26,8 +26,8 @@ std::string read_text(const std::string& path) {
 TEST(Extraction, ParallelLoopsGiveTheSerialOutput) {
     // Options::threads changes who computes, not what: bit-identical meshes, provenance and maps.
     std::vector<Input> inputs;
-    // Loops run in parallel from 2^16 corners on; the large torus and its subdivided cube are
-    // above that, the others below.
+    // Loops run in parallel from 2^12 corners on; the large torus and its subdivided cube are
+    // far above that (2^16 and more).
     for (const auto& layout : {cube_layout(), prism_layout(5), annulus_layout(), torus_layout(32, 16)}) {
         Input in = make_map(layout, 2, layout.quads.size() > 100 ? 6 : 5, 2, 7);
         std::mt19937 rng(3);

@@ -23,9 +23,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
 
 namespace qex::detail {
 namespace {
@@ -93,12 +90,12 @@ void set_transition(TriMesh& m, int h, int r) {
 /// Per triangle: its longest UV edge (for the dipole pass).
 std::vector<double> longest_edges(const TriMesh& m) {
     std::vector<double> longest(static_cast<std::size_t>(m.num_faces()));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    for (int f = 0; f < m.num_faces(); ++f)
-        longest[static_cast<std::size_t>(f)] =
-            std::max({uv_edge_length(m, 3 * f), uv_edge_length(m, 3 * f + 1), uv_edge_length(m, 3 * f + 2)});
+    const int parts = m.parts(3 * m.num_faces());
+    for_parts(parts, parts, m.num_faces(), [&](int, std::int64_t begin, std::int64_t end) {
+        for (auto f = static_cast<int>(begin); f < end; ++f)
+            longest[static_cast<std::size_t>(f)] =
+                std::max({uv_edge_length(m, 3 * f), uv_edge_length(m, 3 * f + 1), uv_edge_length(m, 3 * f + 2)});
+    });
     return longest;
 }
 
@@ -219,31 +216,22 @@ void first_pass_edge(TriMesh& m, int h, const std::vector<double>& longest, std:
     if (kShortEdgeFactor * l < std::max(longest_h, longest_o)) mine.short_edges.push_back({l, h});
 }
 
-/// The first pass over every half-edge (first_pass_edge). Each thread lists its range's edges;
-/// with the static schedule the threads' ranges are in thread order, so the joined lists are in
-/// index order, as a serial pass makes them.
+/// The first pass over every half-edge (first_pass_edge). Each part lists its range's edges;
+/// joined in part order, the lists are in index order, as a serial pass makes them.
 Listed first_pass(TriMesh& m, std::vector<char>& determined) {
     const int nh = 3 * m.num_faces();
     const std::vector<double> longest = longest_edges(m);
-    Listed all;
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.parallel(nh))
-#endif
-    {
-        Listed mine;
-#if defined(_OPENMP)
-#pragma omp for schedule(static) nowait
-#endif
-        for (int h = 0; h < nh; ++h) first_pass_edge(m, h, longest, determined, mine);
-#if defined(_OPENMP)
-#pragma omp for ordered schedule(static, 1)
-        for (int t = 0; t < omp_get_num_threads(); ++t)
-#pragma omp ordered
-#endif
-        {
-            all.undetermined.insert(all.undetermined.end(), mine.undetermined.begin(), mine.undetermined.end());
-            all.short_edges.insert(all.short_edges.end(), mine.short_edges.begin(), mine.short_edges.end());
-        }
+    const int parts = m.parts(nh);
+    std::vector<Listed> listed(static_cast<std::size_t>(parts));
+    for_parts(parts, parts, nh, [&](int part, std::int64_t begin, std::int64_t end) {
+        for (auto h = static_cast<int>(begin); h < end; ++h)
+            first_pass_edge(m, h, longest, determined, listed[static_cast<std::size_t>(part)]);
+    });
+    Listed all = std::move(listed[0]);
+    for (std::size_t part = 1; part < listed.size(); ++part) {
+        const Listed& mine = listed[part];
+        all.undetermined.insert(all.undetermined.end(), mine.undetermined.begin(), mine.undetermined.end());
+        all.short_edges.insert(all.short_edges.end(), mine.short_edges.begin(), mine.short_edges.end());
     }
     return all;
 }

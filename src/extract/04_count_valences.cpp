@@ -132,16 +132,11 @@ void count_by_runs(TriMesh& m, int v, const std::vector<Corner>& corners, std::v
 /// on its own: the parallel loop does not change the result.
 void count_fans(TriMesh& m, bool singular_only, const std::vector<signed char>& tri_sign) {
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    {
+    const int parts = m.parts(3 * m.num_faces());
+    for_parts(parts, parts, count, [&](int, std::int64_t begin, std::int64_t end) {
         std::vector<Corner> corners;
         std::vector<SignedAngle> fan;
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-        for (std::int64_t i = 0; i < count; ++i) {
+        for (std::int64_t i = begin; i < end; ++i) {
             const int v = m.vertex_order[static_cast<std::size_t>(i)];
             if (m.fan_start[v] < 0 || m.on_boundary[v]) continue;
             if (singular_only && !m.map.singular[v]) continue;
@@ -150,18 +145,18 @@ void count_fans(TriMesh& m, bool singular_only, const std::vector<signed char>& 
             if (all_positive && decide_by_approximate_angles(m, v, approx, corners.size())) continue;
             count_by_runs(m, v, corners, fan);
         }
-    } // parallel region
+    });
 }
 
 } // namespace
 
 std::vector<signed char> triangle_signs(const TriMesh& m) {
     std::vector<signed char> signs(static_cast<std::size_t>(m.num_faces()));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (m.parallel(3 * m.num_faces()))
-#endif
-    for (int f = 0; f < m.num_faces(); ++f)
-        signs[static_cast<std::size_t>(f)] = static_cast<signed char>(triangle_sign(m, f));
+    const int parts = m.parts(3 * m.num_faces());
+    for_parts(parts, parts, m.num_faces(), [&](int, std::int64_t begin, std::int64_t end) {
+        for (auto f = static_cast<int>(begin); f < end; ++f)
+            signs[static_cast<std::size_t>(f)] = static_cast<signed char>(triangle_sign(m, f));
+    });
     return signs;
 }
 

@@ -186,55 +186,65 @@ Point2 sanitized_start(const TriMesh& m, int v, const Fan& fan, bool singular, c
                              rules.features.empty() ? u0 : snapped_to_features(u0, rules.features[v], fan));
 }
 
+/// Sanitizes the fan of vertex_order[index] (unless its loop is a nonzero pure translation),
+/// adding to the totals `t`.
+void sanitize_one(TriMesh& m, const Rules& rules, std::int64_t index, Fan& fan, Totals& t) {
+    const int v = m.vertex_order[static_cast<std::size_t>(index)];
+    if (m.fan_start[v] < 0) return;
+    walk_fan(m, v, fan);
+    const GridAutomorphism& loop = fan.loop;
+    // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
+    // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
+    // A fold can wind a fan twice too, with or without a flipped triangle: without given
+    // valences, a vertex off every grid point by more than solver noise is read as such a
+    // fold, not snapped (a solver puts its branch points on grid points; snapping would
+    // move an exact map by up to half a cell). It stays a regular vertex: the repair
+    // unfolds its flipped triangles, if it has any; the paper's handling takes the rest.
+    const bool given = !rules.given_valences.empty();
+    const int val = given ? rules.given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
+    const bool branch =
+        fan.closed && loop.r == 0 && val >= 8 && (given || near_grid_point(m.uv[fan.corners[0]], m.noise_scale));
+    if (branch && !rules.branch_points) ++t.deferred;
+    const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
+    if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
+        if (t.bad < 0) t.bad = index, t.bad_loop = loop;
+        return;
+    }
+    if (singular) {
+        m.map.singular[v] = 1;
+        ++t.singularities;
+    }
+    propagate(m, fan, sanitized_start(m, v, fan, singular, rules), t.max_disp, t.sum_disp);
+}
+
+/// Vertices per block of sanitize_fans' totals.
+constexpr std::int64_t kTotalsBlock = std::int64_t{1} << 12;
+
 /// Sanitizes every fan, in corner order (TriMesh::vertex_order). Each vertex reads and writes
-/// only its own corners, so neither the order nor the parallel loop changes the result. A fan
-/// whose loop is a nonzero pure translation stays as it is.
+/// only its own corners, so neither the order nor the parallel loop changes the result. The
+/// totals are kept per fixed block of vertices and joined in block order: the same bits for any
+/// thread count. A fan whose loop is a nonzero pure translation stays as it is.
 Totals sanitize_fans(TriMesh& m, const Rules& rules) {
-    double max_disp = 0.0, sum_disp = 0.0;
-    std::int64_t singularities = 0, deferred_count = 0, bad = -1;
-    GridAutomorphism bad_loop;
     const auto count = static_cast<std::int64_t>(m.vertex_order.size());
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(m.threads) if (m.parallel(3 * m.num_faces())) reduction(max : max_disp) reduction(+ : sum_disp, singularities, deferred_count)
-#endif
-    {
+    const std::int64_t blocks = (count + kTotalsBlock - 1) / kTotalsBlock;
+    std::vector<Totals> of_block(static_cast<std::size_t>(blocks));
+    const int parts =
+        static_cast<int>(std::min<std::int64_t>(m.parts(3 * m.num_faces()), std::max<std::int64_t>(blocks, 1)));
+    for_parts(parts, parts, blocks, [&](int, std::int64_t first, std::int64_t last) {
         Fan fan;
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-        for (std::int64_t index = 0; index < count; ++index) {
-            const int v = m.vertex_order[static_cast<std::size_t>(index)];
-            if (m.fan_start[v] < 0) continue;
-            walk_fan(m, v, fan);
-            const GridAutomorphism& loop = fan.loop;
-            // With r = 0 only a branch point (valence 8, 12, ...) is singular; without given valences
-            // the winding valence decides, since fold-overs inflate Algorithm 8's count (see there).
-            // A fold can wind a fan twice too, with or without a flipped triangle: without given
-            // valences, a vertex off every grid point by more than solver noise is read as such a
-            // fold, not snapped (a solver puts its branch points on grid points; snapping would
-            // move an exact map by up to half a cell). It stays a regular vertex: the repair
-            // unfolds its flipped triangles, if it has any; the paper's handling takes the rest.
-            const bool given = !rules.given_valences.empty();
-            const int val = given ? rules.given_valences[m.input_vertex[v]] : std::abs(m.map.winding_valence[v]);
-            const bool branch = fan.closed && loop.r == 0 && val >= 8 &&
-                                (given || near_grid_point(m.uv[fan.corners[0]], m.noise_scale));
-            if (branch && !rules.branch_points) ++deferred_count;
-            const bool singular = fan.closed && (loop.r != 0 || (branch && rules.branch_points));
-            if (fan.closed && loop.r == 0 && (loop.tx != 0 || loop.ty != 0)) {
-#if defined(_OPENMP)
-#pragma omp critical(qex_sanitize_error)
-#endif
-                if (bad < 0 || index < bad) bad = index, bad_loop = loop;
-                continue;
-            }
-            if (singular) {
-                m.map.singular[v] = 1;
-                ++singularities;
-            }
-            propagate(m, fan, sanitized_start(m, v, fan, singular, rules), max_disp, sum_disp);
-        }
-    } // parallel region
-    return {max_disp, sum_disp, singularities, deferred_count, bad, bad_loop};
+        for (std::int64_t b = first; b < last; ++b)
+            for (std::int64_t i = b * kTotalsBlock; i < std::min(count, (b + 1) * kTotalsBlock); ++i)
+                sanitize_one(m, rules, i, fan, of_block[static_cast<std::size_t>(b)]);
+    });
+    Totals all; // the blocks in order: the first bad vertex is the serial pass's
+    for (const Totals& t : of_block) {
+        all.max_disp = std::max(all.max_disp, t.max_disp);
+        all.sum_disp += t.sum_disp;
+        all.singularities += t.singularities;
+        all.deferred += t.deferred;
+        if (all.bad < 0 && t.bad >= 0) all.bad = t.bad, all.bad_loop = t.bad_loop;
+    }
+    return all;
 }
 
 /// The error for the vertex at vertex_order[bad], whose transitions compose to the pure

@@ -174,10 +174,8 @@ public:
     int run(int n, std::vector<int>& first, One&& one) {
         first.assign(static_cast<std::size_t>(n) + 1, 0);
         const auto base = static_cast<int>(q_.qvertices.size());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) num_threads(parts_) if (parts_ > 1)
-#endif
-        for (int part = 0; part < parts_; ++part) generate_range(n, part, first, one);
+        for_parts(parts_, parts_, n,
+                  [&](int part, std::int64_t, std::int64_t) { generate_range(n, part, first, one); });
         return join(n, base, first);
     }
 
@@ -238,7 +236,7 @@ Error generate_qvertices(const TriMesh& m, const Options& opt, QState& q) {
     if (grid_point_bound(m) > 4.0 * static_cast<double>(opt.max_qvertices) + 1e6) return too_large(opt, -1);
     add_vertex_qvertices(m, q);
     // Edge- and face-q-vertices: ranges of half-edges (then of triangles) on all threads.
-    RangeGenerator generate(q, m.parallel(3 * nf) ? std::max(1, m.threads) : 1, opt.max_qvertices);
+    RangeGenerator generate(q, m.parts(3 * nf), opt.max_qvertices);
     const int bad_edge =
         generate.run(3 * nf, q.edge_first, [&](int h, std::vector<QVertex>& list) { edge_qvertices(m, h, list); });
     if (bad_edge >= 0) return too_large(opt, m.input_triangle[TriMesh::face(bad_edge)]);

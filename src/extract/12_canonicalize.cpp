@@ -24,10 +24,9 @@ void sort_total(std::vector<T>& v, Less less, int threads) {
         return;
     }
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) num_threads(2)
-#endif
-    for (int half = 0; half < 2; ++half) std::sort(half == 0 ? v.begin() : mid, half == 0 ? mid : v.end(), less);
+    for_parts(2, 2, 2, [&](int half, std::int64_t, std::int64_t) {
+        std::sort(half == 0 ? v.begin() : mid, half == 0 ? mid : v.end(), less);
+    });
     std::vector<T> merged(v.size());
     std::merge(v.begin(), mid, mid, v.end(), merged.begin(), less);
     v.swap(merged);

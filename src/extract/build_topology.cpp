@@ -28,25 +28,16 @@ struct EdgeBuckets {
 /// Buckets of more entries than this (vertices of high valence) are sorted by std::sort.
 constexpr int kMaxInsertionSort = 32;
 
-/// The half-edges [first, second) that part `part` of `parts` counts and places.
-std::pair<int, int> part_range(int nh, int part, int parts) {
-    return {static_cast<int>(static_cast<std::int64_t>(nh) * part / parts),
-            static_cast<int>(static_cast<std::int64_t>(nh) * (part + 1) / parts)};
-}
-
 /// Per part: how many of its half-edges each vertex is the smaller vertex of.
 std::vector<std::vector<int>> count_smaller_vertices(const TriMesh& m, int parts) {
     const int nh = 3 * m.num_faces();
-    std::vector<std::vector<int>> count(static_cast<std::size_t>(parts),
-                                        std::vector<int>(static_cast<std::size_t>(m.num_vertices), 0));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
-#endif
-    for (int part = 0; part < parts; ++part) {
+    std::vector<std::vector<int>> count(static_cast<std::size_t>(parts));
+    for_parts(parts, parts, nh, [&](int part, std::int64_t begin, std::int64_t end) {
         std::vector<int>& c = count[static_cast<std::size_t>(part)];
-        for (int h = part_range(nh, part, parts).first; h < part_range(nh, part, parts).second; ++h)
+        c.assign(static_cast<std::size_t>(m.num_vertices), 0); // on the thread that fills it
+        for (auto h = static_cast<int>(begin); h < end; ++h)
             ++c[static_cast<std::size_t>(std::min(m.origin(h), m.target(h)))];
-    }
+    });
     return count;
 }
 
@@ -71,18 +62,15 @@ void bucket_offsets(std::vector<std::vector<int>>& count, int nv, std::vector<in
 void place_entries(const TriMesh& m, std::vector<std::vector<int>>& fill_at, std::vector<std::uint64_t>& entry) {
     const int nh = 3 * m.num_faces();
     const int parts = static_cast<int>(fill_at.size());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
-#endif
-    for (int part = 0; part < parts; ++part) {
+    for_parts(parts, parts, nh, [&](int part, std::int64_t begin, std::int64_t end) {
         std::vector<int>& fill = fill_at[static_cast<std::size_t>(part)];
-        for (int h = part_range(nh, part, parts).first; h < part_range(nh, part, parts).second; ++h) {
+        for (auto h = static_cast<int>(begin); h < end; ++h) {
             const int a = m.origin(h), b = m.target(h);
             entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b))]++)] =
                 static_cast<std::uint64_t>(std::max(a, b)) << 32 | static_cast<std::uint32_t>(h) << 1 |
                 (a > b ? 1u : 0u);
         }
-    }
+    });
 }
 
 /// Counting sort by the smaller vertex. With several threads, each counts and places one
@@ -93,7 +81,7 @@ EdgeBuckets bucket_half_edges(const TriMesh& m) {
     EdgeBuckets b;
     b.bucket.assign(static_cast<std::size_t>(m.num_vertices) + 1, 0);
     b.entry.resize(static_cast<std::size_t>(nh));
-    const int parts = m.parallel(nh) ? std::max(1, m.threads) : 1;
+    const int parts = m.parts(nh);
     std::vector<std::vector<int>> count = count_smaller_vertices(m, parts);
     bucket_offsets(count, m.num_vertices, b.bucket);
     place_entries(m, count, b.entry);
@@ -149,15 +137,18 @@ bool pair_bucket(TriMesh& m, const EdgeBuckets& b, int v, const char* what, Erro
 Error pair_opposites(TriMesh& m, EdgeBuckets& b, const char* what) {
     const int nv = m.num_vertices;
     m.opp.assign(3 * m.num_faces(), -1);
-    int first_bad = nv;
-    [[maybe_unused]] const bool parallel = m.parallel(3 * m.num_faces());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (parallel) reduction(min : first_bad)
-#endif
-    for (int v = 0; v < nv; ++v) {
-        sort_bucket(b.entry, b.bucket[v], b.bucket[v + 1]);
-        if (pair_bucket(m, b, v, what, nullptr)) first_bad = std::min(first_bad, v);
-    }
+    const int parts = m.parts(3 * m.num_faces());
+    std::vector<int> bad(static_cast<std::size_t>(parts), nv); // per part, its first bad bucket
+    for_parts(parts, parts, nv, [&](int part, std::int64_t begin, std::int64_t end) {
+        for (auto v = static_cast<int>(begin); v < end; ++v) {
+            sort_bucket(b.entry, b.bucket[v], b.bucket[v + 1]);
+            if (pair_bucket(m, b, v, what, nullptr)) {
+                bad[static_cast<std::size_t>(part)] = v;
+                break;
+            }
+        }
+    });
+    const int first_bad = *std::min_element(bad.begin(), bad.end());
     if (first_bad < nv) {
         Error error;
         pair_bucket(m, b, first_bad, what, &error);
@@ -207,21 +198,24 @@ void list_vertex_order(TriMesh& m) {
 /// fan does not is reported.
 Error check_single_fans(const TriMesh& m, const char* what) {
     const auto listed = static_cast<std::int64_t>(m.vertex_order.size());
-    std::int64_t first_split = listed;
-    [[maybe_unused]] const bool parallel = m.parallel(3 * m.num_faces());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(m.threads) if (parallel) reduction(min : first_split)
-#endif
-    for (std::int64_t i = 0; i < listed; ++i) {
-        const int v = m.vertex_order[static_cast<std::size_t>(i)];
-        int count = 0;
-        for (int h = m.fan_start[v]; h >= 0;) {
-            ++count;
-            h = m.cw(h);
-            if (h == m.fan_start[v] || count > m.fan_size[v]) break;
+    const int parts = m.parts(3 * m.num_faces());
+    std::vector<std::int64_t> split(static_cast<std::size_t>(parts), listed); // per part, its first split fan
+    for_parts(parts, parts, listed, [&](int part, std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i) {
+            const int v = m.vertex_order[static_cast<std::size_t>(i)];
+            int count = 0;
+            for (int h = m.fan_start[v]; h >= 0;) {
+                ++count;
+                h = m.cw(h);
+                if (h == m.fan_start[v] || count > m.fan_size[v]) break;
+            }
+            if (count != m.fan_size[v]) {
+                split[static_cast<std::size_t>(part)] = i;
+                break;
+            }
         }
-        if (count != m.fan_size[v]) first_split = std::min(first_split, i);
-    }
+    });
+    const std::int64_t first_split = *std::min_element(split.begin(), split.end());
     if (first_split < listed) {
         const int v = m.vertex_order[static_cast<std::size_t>(first_split)];
         return {ErrorCode::NonManifoldVertex,

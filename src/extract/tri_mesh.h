@@ -126,6 +126,8 @@ struct TriMesh {
     double noise_scale = 1.0;
     /// Whether a loop over `n` elements runs in parallel.
     bool parallel(std::int64_t n) const { return run_parallel(threads, n); }
+    /// How many parts a loop over n elements is split into (for_parts).
+    int parts(std::int64_t n) const { return parts_for(threads, n); }
 
     /// What the map says about this connectivity. A collapse builds a new connectivity and
     /// leaves this empty, so it must be computed again before anything reads it.

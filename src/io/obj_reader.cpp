@@ -68,14 +68,11 @@ public:
         out_.positions.resize(at[n].nv);
         out_.triangles.resize(at[n].nf);
         std::vector<IoError> problem(n);
-        const auto pieces = static_cast<std::int64_t>(n);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (pieces > 1)
-#endif
-        for (std::int64_t i = 0; i < pieces; ++i) {
+        const auto pieces = static_cast<int>(n);
+        detail::for_parts(threads_, pieces, pieces, [&](int i, std::int64_t, std::int64_t) {
             const auto k = static_cast<std::size_t>(i);
             problem[k] = place_piece(pieces_[k], at[k], vts, tex);
-        }
+        });
         std::vector<Piece>().swap(pieces_);
         for (IoError& e : problem)
             if (!e.ok()) {
@@ -107,15 +104,12 @@ private:
     /// that failed.
     void parse_pieces(const std::vector<const char*>& cut) {
         const std::size_t first = pieces_.size();
-        const auto count = static_cast<std::int64_t>(cut.size() - 1);
+        const auto count = static_cast<int>(cut.size() - 1);
         pieces_.resize(first + cut.size() - 1);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) num_threads(threads_) if (count > 1)
-#endif
-        for (std::int64_t i = 0; i < count; ++i) {
+        detail::for_parts(threads_, count, count, [&](int i, std::int64_t, std::int64_t) {
             const auto k = static_cast<std::size_t>(i);
             io_detail::parse_piece(cut[k], cut[k + 1], pieces_[first + k]);
-        }
+        });
         for (std::size_t k = first; k < pieces_.size(); ++k)
             if (pieces_[k].failed) {
                 pieces_.resize(k + 1); // later pieces are never reached by a serial read
@@ -173,11 +167,11 @@ private:
     void gather_uvs(const std::vector<std::array<double, 2>>& vts, const std::vector<int>& tex) {
         out_.uvs.resize(tex.size());
         const auto corners = static_cast<std::int64_t>(tex.size());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads_) if (detail::run_parallel(threads_, corners))
-#endif
-        for (std::int64_t i = 0; i < corners; ++i)
-            out_.uvs[static_cast<std::size_t>(i)] = vts[static_cast<std::size_t>(tex[static_cast<std::size_t>(i)])];
+        const int parts = detail::parts_for(threads_, corners);
+        detail::for_parts(parts, parts, corners, [&](int, std::int64_t begin, std::int64_t end) {
+            for (std::int64_t i = begin; i < end; ++i)
+                out_.uvs[static_cast<std::size_t>(i)] = vts[static_cast<std::size_t>(tex[static_cast<std::size_t>(i)])];
+        });
     }
 
     Input& out_;

@@ -67,20 +67,15 @@ std::vector<Found> Coverage::enumerate_all(const std::vector<std::uint32_t>& tri
     const auto count = static_cast<std::int64_t>(triangles.size());
     const int threads = run_parallel(threads_, static_cast<std::int64_t>(cells)) ? threads_ : 1;
     std::vector<std::vector<Found>> part(static_cast<std::size_t>(threads));
-    std::int64_t required = 0;
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(threads) reduction(+ : required)
-#endif
-    {
-        const std::size_t me = thread_slot();
+    std::vector<std::int64_t> required(static_cast<std::size_t>(threads), 0);
+    share_chunks(threads, count, 256, [&](std::size_t me, const auto& next) {
         Scratch scratch(nt);
-#if defined(_OPENMP)
-#pragma omp for schedule(dynamic, 256)
-#endif
-        for (std::int64_t i = 0; i < count; ++i)
-            required += enumerate(triangles[static_cast<std::size_t>(i)], scratch, part[me]);
-    }
-    r.coverage_cells = required;
+        for (std::int64_t from = 0, to = 0; next(from, to);)
+            for (std::int64_t i = from; i < to; ++i)
+                required[me] += enumerate(triangles[static_cast<std::size_t>(i)], scratch, part[me]);
+    });
+    r.coverage_cells = 0;
+    for (const std::int64_t n : required) r.coverage_cells += n;
     std::vector<Found> found;
     for (auto& p : part) found.insert(found.end(), p.begin(), p.end());
     std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.cell.cell < b.cell.cell; });

@@ -109,33 +109,27 @@ void Coverage::claim_grid_points() {
     const auto nv = static_cast<std::int64_t>(loc_.size());
     const int threads = run_parallel(threads_, nv) ? threads_ : 1;
     std::vector<std::vector<Claim>> part(static_cast<std::size_t>(threads));
-#if defined(_OPENMP)
-#pragma omp parallel num_threads(threads)
-#endif
-    {
-        const std::size_t me = thread_slot();
+    share_chunks(threads, nv, 4096, [&](std::size_t me, const auto& next) {
         Scratch scratch(in_.triangles.size());
         std::vector<Claim>& mine = part[me];
-#if defined(_OPENMP)
-#pragma omp for schedule(dynamic, 4096)
-#endif
-        for (std::int64_t vi = 0; vi < nv; ++vi) {
-            const Located& L = loc_[static_cast<std::size_t>(vi)];
-            if (!L.ok && !L.undecided) continue; // off the surface or off the grid: it claims nothing
-            // Its grid point; one its precision cannot place, every grid point it may be on.
-            for (int du = -L.spread; du <= L.spread; ++du)
-                for (int dv = -L.spread; dv <= L.spread; ++dv) {
-                    std::uint32_t t = L.triangle;
-                    GridPoint p{L.grid[0] + du, L.grid[1] + dv};
-                    if (map_.fold_over[t] || !walk_to(t, p)) continue;
-                    reach_from(t, {static_cast<double>(p[0]), static_cast<double>(p[1])}, scratch);
-                    for (const auto& [n, q] : scratch.reach)
-                        mine.push_back({{static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])},
-                                        n,
-                                        static_cast<std::int32_t>(vi)});
-                }
-        }
-    }
+        for (std::int64_t from = 0, to = 0; next(from, to);)
+            for (std::int64_t vi = from; vi < to; ++vi) {
+                const Located& L = loc_[static_cast<std::size_t>(vi)];
+                if (!L.ok && !L.undecided) continue; // off the surface or off the grid: it claims nothing
+                // Its grid point; one its precision cannot place, every grid point it may be on.
+                for (int du = -L.spread; du <= L.spread; ++du)
+                    for (int dv = -L.spread; dv <= L.spread; ++dv) {
+                        std::uint32_t t = L.triangle;
+                        GridPoint p{L.grid[0] + du, L.grid[1] + dv};
+                        if (map_.fold_over[t] || !walk_to(t, p)) continue;
+                        reach_from(t, {static_cast<double>(p[0]), static_cast<double>(p[1])}, scratch);
+                        for (const auto& [n, q] : scratch.reach)
+                            mine.push_back({{static_cast<std::int64_t>(q[0]), static_cast<std::int64_t>(q[1])},
+                                            n,
+                                            static_cast<std::int32_t>(vi)});
+                    }
+            }
+    });
     // By triangle (a counting pass over the threads' claims), then each triangle's by grid point
     // and vertex.
     const std::size_t nt = in_.triangles.size();

@@ -50,25 +50,22 @@ void map_displacement(const Input& input, const UVs& U, const std::vector<char>&
     constexpr std::size_t kBlock = std::size_t{1} << 14;
     const auto blocks = static_cast<std::int64_t>((U.size() + kBlock - 1) / kBlock);
     std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
-    double largest = 0.0;
-    [[maybe_unused]] const bool parallel = run_parallel(threads, static_cast<std::int64_t>(U.size()));
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (parallel) reduction(max : largest)
-#else
-    (void)threads;
-#endif
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::size_t from = static_cast<std::size_t>(b) * kBlock, to = std::min(U.size(), from + kBlock);
-        double sum = 0.0;
-        for (std::size_t c = from; c < to; ++c)
-            if (alive(U, c / 3) && !repaired[c / 3]) {
-                const double d = std::max(std::abs(U[c][0] - input.uvs[c][0]), std::abs(U[c][1] - input.uvs[c][1]));
-                largest = std::max(largest, d);
-                sum += d;
-            }
-        block_sum[static_cast<std::size_t>(b)] = sum;
-    }
-    r.max_map_displacement = largest;
+    const int workers = run_parallel(threads, static_cast<std::int64_t>(U.size())) ? threads : 1;
+    std::vector<double> largest(static_cast<std::size_t>(workers), 0.0); // per thread: a maximum does not round
+    share_chunks(workers, blocks, 1, [&](std::size_t t, const auto& next) {
+        for (std::int64_t b = 0, stop = 0; next(b, stop);) {
+            const std::size_t from = static_cast<std::size_t>(b) * kBlock, to = std::min(U.size(), from + kBlock);
+            double sum = 0.0;
+            for (std::size_t c = from; c < to; ++c)
+                if (alive(U, c / 3) && !repaired[c / 3]) {
+                    const double d = std::max(std::abs(U[c][0] - input.uvs[c][0]), std::abs(U[c][1] - input.uvs[c][1]));
+                    largest[t] = std::max(largest[t], d);
+                    sum += d;
+                }
+            block_sum[static_cast<std::size_t>(b)] = sum;
+        }
+    });
+    r.max_map_displacement = *std::max_element(largest.begin(), largest.end());
     for (const double sum : block_sum) r.sum_map_displacement += sum;
 }
 
@@ -85,32 +82,29 @@ struct ChartMatch {
 ChartMatch match_charts(const UVs& U, const EdgePairs& pairs, int threads) {
     const auto nc = static_cast<std::int64_t>(U.size());
     ChartMatch m{std::vector<std::int32_t>(U.size(), -1), std::vector<std::int8_t>(U.size(), 0)};
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, nc))
-#else
-    (void)threads;
-#endif
-    for (std::int64_t ci = 0; ci < nc; ++ci) {
-        const auto c = static_cast<std::size_t>(ci);
-        // Boundary, non-manifold, or done from the pair's other corner:
-        if (pairs[c] < static_cast<std::int32_t>(ci)) continue;
-        const auto o = static_cast<std::size_t>(pairs[c]);
-        if (!alive(U, c / 3) || !alive(U, o / 3)) continue;
-        // In c's chart the edge runs a -> b; in o's chart b -> a (for a consistently oriented
-        // pair). Some rotation R and one integer translation t must give R a + t == a2 and
-        // R b + t == b2 exactly.
-        const auto &a = U[c], &b = U[next_corner(c)], &a2 = U[next_corner(o)], &b2 = U[o];
-        const int found = grid_automorphism(a, b, a2, b2);
-        // A zero-length edge admits every rotation: it is not matched, and the fan check skips
-        // its vertices.
-        if (found >= 0 && (a[0] != b[0] || a[1] != b[1])) {
-            m.opposite[c] = static_cast<std::int32_t>(o);
-            m.opposite[o] = static_cast<std::int32_t>(c);
-            m.rotation[c] = static_cast<std::int8_t>(found);
-            m.rotation[o] = static_cast<std::int8_t>((4 - found) & 3);
+    for_range(threads, nc, [&](std::size_t, std::int64_t begin, std::int64_t end) {
+        for (std::int64_t ci = begin; ci < end; ++ci) {
+            const auto c = static_cast<std::size_t>(ci);
+            // Boundary, non-manifold, or done from the pair's other corner:
+            if (pairs[c] < static_cast<std::int32_t>(ci)) continue;
+            const auto o = static_cast<std::size_t>(pairs[c]);
+            if (!alive(U, c / 3) || !alive(U, o / 3)) continue;
+            // In c's chart the edge runs a -> b; in o's chart b -> a (for a consistently oriented
+            // pair). Some rotation R and one integer translation t must give R a + t == a2 and
+            // R b + t == b2 exactly.
+            const auto &a = U[c], &b = U[next_corner(c)], &a2 = U[next_corner(o)], &b2 = U[o];
+            const int found = grid_automorphism(a, b, a2, b2);
+            // A zero-length edge admits every rotation: it is not matched, and the fan check skips
+            // its vertices.
+            if (found >= 0 && (a[0] != b[0] || a[1] != b[1])) {
+                m.opposite[c] = static_cast<std::int32_t>(o);
+                m.opposite[o] = static_cast<std::int32_t>(c);
+                m.rotation[c] = static_cast<std::int8_t>(found);
+                m.rotation[o] = static_cast<std::int8_t>((4 - found) & 3);
+            }
+            if (found < 0) m.rotation[c] = -1;
         }
-        if (found < 0) m.rotation[c] = -1;
-    }
+    });
     return m;
 }
 

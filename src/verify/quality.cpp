@@ -246,15 +246,17 @@ std::vector<Point> sample_points(const Positions& x, const Faces& faces) {
 /// over the threads.
 double farthest(const AabbTree& tree, const std::vector<Point>& points) {
     const auto n = static_cast<std::int64_t>(points.size());
-    const bool parallel = verify_detail::thread_count(0) > 1 && n >= kParallelMinQueries;
-    (void)parallel; // read by the OpenMP pragma only
-    double worst = 0;
-#pragma omp parallel for reduction(max : worst) schedule(static) if (parallel)
-    for (std::int64_t i = 0; i < n; ++i) {
-        const Point& p = points[static_cast<std::size_t>(i)];
-        worst = std::max(worst, CGAL::squared_distance(p, tree.closest_point(p)));
-    }
-    return std::sqrt(worst);
+    const int threads = verify_detail::thread_count(0);
+    const int workers = threads > 1 && n >= kParallelMinQueries ? threads : 1;
+    std::vector<double> worst(static_cast<std::size_t>(workers), 0.0);
+    verify_detail::share_chunks(workers, n, (n + workers - 1) / workers, [&](std::size_t t, const auto& next) {
+        for (std::int64_t from = 0, to = 0; next(from, to);)
+            for (std::int64_t i = from; i < to; ++i) {
+                const Point& p = points[static_cast<std::size_t>(i)];
+                worst[t] = std::max(worst[t], CGAL::squared_distance(p, tree.closest_point(p)));
+            }
+    });
+    return std::sqrt(*std::max_element(worst.begin(), worst.end()));
 }
 
 } // namespace

@@ -55,14 +55,10 @@ private:
 std::vector<std::int32_t> edge_heads(const Corners& fc, int threads) {
     const std::size_t nc = fc.size();
     std::vector<std::int32_t> head(nc);
-    const auto nc64 = static_cast<std::int64_t>(nc);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, nc64))
-#else
-    (void)threads;
-#endif
-    for (std::int64_t c = 0; c < nc64; ++c)
-        head[static_cast<std::size_t>(c)] = fc.vertex(fc.next(static_cast<std::size_t>(c)));
+    for_range(threads, static_cast<std::int64_t>(nc), [&](std::size_t, std::int64_t begin, std::int64_t end) {
+        for (std::int64_t c = begin; c < end; ++c)
+            head[static_cast<std::size_t>(c)] = fc.vertex(fc.next(static_cast<std::size_t>(c)));
+    });
     return head;
 }
 
@@ -171,18 +167,19 @@ void sort_bucket(std::uint64_t* b, std::uint64_t* e) {
 /// violations are written afterwards in bucket order. Returns the number of edges.
 std::int64_t match_edges(EdgeMatch& m, std::size_t num_vertices, int threads) {
     const auto nv64 = static_cast<std::int64_t>(num_vertices);
+    const int workers = run_parallel(threads, static_cast<std::int64_t>(m.fc.size())) ? threads : 1;
+    std::vector<std::int64_t> edges_of(static_cast<std::size_t>(workers), 0);
+    share_chunks(workers, nv64, 4096, [&](std::size_t t, const auto& next) {
+        for (std::int64_t from = 0, to = 0; next(from, to);)
+            for (std::int64_t v = from; v < to; ++v) {
+                std::uint64_t* b = m.buckets.entry.data() + m.buckets.begin(static_cast<std::size_t>(v));
+                std::uint64_t* e = m.buckets.entry.data() + m.buckets.end[static_cast<std::size_t>(v)];
+                sort_bucket(b, e);
+                edges_of[t] += m.pair_up(static_cast<std::size_t>(v), false);
+            }
+    });
     std::int64_t edges = 0;
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) if (run_parallel(threads, static_cast<std::int64_t>(m.fc.size()))) reduction(+ : edges)
-#else
-    (void)threads;
-#endif
-    for (std::int64_t v = 0; v < nv64; ++v) {
-        std::uint64_t* b = m.buckets.entry.data() + m.buckets.begin(static_cast<std::size_t>(v));
-        std::uint64_t* e = m.buckets.entry.data() + m.buckets.end[static_cast<std::size_t>(v)];
-        sort_bucket(b, e);
-        edges += m.pair_up(static_cast<std::size_t>(v), false);
-    }
+    for (const std::int64_t n : edges_of) edges += n;
     for (std::size_t v = 0; v < num_vertices; ++v)
         if (m.troubled[v]) m.pair_up(v, true);
     return edges;
@@ -240,24 +237,23 @@ std::vector<char> single_fans(const Corners& fc, const std::vector<std::int32_t>
     }
     std::vector<char> single(nv, 0);
     const auto listed = static_cast<std::int64_t>(order.size());
-    [[maybe_unused]] const auto num_corners = static_cast<std::int64_t>(fc.size());
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, num_corners))
-#else
-    (void)threads;
-#endif
-    for (std::int64_t i = 0; i < listed; ++i) {
-        const auto v = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
-        if (start[v] < 0) continue;
-        std::size_t c = static_cast<std::size_t>(start[v]);
-        int seen = 0;
-        do {
-            ++seen;
-            if (twin[c] < 0) break;
-            c = fc.next(static_cast<std::size_t>(twin[c]));
-        } while (c != static_cast<std::size_t>(start[v]) && seen <= corners[v]);
-        single[v] = seen == corners[v];
-    }
+    // Split as the corners are: parallel from as many corners as the other loops' elements.
+    const int split = run_parallel(threads, static_cast<std::int64_t>(fc.size())) ? threads : 1;
+    share_chunks(split, listed, (listed + split - 1) / split, [&](std::size_t, const auto& next) {
+        for (std::int64_t from = 0, to = 0; next(from, to);)
+            for (std::int64_t i = from; i < to; ++i) {
+                const auto v = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
+                if (start[v] < 0) continue;
+                std::size_t c = static_cast<std::size_t>(start[v]);
+                int seen = 0;
+                do {
+                    ++seen;
+                    if (twin[c] < 0) break;
+                    c = fc.next(static_cast<std::size_t>(twin[c]));
+                } while (c != static_cast<std::size_t>(start[v]) && seen <= corners[v]);
+                single[v] = seen == corners[v];
+            }
+    });
     return single;
 }
 
