@@ -46,9 +46,11 @@ OnIsoLine on_iso_line(const TriMesh& m, int h) {
     return best;
 }
 
-/// The boundary edges that follow iso-lines up to solver noise: those of every boundary loop
-/// whose edges all lie on iso-lines, exactly or up to noise (a rim that crosses the grid, as a
-/// circle does, keeps its edges near a tangent iso-line as they are).
+/// The boundary edges that follow iso-lines up to solver noise: every edge of each boundary loop
+/// whose edges all lie on iso-lines, exactly or up to noise, with some up to noise (a rim that
+/// crosses the grid, as a circle does, keeps its edges near a tangent iso-line as they are). The
+/// exact ones too: an edge exactly on its iso-line can end at a corner of the loop whose other
+/// coordinate is noisy, and only both edges as features put that corner on its grid point.
 std::vector<int> noisy_aligned_boundary(const TriMesh& m) {
     const int nh = 3 * m.num_faces();
     UnionFind loops(static_cast<std::size_t>(m.num_vertices));
@@ -59,15 +61,18 @@ std::vector<int> noisy_aligned_boundary(const TriMesh& m) {
         const int x = loops.find(m.origin(h)), y = loops.find(m.target(h));
         if (x != y) loops.attach(std::max(x, y), std::min(x, y));
     }
-    std::vector<char> crosses(static_cast<std::size_t>(m.num_vertices), 0);
-    for (int h = 0; h < nh; ++h)
-        if (m.opp[h] < 0 && how[static_cast<std::size_t>(h)] == OnIsoLine::Off)
-            crosses[static_cast<std::size_t>(loops.find(m.origin(h)))] = 1;
+    std::vector<char> crosses(static_cast<std::size_t>(m.num_vertices), 0), noisy(crosses);
+    for (int h = 0; h < nh; ++h) {
+        if (m.opp[h] >= 0) continue;
+        const auto loop = static_cast<std::size_t>(loops.find(m.origin(h)));
+        crosses[loop] |= how[static_cast<std::size_t>(h)] == OnIsoLine::Off;
+        noisy[loop] |= how[static_cast<std::size_t>(h)] == OnIsoLine::UpToNoise;
+    }
     std::vector<int> out;
-    for (int h = 0; h < nh; ++h)
-        if (m.opp[h] < 0 && how[static_cast<std::size_t>(h)] == OnIsoLine::UpToNoise &&
-            !crosses[static_cast<std::size_t>(loops.find(m.origin(h)))])
-            out.push_back(h);
+    for (int h = 0; h < nh; ++h) {
+        const auto loop = static_cast<std::size_t>(loops.find(m.origin(h)));
+        if (m.opp[h] < 0 && noisy[loop] && !crosses[loop]) out.push_back(h);
+    }
     return out;
 }
 
