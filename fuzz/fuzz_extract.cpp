@@ -63,6 +63,15 @@ constexpr std::int64_t kMaxScaledQuads = 512;
 constexpr int kMaxRefinement = 2;
 #endif
 
+/// Extraction and checks run serially: the campaign runs a job per core, and threads started in
+/// every execution would only share those cores (the outcome does not depend on the thread
+/// count; property_tests/parallel_test.cpp holds that).
+const VerifyOptions kSerialCheck = [] {
+    VerifyOptions o;
+    o.threads = 1;
+    return o;
+}();
+
 /// Whether the generated map with its UVs x `factor` (scaled, then refined) stays within
 /// kMaxScaledQuads.
 bool within_bound(const QuadLayout& layout, int n, std::int64_t factor) {
@@ -269,7 +278,7 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
     bare.provenance.clear();
     bare.map_uvs.clear();
     bare.face_uvs.clear();
-    const VerifyResult located = verify(c.in, bare);
+    const VerifyResult located = verify(c.in, bare, kSerialCheck);
     // (Snapped features and boundaries move the map, and explained deficits leave cells uncovered.)
     if (c.benign && c.in.feature_edges.empty() && !opt.snap_boundary && valid && r.report.explanations.empty() &&
         !located.valid)
@@ -290,7 +299,7 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
             default: face.pop_back(); break;
         }
     }
-    (void)verify(c.in, bare);
+    (void)verify(c.in, bare, kSerialCheck);
 }
 
 /// The certificate of a valid mesh (as `qex extract --certificate` makes it) holds, and the mesh
@@ -302,7 +311,7 @@ void check_without_provenance(fuzz::Bytes& b, const Case& c, const Options& opt,
 void check_certificate(const Case& c, const Options& opt, const Result& r) {
     if (!r.check.valid || r.report.coarsening != 1 || r.mesh.map_uvs.empty()) return;
     if (!c.benign || c.noise || opt.snap_boundary || !c.in.feature_edges.empty()) return;
-    const VerifyResult held = check_own_certificate(c.in, r.mesh, make_certificate(c.in, r.mesh)).verdict;
+    const VerifyResult held = check_own_certificate(c.in, r.mesh, make_certificate(c.in, r.mesh), kSerialCheck).verdict;
     if (!held.valid)
         fuzz::fail("the certificate of a valid mesh fails its check: " +
                    (held.violations.empty() ? std::string("no violation named") : held.violations[0].message));
@@ -342,6 +351,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::mt19937 rng(b.u32());
     for (int ops = b.range(0, 6); ops > 0 && !b.empty(); --ops) perturb(b, b.range(0, 12), single_chart, rng, c);
     Options opt;
+    opt.threads = 1; // see kSerialCheck
     opt.max_qvertices = 200000;
     opt.snap_boundary = b.byte() & 1;
     // The second kind: 13 + 2 * 5 choices, each of perturb_more's twice as likely as one of perturb's.
@@ -368,7 +378,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (r.error.message.empty()) fuzz::fail("an error without a message");
         return 0;
     }
-    const VerifyResult v = verify(c.in, r.mesh);
+    const VerifyResult v = verify(c.in, r.mesh, kSerialCheck);
     if (const std::string why = result_inconsistency(c.in, r, &v); !why.empty()) fuzz::fail(why);
     const bool exact_expected = c.benign;
     const auto quads = static_cast<std::int64_t>(r.mesh.faces.size());

@@ -49,11 +49,12 @@ inline MeshCheck check_mesh(const Input& map, const QuadMesh& mesh, const Certif
 /// will judge the two files: the mesh's positions and faces only (both files keep the doubles
 /// exactly). `certificate` is make_certificate(map, mesh). A certificate written is one this
 /// accepts (beside a valid mesh) or that holds against the map (VerifyResult::on_certificate).
-inline MeshCheck check_own_certificate(const Input& map, const QuadMesh& mesh, const Certificate& certificate) {
+inline MeshCheck check_own_certificate(const Input& map, const QuadMesh& mesh, const Certificate& certificate,
+                                       const VerifyOptions& options = {}) {
     QuadMesh written;
     written.positions = mesh.positions;
     written.faces = mesh.faces;
-    return check_mesh(map, written, certificate);
+    return check_mesh(map, written, certificate, options);
 }
 
 } // namespace qex
