@@ -128,6 +128,9 @@ public:
         }
     }
 
+    /// The matrix with the pattern only (every value zero), for the symbolic analysis.
+    const Eigen::SparseMatrix<double>& pattern() const { return matrix_; }
+
     /// The matrix at the point region_energy last evaluated.
     const Eigen::SparseMatrix<double>& at(bool project) {
         double* values = matrix_.valuePtr();
@@ -157,15 +160,32 @@ private:
 
 } // namespace
 
+struct NewtonSystem::Parts {
+    explicit Parts(const Problem& p) : hessian(p) {
+        // The region's pattern, the same at every step: the analysis reads no value.
+        if (p.unknowns > 0) solver.analyzePattern(hessian.pattern());
+    }
+    Hessian hessian;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+};
+
+NewtonSystem::NewtonSystem(const Problem& p) : parts_(std::make_unique<Parts>(p)) {}
+NewtonSystem::~NewtonSystem() = default;
+
 int minimise_newton(const Problem& p, std::vector<double>& x, int iterations) {
+    if (p.unknowns == 0) return 0;
+    NewtonSystem system(p);
+    return minimise_newton(p, x, iterations, system);
+}
+
+int minimise_newton(const Problem& p, std::vector<double>& x, int iterations, NewtonSystem& system) {
     const auto n = static_cast<Eigen::Index>(p.unknowns);
     if (n == 0) return 0;
     std::vector<double> g, g_new, x_new(x.size());
     double f = region_energy(p, x, 0.0, &g);
     if (!std::isfinite(f)) return 0;
-    Hessian hessian(p);
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-    solver.analyzePattern(hessian.at(false)); // the region's pattern, the same at every step
+    Hessian& hessian = system.parts().hessian;
+    auto& solver = system.parts().solver;
     bool full_step = true;                    // the last step was Newton's whole step
     int it = 0;
     for (; it < iterations; ++it) {

@@ -7,9 +7,27 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <vector>
 
 namespace qex::detail::repair_impl {
+
+/// What Newton's method needs of a region before any point: the Hessian's pattern over the free
+/// unknowns and the sparse Cholesky's ordering and symbolic factorisation. It reads only the
+/// problem's corners (never its rows), so it can be made beside the L-BFGS iterations that come
+/// before Newton's (polish_region): the same system, and the same bits, either way.
+class NewtonSystem {
+public:
+    explicit NewtonSystem(const Problem& p);
+    ~NewtonSystem();
+    NewtonSystem(const NewtonSystem&) = delete;
+    NewtonSystem& operator=(const NewtonSystem&) = delete;
+    struct Parts; ///< newton.cpp's
+    Parts& parts() { return *parts_; }
+
+private:
+    std::unique_ptr<Parts> parts_;
+};
 
 /// Minimises the region's energy at eps = 0 (a pure barrier: no triangle can invert) from x, which
 /// must have every triangle positive, by Newton's method: each triangle's Hessian projected onto
@@ -19,6 +37,8 @@ namespace qex::detail::repair_impl {
 /// decrement is below 1e-13, or after `iterations`. Returns the iterations taken; x is left at the last accepted
 /// point (unchanged when none was).
 int minimise_newton(const Problem& p, std::vector<double>& x, int iterations);
+/// The same, with the system made before (from the same problem).
+int minimise_newton(const Problem& p, std::vector<double>& x, int iterations, NewtonSystem& system);
 
 /// The Hessian of one triangle's energy at eps = 0, f(J) = w |J|^2 / det J + q det J + q / det J
 /// (det J > 0, the weights as in energy.cpp), in the entries (j00, j01, j10, j11) of its Jacobian;

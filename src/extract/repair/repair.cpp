@@ -239,6 +239,7 @@ std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int 
         // Plain threads, not OpenMP: a few per repair, and none left spinning when the library
         // runs inside its users' parallel jobs. Each takes the next group (largest first).
         while (a.scratch.size() < static_cast<std::size_t>(threads)) a.scratch.emplace_back(m);
+        for (Scratch& s : a.scratch) s.work.beside = false; // the threads are the groups'
         std::atomic<std::size_t> next{0};
         std::vector<std::exception_ptr> thrown(static_cast<std::size_t>(threads));
         const auto work = [&](std::size_t t) {
@@ -253,6 +254,7 @@ std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int 
         };
         run_workers(static_cast<std::size_t>(threads), work, thrown);
     } else {
+        a.scratch[0].work.beside = a.threads > 1;
         for (std::size_t i = 0; i < regions.size(); ++i)
             failed[i] = attempt_region(m, regions[i], radius, valences_given, a.scratch[0], a.reembedded,
                                        a.threads > 1 ? &a.beside : nullptr);

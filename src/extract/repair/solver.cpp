@@ -2,12 +2,15 @@
 // exact predicate, kernel sweeps, and the final relaxation (solver.h).
 #include "extract/repair/solver.h"
 #include "extract/repair/newton.h"
+#include "extract/parallel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
+#include <optional>
 
 namespace qex::detail::repair_impl {
 namespace {
@@ -49,6 +52,10 @@ constexpr int kPolishIterations = 50;
 /// L-BFGS stops when an iteration lowers the energy by less than this fraction of it.
 constexpr double kPolishStall = 1e-15;
 constexpr int kNewtonIterations = 50;
+/// From this many unknowns Newton's system (its pattern and symbolic factorisation, about as
+/// long as the L-BFGS iterations before it) is made on a helper thread beside those iterations.
+/// Below, the two take less than handing the work over.
+constexpr std::size_t kNewtonBesideMinUnknowns = 256;
 
 /// The dot product of a and b, summed in four interleaved lanes (one chain of dependent
 /// additions would bound the L-BFGS's two-loop recursion by the adder's latency): lane j sums
@@ -280,6 +287,41 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
     return !stopped() && kernel_sweeps(m, r);
 }
 
+namespace {
+
+/// Runs `lbfgs` and makes `system` for p: with `beside`, side by side on the helper threads for
+/// a large region where they are free, else one after the other.
+/// The system reads only p's corners, which the L-BFGS iterations never write.
+template <class Work>
+void newton_system_beside(bool beside, const Problem& p, std::optional<NewtonSystem>& system, const Work& lbfgs) {
+    struct Jobs {
+        const Problem& p;
+        std::optional<NewtonSystem>& system;
+        const Work& lbfgs;
+        std::exception_ptr thrown[2];
+    } jobs{p, system, lbfgs, {}};
+    const HelperJob job = [](const void* ctx, std::size_t t) {
+        auto& j = *static_cast<Jobs*>(const_cast<void*>(ctx));
+        try {
+            if (t == 0)
+                j.lbfgs();
+            else
+                j.system.emplace(j.p);
+        } catch (...) {
+            j.thrown[t] = std::current_exception();
+        }
+    };
+    if (beside && p.unknowns >= kNewtonBesideMinUnknowns && run_on_helpers(2, job, &jobs)) {
+        for (const std::exception_ptr& e : jobs.thrown)
+            if (e) std::rethrow_exception(e);
+        return;
+    }
+    lbfgs();
+    system.emplace(p);
+}
+
+} // namespace
+
 void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMarks& marks) {
     if (!rest_shapes(m, r, work.rest)) return;
     const std::vector<RestShape>& rest = work.rest;
@@ -288,8 +330,9 @@ void polish_region(TriMesh& m, const Region& r, Workspace& work, const RegionMar
     double length = 0.0;
     std::vector<double> x = region_point(m, r, length);
     // L-BFGS's first iterations gain most; Newton's steps then end near the minimum.
-    minimise(p, x, 0.0, length, kPolishIterations, kPolishStall);
-    minimise_newton(p, x, kNewtonIterations);
+    std::optional<NewtonSystem> system;
+    newton_system_beside(work.beside, p, system, [&] { minimise(p, x, 0.0, length, kPolishIterations, kPolishStall); });
+    minimise_newton(p, x, kNewtonIterations, *system);
     for (std::size_t i = 0; i < r.fans.size(); ++i) place(m, r.fans[i], {x[2 * i], x[2 * i + 1]});
     bool all = true;
     for (const int f : r.faces) all = all && positive(m, f);

@@ -20,6 +20,9 @@ struct Workspace {
     /// Set by another thread when the untangling's result is no longer wanted (RetryBeside):
     /// untangle_region then ends early, failing. Null: never.
     const std::atomic<bool>* stop = nullptr;
+    /// Whether the attempt may hand work to a helper thread: its regions are attempted one at a
+    /// time with threads to spare (the relaxation's Newton system, polish_region).
+    bool beside = false;
 };
 
 /// How many regularisation steps in a row may leave no fewer triangles inverted than the
