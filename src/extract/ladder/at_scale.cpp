@@ -85,13 +85,15 @@ bool another_map(const Result& attempt) {
     return attempt.report.flipped_triangles + attempt.report.degenerate_triangles > 0;
 }
 
-/// The order the workers take the rungs of `order` in (positions in it). The as-given rung first:
-/// the relaxed rungs are judged on its map. Then the other rungs, the most untangling first: it
-/// is the longest (on armadillo_geo_180 untangled-3 took 391 ms and untangled-1 221), so it
-/// starts at once on its own thread rather than after another rung.
-std::vector<std::size_t> taking_order(const std::vector<int>& order) {
+/// The order the workers take the rungs of `order` in (positions in it): on one thread the
+/// ladder's. On several, the as-given rung first (the relaxed rungs are judged on its map), then
+/// the other rungs, the most untangling first: it is the longest (on armadillo_geo_180 untangled-3
+/// took 391 ms and untangled-1 221), so it starts at once on its own thread rather than after
+/// another rung.
+std::vector<std::size_t> taking_order(const std::vector<int>& order, int workers) {
     std::vector<std::size_t> queue(order.size());
     for (std::size_t i = 0; i < queue.size(); ++i) queue[i] = i;
+    if (workers == 1) return queue;
     const auto key = [&](std::size_t i) { return order[i] == kAsGiven ? -1 : -kLadder[order[i]].untangle_rings; };
     std::stable_sort(queue.begin(), queue.end(), [&](std::size_t x, std::size_t y) { return key(x) < key(y); });
     return queue;
@@ -117,11 +119,7 @@ void run_side_by_side(const Input& input, const Options& options, const AtScale&
     std::once_flag once;
     const auto publish = [&] { std::call_once(once, [&] { promised.set_value(); }); };
     if (std::find(order.begin(), order.end(), kAsGiven) == order.end()) publish();
-    std::vector<std::size_t> queue(order.size());
-    if (workers > 1)
-        queue = taking_order(order);
-    else
-        for (std::size_t i = 0; i < queue.size(); ++i) queue[i] = i;
+    const std::vector<std::size_t> queue = taking_order(order, workers);
     std::atomic<std::size_t> next{0};
     std::vector<std::exception_ptr> thrown(static_cast<std::size_t>(workers));
     const auto work = [&](std::size_t t) {
@@ -137,12 +135,10 @@ void run_side_by_side(const Input& input, const Options& options, const AtScale&
                     if (ok[i]) given = out[i].mesh.map_uvs; // before judging, which may replace the mesh
                     publish();
                 }
-                if (!ok[i]) {
-                    if (workers == 1) break; // an input error ends the reading there
-                    continue;
+                if (ok[i]) {
+                    if (kLadder[r].untangle_rings > 0) ready.wait();
+                    judge(input, inner, kLadder[r], given, out[i], scale.checked);
                 }
-                if (kLadder[r].untangle_rings > 0) ready.wait();
-                judge(input, inner, kLadder[r], given, out[i], scale.checked);
                 if (workers == 1 && reading_stops(out[i], ok[i])) break; // the later ones would not be read
             }
         } catch (...) {

@@ -289,35 +289,25 @@ bool untangle_region(TriMesh& m, const Region& r, Workspace& work, int patience,
 
 namespace {
 
-/// Runs `lbfgs` and makes `system` for p: with `beside`, side by side on the helper threads for
-/// a large region where they are free, else one after the other.
-/// The system reads only p's corners, which the L-BFGS iterations never write.
+/// Runs `lbfgs` and makes `system` for p: with `beside` and a large region, side by side (the
+/// system reads only p's corners, which the L-BFGS iterations never write), else one after the
+/// other.
 template <class Work>
 void newton_system_beside(bool beside, const Problem& p, std::optional<NewtonSystem>& system, const Work& lbfgs) {
-    struct Jobs {
-        const Problem& p;
-        std::optional<NewtonSystem>& system;
-        const Work& lbfgs;
-        std::exception_ptr thrown[2];
-    } jobs{p, system, lbfgs, {}};
-    const HelperJob job = [](const void* ctx, std::size_t t) {
-        auto& j = *static_cast<Jobs*>(const_cast<void*>(ctx));
-        try {
-            if (t == 0)
-                j.lbfgs();
-            else
-                j.system.emplace(j.p);
-        } catch (...) {
-            j.thrown[t] = std::current_exception();
-        }
-    };
-    if (beside && p.unknowns >= kNewtonBesideMinUnknowns && run_on_helpers(2, job, &jobs)) {
-        for (const std::exception_ptr& e : jobs.thrown)
-            if (e) std::rethrow_exception(e);
+    if (!beside || p.unknowns < kNewtonBesideMinUnknowns) {
+        lbfgs();
+        system.emplace(p);
         return;
     }
-    lbfgs();
-    system.emplace(p);
+    std::vector<std::exception_ptr> thrown(2);
+    run_workers(2, [&](std::size_t t) {
+        try {
+            if (t == 0)
+                lbfgs();
+            else
+                system.emplace(p);
+        } catch (...) { thrown[t] = std::current_exception(); }
+    }, thrown);
 }
 
 } // namespace
