@@ -270,10 +270,10 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
     const std::int64_t area = std::llround(report.signed_uv_area);
     const auto quads = static_cast<std::int64_t>(faces.size());
     // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
-    // the last ring goes everywhere.
-    if (quads > area || !attempt.report.defects.empty()) return {};
+    // the last ring goes everywhere (and the rung may still take this extraction).
+    const bool everywhere = quads > area || !attempt.report.defects.empty();
     RepairLook look;
-    if (quads == area) {
+    if (quads == area && !everywhere) {
         // Made and judged as the rung's own mesh would be.
         attempt.mesh.map_uvs = map_of(m, input);
         attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
@@ -286,13 +286,19 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
     // that names none sends the last ring everywhere). Not judged here (the checker's memory on
-    // top of the repair's would raise the peak); the rung's mesh is judged as ever.
+    // top of the repair's would raise the peak); the rung's mesh is judged as ever, and it is this
+    // extraction where the last ring changes nothing.
     set_faces(attempt.mesh, faces);
-    std::vector<int> working(input.triangles.size(), -1);
-    for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
-    for (const Defect& d : attempt.report.explanations) {
+    std::vector<int> working(everywhere ? 0 : input.triangles.size(), -1);
+    for (int f = 0; f < m.num_faces() && !everywhere; ++f)
+        working[static_cast<std::size_t>(m.input_triangle[f])] = f;
+    for (std::size_t k = 0; k < attempt.report.explanations.size() && !everywhere; ++k) {
+        const Defect& d = attempt.report.explanations[k];
         const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
-        if (f < 0) return {};
+        if (f < 0) {
+            look.near.clear();
+            break;
+        }
         place_vertices(m, f, d.grid, look.near);
     }
     looked = LookedMesh{std::move(attempt), std::move(faces), false};
