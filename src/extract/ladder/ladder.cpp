@@ -285,9 +285,9 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         return look;
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
-    // that names none sends the last ring everywhere). Not judged here (the checker's memory on
-    // top of the repair's would raise the peak); the rung's mesh is judged as ever, and it is this
-    // extraction where the last ring changes nothing.
+    // that names none sends the last ring everywhere, as a defect or a cell covered twice does).
+    // Not judged here (the checker's memory on top of the repair's would raise the peak); the
+    // rung's mesh is judged as ever, and it is this extraction where the last ring changes nothing.
     set_faces(attempt.mesh, faces);
     std::vector<int> working(everywhere ? 0 : input.triangles.size(), -1);
     for (int f = 0; f < m.num_faces() && !everywhere; ++f)

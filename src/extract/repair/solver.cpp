@@ -45,9 +45,10 @@ constexpr double kHopelessShareFirst = 0.1;
 constexpr std::size_t kHopelessFloorFirst = 5;
 /// The first regularisation, relative to the most negative Jacobian determinant.
 constexpr double kInitialRegularisation = 0.1;
-/// The first step that leaves no fewer triangles inverted than the attempt's best, with at most
-/// this many inverted, tries to mend them locally: the free vertices within kLocalRings
-/// triangles of them untangled alone for one step, the rest of the region held. Without it a
+/// A step that is the first since the attempt's last best not to leave fewer triangles inverted,
+/// with at most this many inverted, tries to mend them locally: the free vertices within
+/// kLocalRings triangles of them untangled alone for one step (and its kernel sweeps), the rest
+/// of the region held. Without it a
 /// stalled attempt spends its patience's steps on a few triangles (duck_miq_8's large region:
 /// 6 inverted from its fourth step to its eighth, then mended by the kernel sweeps). Over the
 /// 50 shared maps 17 of 60 such mends succeed; with up to 16 inverted, 1 of 29 more did, and
@@ -297,9 +298,9 @@ namespace {
 bool untangle(TriMesh& m, const Region& r, Workspace& work, int patience, const std::vector<int>& barrier,
               int steps, bool mend);
 
-/// Untangles the free vertices round what r has inverted (around_inverted) for one step, the
-/// rest of r held, where the barrier keeps its triangles. True when r is then positive; else its
-/// UVs are as before.
+/// Untangles the free vertices round what r has inverted (around_inverted) for one step and its
+/// kernel sweeps, the rest of r held, where the barrier keeps its triangles. True when r is then
+/// positive; else its UVs are as before. It leaves the sub-region's rest shapes in work.rest.
 bool mend_locally(TriMesh& m, const Region& r, Workspace& work, const std::vector<int>& barrier) {
     const Region sub = around_inverted(m, r, kLocalRings);
     std::vector<int> kept;

@@ -11,8 +11,9 @@
 
 namespace qex::detail::repair_impl {
 
-/// The untangler's scratch: per triangle of the region its rest shape, and per corner of the mesh
-/// (sized once) where it sits among the region's free corners (-1 between uses).
+/// The untangler's scratch: per triangle of the region its rest shape (of the last region a
+/// problem was made for: a local mend's after one), and per corner of the mesh (sized once)
+/// where it sits among the region's free corners (-1 between uses).
 struct Workspace {
     explicit Workspace(const TriMesh& m);
     std::vector<RestShape> rest;
