@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <utility>
 
 namespace qex::detail::repair_impl {
 namespace {
@@ -197,6 +198,40 @@ std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vecto
         groups[group_of[root]].push_back(faces[i]);
     }
     return groups;
+}
+
+Region around_inverted(const TriMesh& m, const Region& r, int rings) {
+    std::vector<std::pair<int, std::size_t>> fan_of; // (vertex, its fan in r), sorted
+    for (std::size_t i = 0; i < r.fans.size(); ++i) fan_of.emplace_back(r.fans[i].vertex, i);
+    std::sort(fan_of.begin(), fan_of.end());
+    std::vector<char> in(r.fans.size(), 0);
+    const auto fan = [&](int v) {
+        const auto it = std::lower_bound(fan_of.begin(), fan_of.end(), std::make_pair(v, std::size_t{0}));
+        return it != fan_of.end() && it->first == v ? it->second : r.fans.size();
+    };
+    const auto touches = [&](int f, const std::vector<char>& marked) {
+        for (const int v : m.tri[f])
+            if (const std::size_t i = fan(v); i < in.size() && marked[i]) return true;
+        return false;
+    };
+    const auto take = [&](int f, std::vector<char>& marked) {
+        for (const int v : m.tri[f])
+            if (const std::size_t i = fan(v); i < in.size()) marked[i] = 1;
+    };
+    for (const int f : r.faces)
+        if (!positive(m, f)) take(f, in);
+    for (int ring = 0; ring < rings; ++ring) {
+        std::vector<char> next = in;
+        for (const int f : r.faces)
+            if (touches(f, in)) take(f, next);
+        in.swap(next);
+    }
+    Region sub;
+    for (std::size_t i = 0; i < r.fans.size(); ++i)
+        if (in[i]) sub.fans.push_back(r.fans[i]);
+    for (const int f : r.faces)
+        if (touches(f, in)) sub.faces.push_back(f);
+    return sub;
 }
 
 } // namespace qex::detail::repair_impl

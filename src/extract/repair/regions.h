@@ -76,6 +76,11 @@ std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& se
 /// Splits the free vertices into regions: connected through shared triangles.
 std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label);
 
+/// The free vertices of r within `rings` triangles of its inverted ones (not positive by the
+/// exact predicate), as a region of their own: their fans as r has them, and r's triangles
+/// round them, both in r's canonical order (the untangler's local mend).
+Region around_inverted(const TriMesh& m, const Region& r, int rings);
+
 /// The flipped or degenerate triangles, split into those with a free vertex (seeds of the
 /// repair) and those whose corners are all pinned (no repair can change them).
 void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
