@@ -289,17 +289,17 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
     // Not judged here (the checker's memory on top of the repair's would raise the peak); the
     // rung's mesh is judged as ever, and it is this extraction where the last ring changes nothing.
     set_faces(attempt.mesh, faces);
-    std::vector<int> working(everywhere ? 0 : input.triangles.size(), -1);
-    for (int f = 0; f < m.num_faces() && !everywhere; ++f)
-        working[static_cast<std::size_t>(m.input_triangle[f])] = f;
-    for (std::size_t k = 0; k < attempt.report.explanations.size() && !everywhere; ++k) {
-        const Defect& d = attempt.report.explanations[k];
-        const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
-        if (f < 0) {
-            look.near.clear();
-            break;
+    if (!everywhere) {
+        std::vector<int> working(input.triangles.size(), -1);
+        for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
+        for (const Defect& d : attempt.report.explanations) {
+            const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
+            if (f < 0) {
+                look.near.clear();
+                break;
+            }
+            place_vertices(m, f, d.grid, look.near);
         }
-        place_vertices(m, f, d.grid, look.near);
     }
     looked = LookedMesh{std::move(attempt), std::move(faces), false};
     return look;

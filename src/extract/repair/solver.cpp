@@ -48,11 +48,10 @@ constexpr double kInitialRegularisation = 0.1;
 /// A step that is the first since the attempt's last best not to leave fewer triangles inverted,
 /// with at most this many inverted, tries to mend them locally: the free vertices within
 /// kLocalRings triangles of them untangled alone for one step (and its kernel sweeps), the rest
-/// of the region held. Without it a
-/// stalled attempt spends its patience's steps on a few triangles (duck_miq_8's large region:
-/// 6 inverted from its fourth step to its eighth, then mended by the kernel sweeps). Over the
-/// 50 shared maps 17 of 60 such mends succeed; with up to 16 inverted, 1 of 29 more did, and
-/// the failures cost 37 ms more in all.
+/// of the region held. Without it a stalled attempt spends its patience's steps on a few
+/// triangles (duck_miq_8's large region: 6 inverted from its fourth step to its eighth, then
+/// mended by the kernel sweeps). Over the 50 shared maps 17 of 60 such mends succeed; with up to
+/// 16 inverted, 1 of 29 more did, and the failures cost 37 ms more in all.
 constexpr std::size_t kLocalMost = 6;
 constexpr int kLocalRings = 2;
 /// The final minimisation of a repaired region: L-BFGS iterations, then Newton steps. L-BFGS
