@@ -327,15 +327,43 @@ void compute_transitions(TriMesh& m) {
     fix_dipoles(m, listed.short_edges);
 }
 
+namespace {
+
+/// Whether interior half-edge h (checked from its smaller side) is a seam whose transition maps
+/// its copies onto each other only up to more than solver noise.
+bool off_seam(const TriMesh& m, int h) {
+    const int o = m.opp[h];
+    if (o < h) return false; // boundary, or checked from the other side
+    return seam_offset(m, h, m.map.transition[static_cast<std::size_t>(h)]) > seam_noise_bound(m, h);
+}
+
+/// The seams off_seam finds, in half-edge order (each part lists its range's; `first_only`: a
+/// part stops at its first, and only the first part's that has one counts).
+std::vector<int> off_seams(const TriMesh& m, bool first_only) {
+    const int nh = 3 * m.num_faces();
+    const int parts = m.parts(nh);
+    std::vector<std::vector<int>> found(static_cast<std::size_t>(parts));
+    for_parts(parts, parts, nh, [&](int part, std::int64_t begin, std::int64_t end) {
+        std::vector<int>& mine = found[static_cast<std::size_t>(part)];
+        for (auto h = static_cast<int>(begin); h < end && !(first_only && !mine.empty()); ++h)
+            if (off_seam(m, h)) mine.push_back(h);
+    });
+    std::vector<int> all;
+    for (const std::vector<int>& mine : found) {
+        all.insert(all.end(), mine.begin(), mine.end());
+        if (first_only && !all.empty()) break;
+    }
+    return all;
+}
+
+} // namespace
+
 Error check_seams(const TriMesh& m, SeamPolicy policy, Report& report) {
     if (policy == SeamPolicy::Trusted) return {};
-    const int nh = 3 * m.num_faces();
-    for (int h = 0; h < nh; ++h) {
+    for (const int h : off_seams(m, policy == SeamPolicy::Checked)) {
         const int o = m.opp[h];
-        if (o < h) continue; // boundary, or checked from the other side
         const GridAutomorphism& g = m.map.transition[static_cast<std::size_t>(h)];
         const double off = seam_offset(m, h, g);
-        if (off <= seam_noise_bound(m, h)) continue;
         char what[160];
         std::snprintf(what, sizeof what, "%.3g cells off (rotation %d quarter turns, translation (%lld, %lld))", off,
                       g.r, static_cast<long long>(g.tx), static_cast<long long>(g.ty));

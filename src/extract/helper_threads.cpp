@@ -1,14 +1,18 @@
 // The process's helper threads for run_workers (parallel.h). A loop's threads used to be
 // started for it and joined after it: on the paper's 20K-triangle maps, with a dozen loops a
 // run, that cost a tenth of what the loops saved. Helpers that wait between loops hand a loop
-// over at once. They spin only briefly before they sleep: OpenMP's idle threads spin for
-// milliseconds, and two processes side by side then fought for the cores (bench/RESULTS.md).
+// over at once. They wait a few milliseconds before they sleep, yielding the core as they wait:
+// a helper that slept between the loops of one stage was woken late (on this VM, one loop in
+// three started its second part after the first had ended), and a thread that yields costs a
+// neighbour process little (OpenMP's idle threads spin without yielding, and two processes side
+// by side then fought for the cores: bench/RESULTS.md).
 #include "parallel.h"
 
 #include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <unistd.h>
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -17,9 +21,12 @@
 namespace qex::detail {
 namespace {
 
-/// How long an idle helper, or the caller waiting for its helpers, checks before it sleeps:
-/// long enough to catch the next loop of a stage, short enough to cost a neighbour little.
-constexpr std::chrono::microseconds kSpin{50};
+/// How long an idle helper, or the caller waiting for its helpers, checks before it sleeps: long
+/// enough to catch the next loop of a stage and the stage after it. Past its first checks it
+/// yields the core between checks, so another thread that can run does.
+constexpr std::chrono::microseconds kSpin{2000};
+/// Checks that only pause before the waiting thread yields between them.
+constexpr int kPauses = 64;
 
 void relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -27,13 +34,17 @@ void relax() {
 #endif
 }
 
-/// Waits until ready() holds: spins for kSpin, then sleeps on `cv` (notified under `mutex`).
+/// Waits until ready() holds: checks for kSpin (pausing, then yielding), then sleeps on `cv`
+/// (notified under `mutex`).
 template <class Ready>
 void wait_for(std::mutex& mutex, std::condition_variable& cv, const Ready& ready) {
     const auto until = std::chrono::steady_clock::now() + kSpin;
     for (int i = 0; !ready(); ++i) {
-        relax();
-        if ((i & 63) == 63 && std::chrono::steady_clock::now() > until) {
+        if (i < kPauses)
+            relax();
+        else
+            std::this_thread::yield();
+        if ((i & 7) == 7 && std::chrono::steady_clock::now() > until) {
             std::unique_lock<std::mutex> lock(mutex);
             cv.wait(lock, ready);
             return;

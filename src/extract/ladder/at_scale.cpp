@@ -175,7 +175,6 @@ Result extract_at_scale(const Input& input, const Options& options, const AtScal
     prepared.report.input_triangles = static_cast<std::int64_t>(input.triangles.size());
     TriMesh m;
     if ((prepared.error = prepare_mesh(input, options, m, prepared.report)).code != ErrorCode::None) return prepared;
-    if (scale.checked) scale.checked->start(); // the input is valid: the checker's analysis beside the stages
     // The ladder: the first rung whose output the checker accepts wins; if none does, the rung
     // with the fewest violations is returned, its defects and violations in the report.
     const int first = options.repair_fold_overs ? 0 : kAsGiven;

@@ -192,8 +192,8 @@ struct RepairMemo {
 /// One attempt at the ladder: the map's own scale, or a refinement of it.
 /// The checker's analysis of the input (qex::PreparedInput), made once for every check in one
 /// extract() call, at every scale (a scaled map keeps the triangles). With threads to spare it
-/// is made on a thread of its own from start() on, beside the stages, for an input of 2^16
-/// corners or more (kParallelMinElements); else at the first check.
+/// is made on a thread of its own from start() on (prepare_map starts it before the repair), for
+/// an input of kParallelMinElements corners or more; else at the first check.
 /// The checker's own code makes it: the extractor only keeps it.
 class CheckedInput {
 public:
