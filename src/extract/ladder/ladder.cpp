@@ -171,6 +171,8 @@ void order_faces(const Options& options, FaceWalks faces, Result& result) {
 /// mesh its look judged enough (if it stopped there), and the fold-overs it left.
 struct Repaired {
     std::vector<int> faces;
+    /// This rung's repair filled the memo of `scale` (it hands m over when done: keep_for_refinements).
+    RepairMemo* memo = nullptr;
     std::optional<LookedMesh> looked;
     FoldsLeft folds;
 };
@@ -208,8 +210,10 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
             return look_so_far(so_far, outcome, input, options, rung, report, scale.checked, repaired.looked);
         };
+        const bool memo_was_filled = scale.memo && scale.memo->filled;
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
+        if (scale.memo && scale.memo->filled && !memo_was_filled) repaired.memo = scale.memo;
         explain_unrepaired(m, outcome, report);
         repaired.folds = folds_left(m, outcome);
         if (outcome.changed_after_look) repaired.looked.reset();
@@ -327,6 +331,13 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     Report& report = result.report;
     StageTimer timer(report);
     Repaired repaired;
+    struct HandOver { // however the rung ends, the memo its repair filled gets the connectivity
+        TriMesh& m;
+        const Repaired& repaired;
+        ~HandOver() {
+            if (repaired.memo) keep_for_refinements(m, *repaired.memo);
+        }
+    } hand_over{m, repaired};
     if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired, scale)).code != ErrorCode::None)
         return false;
     if (rung.repair && repaired.faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
@@ -348,6 +359,7 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     }
     looked.reset();
     name_losses(m, repaired.folds, report);
+    if (repaired.memo) keep_for_refinements(m, *repaired.memo); // before take_map empties m
     result.mesh.map_uvs = take_map(m, input);
     result.mesh.map_repaired = std::move(certificate);
     order_faces(options, std::move(faces), result);

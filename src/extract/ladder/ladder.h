@@ -170,6 +170,9 @@ std::vector<Defect> fill_holes(const Input& input, QuadMesh& mesh, bool wound_fi
 /// exactly the kept one times the factor.
 struct RepairMemo {
     bool filled = false;
+    /// Whether the rung that repaired has handed over its connectivity and transitions
+    /// (keep_for_refinements): until then a refinement cannot take this repair.
+    bool connectivity = false;
     // Before the repair: connectivity, UVs and map state.
     std::vector<std::array<int, 3>> tri;
     std::vector<int> input_triangle, input_vertex, corner_vertex;
@@ -187,6 +190,9 @@ struct RepairMemo {
     std::vector<int> repaired_valence, repaired_winding_valence;
     RepairOutcome outcome;
     std::vector<Defect> explanations; ///< the ones the repair added (merged singularities)
+    /// The half-edges a dipole merge changed, with their transitions before the repair
+    /// (RepairOutcome::transitions_before): keep_for_refinements undoes the repair's with them.
+    std::vector<std::pair<int, GridAutomorphism>> transitions_before;
 };
 
 /// One attempt at the ladder: the map's own scale, or a refinement of it.
@@ -304,6 +310,12 @@ bool topology_only(const std::vector<Violation>& violations);
 /// `look` as for repair().
 RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>& features, bool valences_given,
                               int threads, const AtScale& scale, Report& report, const LookBeforeLastRing& look = {});
+
+/// Hands the map's connectivity and its transitions (as they were before the repair) over to a
+/// memo that the repair filled: the rung that repaired calls it once it is done with m, whose
+/// connectivity and transitions it leaves empty (its input_triangle is copied: take_map reads
+/// it). Nothing where the memo is not filled, or has them already.
+void keep_for_refinements(TriMesh& m, RepairMemo& memo);
 
 /// Whether refinement is worth trying after the map at its own scale (and coarsened) gave
 /// `result`, invalid: not when Options::max_refinement is below 2, nor once the map is proved to

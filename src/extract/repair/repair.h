@@ -2,12 +2,14 @@
 // the paper). What goes in, what comes out and what is certified: README.md beside this header.
 #pragma once
 
+#include "extract/grid_automorphism.h"
 #include "qex/extract.h"
 
 #include <array>
 #include <functional>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace qex::detail {
@@ -52,6 +54,10 @@ struct RepairOutcome {
     /// Whether the map changed after the look before the last ring (LookBeforeLastRing): true
     /// when no look was taken. When false the map is the one the look was shown.
     bool changed_after_look = true;
+    /// The half-edges whose transitions a dipole merge changed (kept or undone), each once, with
+    /// the transition the sanitized map gave it: with these, a copy of the map's transitions after
+    /// the repair tells those before it.
+    std::vector<std::pair<int, GridAutomorphism>> transitions_before;
 };
 
 /// Whether explanations of this kind are proofs the repair names (RepairOutcome::Proof).
