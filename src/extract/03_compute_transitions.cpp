@@ -334,7 +334,7 @@ namespace {
 bool off_seam(const TriMesh& m, int h) {
     const int o = m.opp[h];
     if (o < h) return false; // boundary, or checked from the other side
-    return seam_offset(m, h, m.map.transition[static_cast<std::size_t>(h)]) > seam_noise_bound(m, h);
+    return !(seam_offset(m, h, m.map.transition[static_cast<std::size_t>(h)]) <= seam_noise_bound(m, h));
 }
 
 /// The seams off_seam finds, in half-edge order (each part lists its range's; `first_only`: a

@@ -39,7 +39,7 @@ inline bool run_parallel(int threads, std::int64_t n) { return threads > 1 && n 
 using HelperJob = void (*)(const void* ctx, std::size_t t);
 
 /// Runs job(ctx, t) for t = 1 .. workers - 1 on the process's helper threads (helper_threads.cpp:
-/// they wait between jobs, spinning only briefly) and job(ctx, 0) on the caller's, and returns
+/// they wait between jobs, 2 ms before they sleep) and job(ctx, 0) on the caller's, and returns
 /// once all have run; false, running nothing, when another call holds the helpers (a loop
 /// inside a job) or threads cannot be had.
 bool run_on_helpers(std::size_t workers, HelperJob job, const void* ctx);

@@ -335,7 +335,10 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
         TriMesh& m;
         const Repaired& repaired;
         ~HandOver() {
-            if (repaired.memo) keep_for_refinements(m, *repaired.memo);
+            try {
+                if (repaired.memo) keep_for_refinements(m, *repaired.memo);
+            } catch (...) { // out of memory: the memo stays without them, and no refinement takes it
+            }
         }
     } hand_over{m, repaired};
     if ((result.error = prepare_map(m, input, options, rung, report, timer, repaired, scale)).code != ErrorCode::None)

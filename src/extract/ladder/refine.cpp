@@ -6,10 +6,8 @@
 #include "ladder.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <string>
 
 namespace qex::detail {
@@ -99,7 +97,8 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
             memo.repaired_half_edges.push_back(static_cast<std::size_t>(h));
             memo.repaired_transitions.push_back(m.map.transition[static_cast<std::size_t>(h)]);
         }
-    memo.transitions_before = outcome.transitions_before;
+    // Scale 1's half-edges: the memo keeps them, the outcome (which refinements return) not.
+    memo.transitions_before = std::move(outcome.transitions_before);
     memo.repaired_singular = m.map.singular;
     memo.repaired_valence = m.map.valence;
     memo.repaired_winding_valence = m.map.winding_valence;
@@ -125,8 +124,9 @@ RepairOutcome repair_at_scale(TriMesh& m, const std::vector<std::array<int, 2>>&
 
 void keep_for_refinements(TriMesh& m, RepairMemo& memo) {
     if (!memo.filled || memo.connectivity) return;
+    // The copy first (take_map reads it after this): if it throws, nothing has moved.
+    memo.input_triangle = m.input_triangle;
     memo.tri = std::move(m.tri);
-    memo.input_triangle = m.input_triangle; // a copy: take_map reads it after this
     memo.input_vertex = std::move(m.input_vertex);
     memo.corner_vertex = std::move(m.corner_vertex);
     memo.transitions = std::move(m.map.transition);

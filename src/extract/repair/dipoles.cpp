@@ -184,6 +184,21 @@ void settle_merges(TriMesh& m, const std::vector<DipoleMerge>& merges, const std
     }
 }
 
+std::vector<std::pair<int, GridAutomorphism>> transitions_before_merges(const TriMesh& m,
+                                                                        const std::vector<DipoleMerge>& merges) {
+    std::vector<std::pair<int, GridAutomorphism>> before;
+    for (const DipoleMerge& d : merges)
+        for (std::size_t i = 0; i < d.path.size(); ++i) {
+            before.push_back({d.path[i], d.old[i]});
+            before.push_back({m.opp[d.path[i]], d.old[i].inverse()});
+        }
+    // By half-edge, the first of each kept (a stable sort keeps the merges' order among equals).
+    std::stable_sort(before.begin(), before.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    before.erase(std::unique(before.begin(), before.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+                 before.end());
+    return before;
+}
+
 MergesState merges_state(const TriMesh& m, const std::vector<DipoleMerge>& merges) {
     MergesState state;
     for (const DipoleMerge& d : merges) {

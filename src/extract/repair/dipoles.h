@@ -7,6 +7,7 @@
 #include "extract/repair/regions.h"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace qex::detail::repair_impl {
@@ -24,6 +25,12 @@ struct DipoleMerge {
 /// flipped or degenerate triangle in the order of its vertex key: the merges made (their
 /// singularities are regular vertices now).
 std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<char>& pinned);
+
+/// Each half-edge on the merges' paths and its opposite once, by half-edge, with its transition
+/// before the first merge that changed it (the merges in the order made: a later one's old
+/// transitions may be an earlier one's).
+std::vector<std::pair<int, GridAutomorphism>> transitions_before_merges(const TriMesh& m,
+                                                                        const std::vector<DipoleMerge>& merges);
 
 /// Whether merge `d` stands: every vertex of its path was re-embedded by a certified region
 /// (`reembedded`, per vertex), and the path's UVs agree with its new transitions.

@@ -47,8 +47,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -316,24 +314,6 @@ bool grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_giv
     return !looked;
 }
 
-/// Each half-edge on a merge's path and its opposite once, with its transition before the first
-/// merge that changed it (the merges were made in this order: a later one's old transitions may
-/// be an earlier one's).
-std::vector<std::pair<int, GridAutomorphism>> transitions_before(const TriMesh& m,
-                                                                 const std::vector<DipoleMerge>& merges) {
-    std::vector<std::pair<int, GridAutomorphism>> before;
-    for (const DipoleMerge& d : merges)
-        for (std::size_t i = 0; i < d.path.size(); ++i) {
-            before.push_back({d.path[i], d.old[i]});
-            before.push_back({m.opp[d.path[i]], d.old[i].inverse()});
-        }
-    // By half-edge, the first of each kept (a stable sort keeps the merges' order among equals).
-    std::stable_sort(before.begin(), before.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    before.erase(std::unique(before.begin(), before.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
-                 before.end());
-    return before;
-}
-
 /// Whether failure f is named as a proof (outcome_of): a rim short of its singularity's angle,
 /// or a room certificate's refusal with figures that prove it.
 bool names_proof(const TriMesh& m, const RegionFailure& f) {
@@ -462,7 +442,7 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     settle_merges(m, merges, attempts.reembedded, report);
     RepairOutcome out = outcome_of(m, sanitized, stuck, seeds_faces, attempts.log);
     out.changed_after_look = changed;
-    out.transitions_before = transitions_before(m, merges);
+    out.transitions_before = transitions_before_merges(m, merges);
     return out;
 }
 
