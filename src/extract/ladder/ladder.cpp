@@ -210,10 +210,10 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
         const LookBeforeLastRing look = [&](const TriMesh& so_far, const RepairOutcome& outcome) {
             return look_so_far(so_far, outcome, input, options, rung, report, scale.checked, repaired.looked);
         };
-        const bool memo_was_filled = scale.memo && scale.memo->filled;
         RepairOutcome outcome =
             repair_at_scale(m, features, !input.valences.empty(), options.threads, scale, report, look);
-        if (scale.memo && scale.memo->filled && !memo_was_filled) repaired.memo = scale.memo;
+        // At the map's own scale only this repair fills the memo; a refinement reads it.
+        if (scale.factor == 1 && scale.memo && scale.memo->filled) repaired.memo = scale.memo;
         explain_unrepaired(m, outcome, report);
         repaired.folds = folds_left(m, outcome);
         if (outcome.changed_after_look) repaired.looked.reset();

@@ -190,8 +190,8 @@ struct RepairMemo {
     std::vector<int> repaired_valence, repaired_winding_valence;
     RepairOutcome outcome;
     std::vector<Defect> explanations; ///< the ones the repair added (merged singularities)
-    /// The half-edges a dipole merge changed, with their transitions before the repair
-    /// (RepairOutcome::transitions_before): keep_for_refinements undoes the repair's with them.
+    /// repaired_half_edges with their transitions before the repair: keep_for_refinements undoes
+    /// the repair's changes with them.
     std::vector<std::pair<int, GridAutomorphism>> transitions_before;
 };
 

@@ -96,9 +96,9 @@ RepairOutcome repair_into_memo(TriMesh& m, const std::vector<std::array<int, 2>>
         if (!(m.map.transition[static_cast<std::size_t>(h)] == g)) {
             memo.repaired_half_edges.push_back(static_cast<std::size_t>(h));
             memo.repaired_transitions.push_back(m.map.transition[static_cast<std::size_t>(h)]);
+            memo.transitions_before.push_back({h, g});
         }
-    // Scale 1's half-edges: the memo keeps them, the outcome (which refinements return) not.
-    memo.transitions_before = std::move(outcome.transitions_before);
+    outcome.transitions_before.clear(); // scale 1's: not in the outcome refinements return
     memo.repaired_singular = m.map.singular;
     memo.repaired_valence = m.map.valence;
     memo.repaired_winding_valence = m.map.winding_valence;
