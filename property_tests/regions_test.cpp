@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <set>
 #include <vector>
 
@@ -22,12 +23,21 @@ using detail::repair_impl::Region;
 /// The region of the free vertices within 3 rings of vertex 0 of a torus map, with one of its
 /// vertices moved far across its neighbours so that triangles round it invert.
 struct FoldedRegion {
+    std::shared_ptr<const Input> in; ///< the 3D positions m reads
     TriMesh m;
     Region r;
 };
 
+/// A torus map's sanitized mesh, beside the input whose positions it reads.
+FoldedRegion torus_map() {
+    FoldedRegion out;
+    out.in = std::make_shared<const Input>(make_map(torus_layout(), 3, 3));
+    out.m = sanitized(*out.in);
+    return out;
+}
+
 FoldedRegion folded_region() {
-    FoldedRegion out{sanitized(make_map(torus_layout(), 3, 3)), {}};
+    FoldedRegion out = torus_map();
     TriMesh& m = out.m;
     std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1);
     std::vector<int> label(static_cast<std::size_t>(m.num_vertices), -1);
@@ -105,7 +115,8 @@ TEST(AroundInverted, GrowsWithItsRingsToTheWholeRegion) {
     EXPECT_LT(sizes.front(), sizes.back());
     EXPECT_EQ(sizes.back(), fr.r.fans.size()) << "enough rings reach every vertex of a connected region";
     // Without an inverted triangle there is nothing to mend.
-    FoldedRegion unfolded{sanitized(make_map(torus_layout(), 3, 3)), fr.r};
+    FoldedRegion unfolded = torus_map();
+    unfolded.r = fr.r;
     EXPECT_TRUE(around_inverted(unfolded.m, unfolded.r, 2).fans.empty());
     EXPECT_TRUE(around_inverted(unfolded.m, unfolded.r, 2).faces.empty());
 }

@@ -24,6 +24,9 @@ struct Workspace {
     /// Whether the attempt may hand work to a helper thread: its regions are attempted one at a
     /// time with threads to spare (the relaxation's Newton system, polish_region).
     bool beside = false;
+    /// Whether a step whose first iterations leave much of the region inverted gives the region
+    /// up there (solver.cpp, kGiveUpIteration). Off only to compare with the run without it.
+    bool give_up_early = true;
 };
 
 /// How many regularisation steps in a row may leave no fewer triangles inverted than the
