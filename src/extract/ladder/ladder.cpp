@@ -1,8 +1,9 @@
 // A rung of the fallback ladder (its rungs as data: rungs.h; the order they run in: at_scale.cpp):
 // its map, its run through the pipeline's stages in the order of the stage table (pipeline.h),
 // each timed under its own name (from the map to the mesh: rung_stages.cpp), and the checker's
-// verdict on the rung's mesh (mended where it is rejected: mend.cpp).
-#include "rungs.h"
+// verdict on the rung's mesh (mended where it is rejected: mend.cpp). The repair's look before its
+// last ring is look.cpp's.
+#include "look.h"
 
 #include "extract/union_find.h"
 
@@ -109,12 +110,11 @@ std::vector<std::array<double, 2>> per_input_corner(std::vector<Point2> uv, cons
     return map;
 }
 
-/// The map of m per input corner, a copy (take_map hands it over).
+} // namespace
+
 std::vector<std::array<double, 2>> map_of(const TriMesh& m, const Input& input) {
     return per_input_corner(m.uv, m.input_triangle, input);
 }
-
-} // namespace
 
 std::vector<std::array<double, 2>> take_map(TriMesh& m, const Input& input) {
     std::vector<Point2> uv = std::move(m.uv);
@@ -135,36 +135,6 @@ void report_map(const TriMesh& m, Report& report) {
         area2 += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     }
     report.signed_uv_area = 0.5 * area2;
-}
-
-/// The mesh the repair's look made: the rung's own extraction (and verdict, where the look judged
-/// it), which the rung takes instead of making them again when its map is still the look's (the
-/// repair says so: RepairOutcome::changed_after_look; it stopped at the look, or its last ring
-/// repaired nothing).
-struct LookedMesh {
-    Result result;   ///< its report holds what the extraction (and the checker) said, nothing else
-    FaceWalks faces; ///< the faces as walked, when not judged (the rung orders them)
-    bool judged = false;
-};
-
-/// The repair's look before its last ring (repair.h) at the rung's mesh from m as the repair
-/// left it so far (`outcome`): enough when that mesh is valid with as many quads as the map's
-/// signed UV area (`report`'s); when it has fewer and its extraction no defect, the vertices
-/// round where it lost them (place_vertices). What it made is kept in `looked`.
-RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report, CheckedInput* checked,
-                       std::optional<LookedMesh>& looked);
-
-/// The output's faces from the face walks: in canonical order when the options ask for it (the
-/// defects that name an output face renumbered with them), else as walked.
-void order_faces(const Options& options, FaceWalks faces, Result& result) {
-    if (options.canonical_order) {
-        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
-        for (Defect& d : result.report.defects)
-            if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
-    } else {
-        set_faces(result.mesh, faces);
-    }
 }
 
 /// What the repair leaves for the rung's stages after it: the triangles whose UVs it changed, the
@@ -229,91 +199,26 @@ Error prepare_map(TriMesh& m, const Input& input, const Options& options, const 
     return {};
 }
 
-// ============================================================================ a rung's stages
+} // namespace
 
-/// The rung's result from the mesh its repair's look judged enough: the mesh, the verdict, and
-/// what the extraction and the checker reported, after what the rung's own stages reported (as
-/// if they had run), their times moved out of the repair's. The extraction's report fields are
-/// named one by one: a field the extraction stages gain must be added here.
-void take_looked(Result looked, Result& result) {
-    Report &to = result.report, &from = looked.report;
-    for (const auto& [name, seconds] : from.stage_seconds)
-        for (auto& [stage, total] : to.stage_seconds)
-            if (stage == "repair") total -= seconds;
-    add_stage_seconds(from, to);
-    to.qvertices_on_vertices = from.qvertices_on_vertices, to.qvertices_on_edges = from.qvertices_on_edges;
-    to.qvertices_in_faces = from.qvertices_in_faces, to.ports = from.ports, to.traces = from.traces;
-    to.traces_connected = from.traces_connected, to.traces_failed = from.traces_failed;
-    to.traces_into_boundary = from.traces_into_boundary, to.faces_traced = from.faces_traced;
-    to.orientation_flips_crossed = from.orientation_flips_crossed, to.open_face_walks = from.open_face_walks;
-    to.non_quad_faces = from.non_quad_faces, to.collapsed_faces = from.collapsed_faces;
-    to.recovered_edges = from.recovered_edges, to.merged_qvertices = from.merged_qvertices;
-    to.ghost_faces_cancelled = from.ghost_faces_cancelled;
-    to.near_ghost_faces_cancelled = from.near_ghost_faces_cancelled;
-    to.boundary_faces_discarded = from.boundary_faces_discarded, to.check_violations = from.check_violations;
-    to.defects.insert(to.defects.end(), from.defects.begin(), from.defects.end());
-    to.explanations.insert(to.explanations.end(), from.explanations.begin(), from.explanations.end());
-    result.mesh = std::move(looked.mesh);
-    result.check = std::move(looked.check);
+// ============================================================================ shared with the look (look.h)
+
+void order_faces(const Options& options, FaceWalks faces, Result& result) {
+    if (options.canonical_order) {
+        const std::vector<int> new_index = canonicalize(result.mesh, std::move(faces), thread_count(options.threads));
+        for (Defect& d : result.report.defects)
+            if (d.output_face >= 0) d.output_face = new_index[static_cast<std::size_t>(d.output_face)];
+    } else {
+        set_faces(result.mesh, faces);
+    }
 }
 
-/// The repair's certificate: the triangles it changed (working indices), by input index, sorted.
 std::vector<std::int32_t> certificate_of(const TriMesh& m, const std::vector<int>& repaired_faces) {
     std::vector<std::int32_t> certificate;
     for (const int f : repaired_faces) certificate.push_back(m.input_triangle[f]);
     std::sort(certificate.begin(), certificate.end());
     return certificate;
 }
-
-// ============================================================================ the repair's look before its last ring
-
-RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Input& input, const Options& options,
-                       const Rung& rung, const Report& report, CheckedInput* checked,
-                       std::optional<LookedMesh>& looked) {
-    Result attempt;
-    attempt.report.signed_uv_area = report.signed_uv_area;
-    StageTimer timer(attempt.report);
-    FaceWalks faces;
-    if (extract_mesh(m, options, attempt, timer, faces).code != ErrorCode::None) return {};
-    const std::int64_t area = std::llround(report.signed_uv_area);
-    const auto quads = static_cast<std::int64_t>(faces.size());
-    // A cell covered twice is not located, nor is what went wrong in an extraction with defects:
-    // the last ring goes everywhere (and the rung may still take this extraction).
-    const bool everywhere = quads > area || !attempt.report.defects.empty();
-    RepairLook look;
-    if (quads == area && !everywhere) {
-        // Made and judged as the rung's own mesh would be.
-        attempt.mesh.map_uvs = map_of(m, input);
-        attempt.mesh.map_repaired = certificate_of(m, outcome.repaired_faces);
-        order_faces(options, std::move(faces), attempt);
-        timer.done(Stage::canonicalize);
-        judge(input, options, rung, {}, attempt, checked);
-        look.enough = attempt.check.valid && static_cast<std::int64_t>(attempt.mesh.faces.size()) == area;
-        looked = LookedMesh{std::move(attempt), {}, true};
-        return look;
-    }
-    // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
-    // that names none sends the last ring everywhere, as a defect or a cell covered twice does).
-    // Not judged here (the checker's memory on top of the repair's would raise the peak); the
-    // rung's mesh is judged as ever, and it is this extraction where the last ring changes nothing.
-    set_faces(attempt.mesh, faces);
-    if (!everywhere) {
-        std::vector<int> working(input.triangles.size(), -1);
-        for (int f = 0; f < m.num_faces(); ++f) working[static_cast<std::size_t>(m.input_triangle[f])] = f;
-        for (const Defect& d : attempt.report.explanations) {
-            const int f = d.input_element >= 0 ? working[static_cast<std::size_t>(d.input_element)] : -1;
-            if (f < 0) {
-                look.near.clear();
-                break;
-            }
-            place_vertices(m, f, d.grid, look.near);
-        }
-    }
-    looked = LookedMesh{std::move(attempt), std::move(faces), false};
-    return look;
-}
-
-} // namespace
 
 // ============================================================================ a rung's steps, for at_scale.cpp
 
@@ -348,6 +253,14 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     const bool as_looked = judged && looked;
     if (as_looked && looked->judged) {
         take_looked(std::move(looked->result), result);
+        name_losses(m, repaired.folds, report);
+        *judged = true;
+        return true;
+    }
+    if (as_looked && looked->beside) { // the last ring changed nothing: the look's mesh, judged
+        JudgedBeside& beside = *looked->beside;
+        beside.done.get(); // what the judge threw, thrown here
+        take_looked(std::move(beside.result), result, &beside.made);
         name_losses(m, repaired.folds, report);
         *judged = true;
         return true;
