@@ -166,15 +166,35 @@ std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free
     return regions;
 }
 
-void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
-                   std::vector<int>& stuck) {
+namespace {
+
+/// The triangles `bad` (ascending) split by `pinned`: those with a free vertex, and the others.
+void split_by_pinned(const TriMesh& m, const std::vector<char>& pinned, const std::vector<int>& bad,
+                     std::vector<int>& repairable, std::vector<int>& stuck) {
     repairable.clear();
     stuck.clear();
+    for (const int f : bad) {
+        const auto& t = m.tri[f];
+        (pinned[t[0]] && pinned[t[1]] && pinned[t[2]] ? stuck : repairable).push_back(f);
+    }
+}
+
+} // namespace
+
+void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
+                   std::vector<int>& stuck) {
+    std::vector<int> bad;
     for (int f = 0; f < m.num_faces(); ++f)
-        if (!positive(m, f)) {
-            const auto& t = m.tri[f];
-            (pinned[t[0]] && pinned[t[1]] && pinned[t[2]] ? stuck : repairable).push_back(f);
-        }
+        if (!positive(m, f)) bad.push_back(f);
+    split_by_pinned(m, pinned, bad, repairable, stuck);
+}
+
+void split_again(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
+                 std::vector<int>& stuck) {
+    std::vector<int> bad = std::move(repairable);
+    bad.insert(bad.end(), stuck.begin(), stuck.end());
+    std::sort(bad.begin(), bad.end());
+    split_by_pinned(m, pinned, bad, repairable, stuck);
 }
 
 std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vector<int>& faces) {

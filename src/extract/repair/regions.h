@@ -86,6 +86,11 @@ Region around_inverted(const TriMesh& m, const Region& r, int rings);
 void bad_triangles(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
                    std::vector<int>& stuck);
 
+/// bad_triangles' two lists split again by a new `pinned`, where no triangle's sign changed
+/// (as bad_triangles would split them, without its scan of every triangle).
+void split_again(const TriMesh& m, const std::vector<char>& pinned, std::vector<int>& repairable,
+                 std::vector<int>& stuck);
+
 /// Connected groups (through shared vertices) of the given triangles, for the report.
 std::vector<std::vector<int>> triangle_groups(const TriMesh& m, const std::vector<int>& faces);
 

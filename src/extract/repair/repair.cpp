@@ -417,9 +417,9 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     // in an order that does not depend on the input's; not against the user's valences.
     std::vector<DipoleMerge> merges;
     if (!valences_given) merges = merge_colocated_dipoles(m, pinned);
-    if (!merges.empty()) { // merged vertices are free now
+    if (!merges.empty()) { // merged vertices are free now (the merges change no UV: no sign)
         pinned = pinned_vertices(m, feature_edges);
-        bad_triangles(m, pinned, seeds_faces, stuck);
+        split_again(m, pinned, seeds_faces, stuck);
     }
     // The merges change transitions, never UVs: m's UVs are still the sanitized ones.
     std::vector<Point2> own;
