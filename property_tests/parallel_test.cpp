@@ -2,6 +2,7 @@
 #include "test_support.h"
 #include "transform_checks.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <vector>
 
 namespace qex::testing {
 namespace {
@@ -114,6 +116,26 @@ TEST(Extraction, RepairOnSeveralThreadsGivesTheSerialOutput) {
         ASSERT_GT(a.report.repaired_regions, 1) << name;
         ASSERT_EQ(a.report.unrepaired_regions > 0, some_left) << name;
         expect_serial_result_on_threads(in, a, name);
+    }
+}
+
+TEST(Extraction, StageHookHearsTheLooksCheckJudgedBesideTheLastRing) {
+    // duck_qc_8's look before the last ring loses a quad and that ring changes nothing: on two
+    // threads the look's mesh is judged beside it, on a thread of its own. The caller's hook must
+    // still hear every stage the report times, the check last, as on one thread.
+    Input in;
+    if (const std::string why = read_real_map("paper", "duck_qc_8", in); !why.empty()) GTEST_SKIP() << why;
+    for (const int threads : {1, 2}) {
+        std::vector<std::string> heard;
+        Options options;
+        options.threads = threads;
+        options.on_stage = [&](const char* stage, int) { heard.emplace_back(stage); };
+        const Result r = extract(in, options);
+        ASSERT_TRUE(r.ok() && r.check.valid) << threads;
+        ASSERT_FALSE(heard.empty()) << threads;
+        EXPECT_EQ(heard.back(), "check") << threads << " threads";
+        for (const auto& [name, seconds] : r.report.stage_seconds)
+            EXPECT_NE(std::find(heard.begin(), heard.end(), name), heard.end()) << name << ", " << threads;
     }
 }
 

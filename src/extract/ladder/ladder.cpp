@@ -260,6 +260,8 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     if (as_looked && looked->beside) { // the last ring changed nothing: the look's mesh, judged
         JudgedBeside& beside = *looked->beside;
         beside.done.get(); // what the judge threw, thrown here
+        if (StageTimer::hook)
+            for (const char* stage : beside.heard) (*StageTimer::hook)(stage, StageTimer::hook_scale);
         take_looked(std::move(beside.result), result, &beside.made);
         name_losses(m, repaired.folds, report);
         *judged = true;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <memory>
 #include <system_error>
@@ -14,35 +15,46 @@ namespace qex::detail {
 namespace {
 
 /// Maps up to this many triangles judge the look's mesh beside the last ring: the checker's memory
-/// then comes on top of the repair's, 0.4-1 MB on the paper's ducks (duck_qc_8 0.96x, duck_miq_28
-/// 0.97x, whole process), but 11 MB (8%) on duck_miq_8 subdivided twice, where the check is a
-/// small share of the run and the wall time was the same.
+/// then comes on top of the repair's, 0.4-1 MB on the paper's ducks (duck_qc_8 0.95x, duck_miq_28
+/// 0.97x in process), but 11 MB (8%) on duck_miq_8 subdivided twice, where the check is a small
+/// share of the run and the wall time was the same.
 constexpr std::int64_t kJudgeBesideMaxTriangles = std::int64_t{1} << 16;
 
-/// Starts judging the look's mesh (`extracted`, its faces `walks`) as the rung's own, on a thread
-/// of one core's share, into `beside`; leaves it null where no thread can be had, or the map is
-/// large (the rung then judges as ever). The judge reads only its copy, the input and the
-/// checker's prepared input.
+/// Moves the look's mesh (looked.result, its faces looked.faces) into a job that makes it as the
+/// rung's own and judges it on a thread of one core's share, into looked.beside; where no thread
+/// can be had, the judging is deferred to when the rung takes it. Not for large maps (the rung
+/// then judges as ever). The judge reads only its copy, the input and the checker's prepared
+/// input; the stages it times are heard by the caller's progress hook when the rung takes it.
 template <class Make>
-void judge_beside(const TriMesh& m, const Result& extracted, const FaceWalks& walks, const Make& make_as_rungs,
-                  const Input& input, const Options& options, const Rung& rung, CheckedInput* checked,
-                  std::unique_ptr<JudgedBeside>& beside) {
+void judge_beside(const TriMesh& m, LookedMesh& looked, const Make& make_as_rungs, const Input& input,
+                  const Options& options, const Rung& rung, CheckedInput* checked) {
     const auto triangles = static_cast<std::int64_t>(m.num_faces());
     if (!run_parallel(thread_count(options.threads), 3 * triangles) || triangles > kJudgeBesideMaxTriangles) return;
     auto job = std::make_unique<JudgedBeside>();
-    job->result = extracted; // with the extraction's stage times, which ran inside the repair's
+    job->result = std::move(looked.result); // with the extraction's stage times, which ran inside the repair's
     StageTimer clock(job->result.report);
-    make_as_rungs(job->result, walks, clock);
+    make_as_rungs(job->result, std::move(looked.faces), clock);
     job->made = job->result.report;
     Options one = options;
     one.threads = 1; // beside the last ring's attempts, which have the cores
+    one.on_stage = nullptr;
+    JudgedBeside* const j = job.get();
+    const auto judging = [=, &input, &rung] {
+        const std::function<void(const char*, int)> heard = [j](const char* stage, int) { j->heard.push_back(stage); };
+        const auto* const hook = StageTimer::hook;
+        StageTimer::hook = &heard;
+        struct Restore {
+            const std::function<void(const char*, int)>* hook;
+            ~Restore() { StageTimer::hook = hook; }
+        } restore{hook};
+        judge(input, one, rung, {}, j->result, checked);
+    };
     try {
-        Result* const made = &job->result;
-        job->done = std::async(std::launch::async, [=, &input, &rung] { judge(input, one, rung, {}, *made, checked); });
+        job->done = std::async(std::launch::async, judging);
     } catch (const std::system_error&) {
-        return;
+        job->done = std::async(std::launch::deferred, judging);
     }
-    beside = std::move(job);
+    looked.beside = std::move(job);
 }
 
 } // namespace
@@ -77,8 +89,8 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
     }
     // Fewer quads, and no defect: where they were lost, by the explanations that name a place (one
     // that names none sends the last ring everywhere, as a defect or a cell covered twice does).
-    // Judged beside the last ring where the map is small: it is the rung's extraction where that
-    // ring changes nothing.
+    // Judged beside the last ring where the map is small (as any extraction the look did not judge:
+    // more quads than the area, or defects, too): it is the rung's where that ring changes nothing.
     set_faces(attempt.mesh, faces);
     if (!everywhere) {
         std::vector<int> working(input.triangles.size(), -1);
@@ -93,7 +105,7 @@ RepairLook look_so_far(const TriMesh& m, const RepairOutcome& outcome, const Inp
         }
     }
     looked = LookedMesh{std::move(attempt), std::move(faces), false, nullptr};
-    judge_beside(m, looked->result, looked->faces, make_as_rungs, input, options, rung, checked, looked->beside);
+    judge_beside(m, *looked, make_as_rungs, input, options, rung, checked);
     return look;
 }
 

@@ -5,6 +5,7 @@
 
 #include "rungs.h"
 
+#include <chrono>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -18,10 +19,11 @@ namespace qex::detail {
 /// is ready when the repair ends. Its destructor waits for the thread.
 struct JudgedBeside {
     Result result;
-    Report made; ///< the stage times of making it, which ran inside the repair's
-    std::future<void> done;
-    ~JudgedBeside() {
-        if (done.valid()) done.wait();
+    Report made;                     ///< the stage times of making it, which ran inside the repair's
+    std::vector<const char*> heard;  ///< the stages the judge timed, for the caller's progress hook
+    std::future<void> done;          ///< deferred where no thread could be had: get() judges
+    ~JudgedBeside() { // a deferred judging nobody takes is not run
+        if (done.valid() && done.wait_for(std::chrono::seconds(0)) != std::future_status::deferred) done.wait();
     }
 };
 
@@ -33,8 +35,9 @@ struct LookedMesh {
     Result result;   ///< its report holds what the extraction (and the checker) said, nothing else
     FaceWalks faces; ///< the faces as walked, when not judged (the rung orders them)
     bool judged = false;
-    /// Where the look had fewer quads than the area: the rung's mesh made from it and judged
-    /// beside the last ring. Null where the map is large or no thread was to be had.
+    /// Where the look did not judge its mesh (fewer quads than the area, or more, or defects):
+    /// that mesh made as the rung's and judged beside the last ring (result and faces then moved
+    /// into it). Null on large maps.
     std::unique_ptr<JudgedBeside> beside;
 };
 
