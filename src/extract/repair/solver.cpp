@@ -46,16 +46,15 @@ constexpr std::size_t kHopelessFloorFirst = 5;
 /// After this many L-BFGS iterations of a step, a region with more than kGiveUpShareFirst of its
 /// triangles inverted (and more than kHopelessFloorFirst) in its first step, or more than
 /// kGiveUpShare (and more than kLocalMost, which a local mend could still take) in a later one, is
-/// given up there: the steps that end so are the failing runs' (the inverted count mostly grows to
-/// a first step's end: duck_miq_16's region of 1,338 triangles had 210 after 20 iterations, 147
-/// after 80). Over the 50 shared maps no success had more than 11% inverted there in its first
-/// step (5 of 47 triangles; the largest region, 85 of 963), nor more than 1.4% in a later one
-/// with more than 6 (13 of 963). The bounds keep a margin over those; on those maps they leave
-/// every run's outcome (and every mesh) as it was, and spare 6% of the failing runs' untangling
-/// (25 of 387 ms over threads; duck_miq_16's repair 17.7 -> 15.3 ms).
+/// given up there. A failing first step mostly ends worse than it is there (duck_miq_16's region
+/// of 1,338 triangles: 210 inverted after 20 iterations, 147 after 80). Over the 50 shared maps no
+/// success had more than 11% inverted there in its first step (5 of 47 triangles; the largest
+/// region, 85 of 963), nor more than 1.4% with more than 6 in a later one (13 of 963). With a
+/// margin over those, the bounds leave every run's outcome and mesh on those maps as it was, and
+/// spare about a tenth of the failing runs' untangling (duck_miq_16's repair 17.7 -> 15.3 ms).
 constexpr int kGiveUpIteration = 20;
 constexpr double kGiveUpShareFirst = 0.15;
-constexpr double kGiveUpShare = 0.04;
+constexpr double kGiveUpShare = 0.02;
 /// The first regularisation, relative to the most negative Jacobian determinant.
 constexpr double kInitialRegularisation = 0.1;
 /// A step that is the first since the attempt's last best not to leave fewer triangles inverted,
