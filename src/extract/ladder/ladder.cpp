@@ -251,18 +251,16 @@ bool run_rung(TriMesh m, const Input& input, const Options& options, const Rung&
     if (rung.repair && repaired.faces.empty()) report.rung = "as-given"; // nothing to repair: the map as given
     std::optional<LookedMesh>& looked = repaired.looked;
     const bool as_looked = judged && looked;
-    if (as_looked && looked->judged) {
-        take_looked(std::move(looked->result), result);
-        name_losses(m, repaired.folds, report);
-        *judged = true;
-        return true;
-    }
-    if (as_looked && looked->beside) { // the last ring changed nothing: the look's mesh, judged
+    const Report* ran_inside = nullptr; // the look's stage times that ran inside the repair's: all of them
+    if (as_looked && looked->beside) { // the last ring changed nothing: the look's mesh judged beside it
         JudgedBeside& beside = *looked->beside;
         beside.done.get(); // what the judge threw, thrown here
         if (StageTimer::hook)
             for (const char* stage : beside.heard) (*StageTimer::hook)(stage, StageTimer::hook_scale);
-        take_looked(std::move(beside.result), result, &beside.made);
+        looked->result = std::move(beside.result), looked->judged = true, ran_inside = &beside.made;
+    }
+    if (as_looked && looked->judged) {
+        take_looked(std::move(looked->result), result, ran_inside);
         name_losses(m, repaired.folds, report);
         *judged = true;
         return true;

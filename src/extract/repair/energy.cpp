@@ -335,18 +335,13 @@ double region_energy(const Problem& p, const std::vector<double>& x, double eps,
     std::fill(in + Problem::eps * n, in + (Problem::eps + 1) * n, eps);
     // A barrier triangle is never inverted at a start (the caller's), and not to be by a step.
     for (const int t : p.barrier_triangles) {
-        const double twice = in[Problem::a0 * n + t] * in[Problem::b1 * n + t] -
-                             in[Problem::a1 * n + t] * in[Problem::b0 * n + t];
-        if (!(twice > 0.0)) return std::numeric_limits<double>::infinity();
+        if (!(twice_area(p, static_cast<std::size_t>(t)) > 0.0))
+            return std::numeric_limits<double>::infinity();
         in[Problem::eps * n + t] = 0.0;
     }
     if (lowest) {
         *lowest = std::numeric_limits<double>::infinity();
-        for (std::size_t t = 0; t < n; ++t) {
-            const double twice = in[Problem::a0 * n + t] * in[Problem::b1 * n + t] -
-                                 in[Problem::a1 * n + t] * in[Problem::b0 * n + t];
-            *lowest = std::min(*lowest, twice * p.gdet[t]);
-        }
+        for (std::size_t t = 0; t < n; ++t) *lowest = std::min(*lowest, twice_area(p, t) * p.gdet[t]);
     }
     const double* out = p.out.data();
     triangle_energies(in, p.out.data(), n);

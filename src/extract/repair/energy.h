@@ -81,6 +81,14 @@ struct Problem {
     std::vector<double> gdet;            ///< per triangle: the inverse edge matrix's determinant
 };
 
+/// Twice triangle t's signed UV area at the point whose edge vectors p.in holds (the one the
+/// energy evaluated last): positive where the triangle is not inverted, in the solver's doubles.
+inline double twice_area(const Problem& p, std::size_t t) {
+    const std::size_t n = p.triangles;
+    const double* in = p.in.data();
+    return in[Problem::a0 * n + t] * in[Problem::b1 * n + t] - in[Problem::a1 * n + t] * in[Problem::b0 * n + t];
+}
+
 /// The region's problem (the corners of each triangle from its rest shape's base on; `rest` as
 /// rest_shapes left it); `corner_slot` is per-corner scratch (all -1 before and after), and
 /// `barrier` (sorted) names the triangles kept positive by a pure barrier.

@@ -99,14 +99,11 @@ inline __attribute__((always_inline)) double dot(const std::vector<double>& a, c
     return (s0 + s[1]) + (s[2] + s[3]);
 }
 
-/// Triangles with a Jacobian determinant not positive at the point the energy last evaluated
-/// (its edge vectors in p.in): the solver's own view, in doubles, of how far it is.
+/// Triangles inverted at the point the energy last evaluated: the solver's own view, in doubles,
+/// of how far it is.
 std::size_t inverted_at_last_point(const Problem& p) {
-    const std::size_t n = p.triangles;
-    const double *a0 = &p.in[Problem::a0 * n], *a1 = &p.in[Problem::a1 * n];
-    const double *b0 = &p.in[Problem::b0 * n], *b1 = &p.in[Problem::b1 * n];
     std::size_t inverted = 0;
-    for (std::size_t t = 0; t < n; ++t) inverted += !(a0[t] * b1[t] - a1[t] * b0[t] > 0);
+    for (std::size_t t = 0; t < p.triangles; ++t) inverted += !(twice_area(p, t) > 0);
     return inverted;
 }
 
