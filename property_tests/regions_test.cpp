@@ -1,6 +1,7 @@
-// The repair's local mend works on the part of a region round what it left inverted
-// (around_inverted): the free vertices within a number of triangle rings of the inverted
-// triangles, their fans as the region has them, and the region's triangles round them.
+// The repair's regions: as listed before their fans are made (find_regions, make_fans), and the
+// local mend's part of a region round what it left inverted (around_inverted): the free vertices
+// within a number of triangle rings of the inverted triangles, their fans as the region has them,
+// and the region's triangles round them.
 #include "extract/repair/regions.h"
 #include "stages_support.h"
 #include "test_support.h"
@@ -119,6 +120,57 @@ TEST(AroundInverted, GrowsWithItsRingsToTheWholeRegion) {
     unfolded.r = fr.r;
     EXPECT_TRUE(around_inverted(unfolded.m, unfolded.r, 2).fans.empty());
     EXPECT_TRUE(around_inverted(unfolded.m, unfolded.r, 2).faces.empty());
+}
+
+// The repair lists its regions first and makes a region's fans only where its attempt is admitted
+// (find_regions, make_fans): made, they are what split_regions makes, and before, the region
+// holds the same free vertices and triangles, the one the regions are ordered by first.
+TEST(FindRegions, ListsWhatSplitRegionsMakesAndMakesTheSameFans) {
+    const FoldedRegion fr = torus_map();
+    const TriMesh& m = fr.m;
+    std::vector<int> distance(static_cast<std::size_t>(m.num_vertices), -1);
+    std::vector<int> label(static_cast<std::size_t>(m.num_vertices), -1);
+    // Two regions: the free vertices near two far apart vertices, each a ring round it.
+    std::vector<int> free;
+    for (const int seed : {0, m.num_vertices / 2})
+        for (const int v : detail::repair_impl::ring_neighbourhood(m, {seed}, 1, distance)) free.push_back(v);
+    std::sort(free.begin(), free.end());
+    free.erase(std::unique(free.begin(), free.end()), free.end());
+    const std::vector<Region> made = detail::repair_impl::split_regions(m, free, label);
+    std::vector<Region> listed = detail::repair_impl::find_regions(m, free, label);
+    ASSERT_GE(made.size(), 2u);
+    ASSERT_EQ(listed.size(), made.size());
+    EXPECT_TRUE(std::all_of(label.begin(), label.end(), [](int l) { return l == -1; })) << "scratch left as found";
+    for (std::size_t k = 0; k < made.size(); ++k) {
+        EXPECT_EQ(listed[k].faces, made[k].faces) << "region " << k;
+        std::vector<int> a = vertices_of(listed[k]), b = vertices_of(made[k]);
+        EXPECT_EQ(a.front(), b.front()) << "the smallest key first, region " << k;
+        for (const int v : a)
+            EXPECT_FALSE(detail::repair_impl::vertex_key(m, v) < detail::repair_impl::vertex_key(m, a.front()));
+        EXPECT_TRUE(listed[k].fans.front().corners.empty()) << "listed, not made";
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        EXPECT_EQ(a, b) << "region " << k;
+        detail::repair_impl::make_fans(m, listed[k]);
+        ASSERT_EQ(listed[k].fans.size(), made[k].fans.size());
+        for (std::size_t i = 0; i < made[k].fans.size(); ++i) {
+            const auto &x = listed[k].fans[i], &y = made[k].fans[i];
+            if (i > 0) // canonical order: by key
+                EXPECT_FALSE(detail::repair_impl::vertex_key(m, x.vertex) <
+                             detail::repair_impl::vertex_key(m, listed[k].fans[i - 1].vertex));
+            const detail::repair_impl::FreeFan own = detail::repair_impl::free_fan(m, x.vertex);
+            EXPECT_EQ(x.corners, own.corners);
+            EXPECT_EQ(x.length, own.length);
+            EXPECT_EQ(x.vertex, y.vertex);
+            EXPECT_EQ(x.corners, y.corners);
+            EXPECT_EQ(x.length, y.length);
+            ASSERT_EQ(x.to_c.size(), y.to_c.size());
+            for (std::size_t c = 0; c < x.to_c.size(); ++c) EXPECT_TRUE(x.to_c[c] == y.to_c[c]);
+        }
+        const std::vector<int> before = listed[k].fans.front().corners;
+        detail::repair_impl::make_fans(m, listed[k]); // made once: nothing changes
+        EXPECT_EQ(listed[k].fans.front().corners, before);
+    }
 }
 
 } // namespace

@@ -127,42 +127,53 @@ std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& se
     return reached;
 }
 
-std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
+std::vector<Region> find_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
     std::vector<Region> regions;
     std::vector<char> listed(static_cast<std::size_t>(m.num_faces()), 0); // per triangle: in the region's list
     for (const int v : free) label[v] = -2; // free, unassigned
     for (const int start : free) {
         if (label[start] != -2) continue;
         const int id = static_cast<int>(regions.size());
-        regions.emplace_back();
-        std::vector<int> stack{start}, members;
+        Region& r = regions.emplace_back();
+        std::vector<int> stack{start};
         label[start] = id;
         while (!stack.empty()) {
             const int v = stack.back();
             stack.pop_back();
-            members.push_back(v);
-            for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n)
+            r.fans.emplace_back().vertex = v;
+            for (int h = m.fan_start[v], n = 0; h >= 0 && n < m.fan_size[v]; h = m.cw(h), ++n) {
                 for (const int w : {m.target(h), m.origin(TriMesh::prev(h))})
                     if (label[w] == -2) label[w] = id, stack.push_back(w);
-        }
-        std::vector<std::pair<VertexKey, int>> keyed;
-        keyed.reserve(members.size());
-        for (const int v : members) keyed.push_back({vertex_key(m, v), v});
-        std::sort(keyed.begin(), keyed.end());
-        Region& r = regions.back();
-        r.fans.reserve(keyed.size());
-        for (const auto& kv : keyed) {
-            r.fans.push_back(free_fan(m, kv.second));
-            for (const int c : r.fans.back().corners) {
-                char& once = listed[static_cast<std::size_t>(TriMesh::face(c))];
-                if (!once) once = 1, r.faces.push_back(TriMesh::face(c));
+                char& once = listed[static_cast<std::size_t>(TriMesh::face(h))];
+                if (!once) once = 1, r.faces.push_back(TriMesh::face(h));
             }
         }
         for (const int f : r.faces) listed[static_cast<std::size_t>(f)] = 0;
         // Listed once each; their order is then the keys' alone (ties by index).
         sort_canonically(m, r.faces);
+        // The smallest key first: the regions are ordered by it.
+        std::size_t first = 0;
+        VertexKey least = vertex_key(m, r.fans[0].vertex);
+        for (std::size_t i = 1; i < r.fans.size(); ++i)
+            if (const VertexKey k = vertex_key(m, r.fans[i].vertex); k < least) least = k, first = i;
+        std::swap(r.fans[0], r.fans[first]);
     }
     for (const int v : free) label[v] = -1;
+    return regions;
+}
+
+void make_fans(const TriMesh& m, Region& r) {
+    if (r.fans.empty() || !r.fans[0].corners.empty()) return; // an interior vertex has corners
+    std::vector<std::pair<VertexKey, int>> keyed;
+    keyed.reserve(r.fans.size());
+    for (const FreeFan& fan : r.fans) keyed.push_back({vertex_key(m, fan.vertex), fan.vertex});
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < keyed.size(); ++i) r.fans[i] = free_fan(m, keyed[i].second);
+}
+
+std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label) {
+    std::vector<Region> regions = find_regions(m, free, label);
+    for (Region& r : regions) make_fans(m, r);
     return regions;
 }
 

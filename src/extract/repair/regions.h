@@ -44,9 +44,15 @@ void place(TriMesh& m, const FreeFan& fan, const Vec2& x);
 // ============================================================================ a region
 
 struct Region {
-    std::vector<FreeFan> fans; ///< canonical order
-    std::vector<int> faces;    ///< canonical order (sort_canonically)
+    /// Canonical order once made (make_fans). Before, as find_regions lists them, only each fan's
+    /// vertex is set, the one with the smallest key first.
+    std::vector<FreeFan> fans;
+    std::vector<int> faces; ///< canonical order
 };
+
+/// Makes r's fans, in canonical order, from the vertices find_regions listed; nothing where they
+/// are made. They read the UVs of r's triangles, as they are when it is called.
+void make_fans(const TriMesh& m, Region& r);
 
 /// The UVs of the region's free corners, fan by fan (restore_region_uvs puts them back).
 std::vector<Point2> region_uvs(const TriMesh& m, const Region& r);
@@ -73,7 +79,12 @@ std::vector<char> pinned_vertices(const TriMesh& m, const std::vector<std::array
 std::vector<int> ring_neighbourhood(const TriMesh& m, const std::vector<int>& seeds, int radius,
                                     std::vector<int>& distance);
 
-/// Splits the free vertices into regions: connected through shared triangles.
+/// Splits the free vertices into regions connected through shared triangles: each with its
+/// triangles in canonical order and its free vertices listed, their fans not made (make_fans).
+/// The fans are most of the cost, and a region the room certificate refuses needs none of them.
+std::vector<Region> find_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label);
+
+/// find_regions with every region's fans made.
 std::vector<Region> split_regions(const TriMesh& m, const std::vector<int>& free, std::vector<int>& label);
 
 /// The free vertices of r within `rings` triangles of its inverted ones (not positive by the

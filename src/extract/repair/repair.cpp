@@ -103,7 +103,10 @@ struct Attempts {
 };
 
 /// The regions of the free vertices within `radius` rings of the seed triangles, in an order
-/// that does not depend on the input's; `distance` and `label` are per-vertex scratch.
+/// that does not depend on the input's; `distance` and `label` are per-vertex scratch. Their fans
+/// are made when an attempt is admitted (on its thread), as they would be here: an attempt moves
+/// only its region's free vertices, and no other region's triangle has one (sharing a triangle,
+/// the two would be one region).
 std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& seeds_faces, int radius,
                                    const std::vector<char>& pinned, std::vector<int>& distance,
                                    std::vector<int>& label) {
@@ -116,7 +119,7 @@ std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& see
     std::sort(free.begin(), free.end());
     // Regions share fixed vertices, whose windings the certificate reads: they are taken in
     // an order that does not depend on the input's (their smallest vertex key first).
-    std::vector<Region> regions = split_regions(m, free, label);
+    std::vector<Region> regions = find_regions(m, free, label);
     std::sort(regions.begin(), regions.end(), [&](const Region& a, const Region& b) {
         return vertex_key(m, a.fans[0].vertex) < vertex_key(m, b.fans[0].vertex);
     });
@@ -129,7 +132,7 @@ std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& see
 /// are restored and its failure returned. It reads and writes only r's triangles and the fans of
 /// their vertices. With `beside` (regions attempted one at a time, threads to spare), a large
 /// region's retry runs beside its first try: the same outcome, sooner.
-std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int radius, bool valences_given, Scratch& a,
+std::optional<RegionFailure> attempt_region(TriMesh& m, Region& r, int radius, bool valences_given, Scratch& a,
                                             std::vector<char>& reembedded,
                                             std::unique_ptr<RetryBeside>* beside = nullptr) {
     if (r.fans.size() > kMaxRegionVertices) {
@@ -141,12 +144,14 @@ std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int rad
         return f;
     }
     RegionMarks& marks = a.marks;
-    const std::vector<Point2> before = region_uvs(m, r);
     marks.mark(m, r);
     bool repaired = false;
     const bool admitted = admits_embedding(m, r, valences_given, marks);
     RegionFailure failure; // what the first attempt left, if it failed (the retry starts over)
+    std::vector<Point2> before; // r's UVs before the attempt (none moved where it is refused)
     if (admitted) {
+        make_fans(m, r);
+        before = region_uvs(m, r);
         const int patience =
             radius == kRingRadii[std::size(kRingRadii) - 1] ? kPatienceAtLastRing : kPatienceBeforeLastRing;
         RetryBeside* ahead = nullptr;
@@ -180,7 +185,7 @@ std::optional<RegionFailure> attempt_region(TriMesh& m, const Region& r, int rad
             static_cast<int>(std::lround(marks.cone_angle / (0.5 * M_PI)));
     marks.clear(r);
     if (repaired) return std::nullopt;
-    restore_region_uvs(m, r, before);
+    if (admitted) restore_region_uvs(m, r, before);
     return failure;
 }
 
@@ -222,7 +227,7 @@ std::vector<std::vector<std::size_t>> independent_groups(const TriMesh& m, const
 /// The attempts at every region of one ring radius: independent groups on the threads, each
 /// group's regions in their order, and the failures recorded in the regions' order, so the
 /// outcome is the serial one for any thread count. How many regions were repaired.
-std::size_t attempt_regions(TriMesh& m, const std::vector<Region>& regions, int radius, bool valences_given,
+std::size_t attempt_regions(TriMesh& m, std::vector<Region>& regions, int radius, bool valences_given,
                             Attempts& a) {
     std::vector<std::optional<RegionFailure>> failed(regions.size());
     std::size_t triangles = 0;
@@ -301,8 +306,8 @@ bool grow_regions(TriMesh& m, const std::vector<char>& pinned, bool valences_giv
                 for (const int e : d.path) seeds.push_back(TriMesh::face(e));
         if (!seen.near.empty()) keep_near(m, seen.near, radius, seeds, a.distance);
         if (seeds.empty()) break;
-        const std::size_t repaired = attempt_regions(
-            m, regions_within(m, seeds, radius, pinned, a.distance, a.label), radius, valences_given, a);
+        std::vector<Region> regions = regions_within(m, seeds, radius, pinned, a.distance, a.label);
+        const std::size_t repaired = attempt_regions(m, regions, radius, valences_given, a);
         // An attempt leaves its region's triangles positive or restores them bit for bit, so the
         // triangles left are among those before it: bad_triangles() would find these (a scan of
         // every triangle took 2 ms a ring on a 315K-triangle map).
