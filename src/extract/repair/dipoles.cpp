@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 namespace qex::detail::repair_impl {
@@ -35,6 +34,25 @@ bool folded_singularity(const TriMesh& m, int v) {
     return false;
 }
 
+/// Per vertex, what the breadth-first search of find_colocated_dipole reached: the half-edge from
+/// its parent and its depth (-1: not reached). Flat arrays, not a hash map: a search visits a few
+/// hundred vertices, and the map's lookups were most of the dipole search's time.
+struct Reached {
+    explicit Reached(int vertices)
+        : from(static_cast<std::size_t>(vertices), -1), depth(static_cast<std::size_t>(vertices), -1) {}
+    bool has(int v) const { return depth[static_cast<std::size_t>(v)] >= 0; }
+    void set(int v, int h, int d) {
+        list.push_back(v);
+        from[static_cast<std::size_t>(v)] = h, depth[static_cast<std::size_t>(v)] = d;
+    }
+    /// Forgets every vertex reached (all -1 again).
+    void clear() {
+        for (const int v : list) depth[static_cast<std::size_t>(v)] = -1;
+        list.clear();
+    }
+    std::vector<int> from, depth, list;
+};
+
 /// Two singularities of opposite turns whose valences sum to two regular vertices' (5 and 3, 6
 /// and 2), on one grid point when charted along a short path of regular vertices between them:
 /// no injective map keeps both, as the path would have zero length. Solver rounding makes
@@ -43,28 +61,33 @@ bool folded_singularity(const TriMesh& m, int v) {
 /// explicit: the path's transitions are changed so that both become regular (each vertex on
 /// the path keeps its fan closed), and the repair then re-embeds the region as a disk. Found
 /// breadth first from `a` over `pinned`-free vertices; true with the path in `merge`.
-bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pinned, DipoleMerge& merge) {
+bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pinned, Reached& parent,
+                           DipoleMerge& merge) {
     const int ta = fan_turn(m, a);
     if (ta <= 0) return false;
     // From a canonical corner of a's fan, so that the path found depends neither on the input's
     // order nor on its charts: every other vertex's fan is walked from the corner it is reached by.
     const int first = fan_in_3d_order(m, a)[0];
     const Point2 ua = m.uv[first];
-    // Per reached vertex: the half-edge from its parent and its depth; per queued vertex, the
-    // corner it was reached by and the map from a's chart to that corner's.
-    std::unordered_map<int, std::pair<int, int>> parent;
+    // Per reached vertex (`parent`, cleared on return): the half-edge from its parent and its
+    // depth; per queued vertex, the corner it was reached by and the map from a's chart to that
+    // corner's.
+    struct Clear {
+        Reached& r;
+        ~Clear() { r.clear(); }
+    } clear{parent};
     std::vector<std::pair<int, GridAutomorphism>> queue{{first, GridAutomorphism{}}};
-    parent[a] = {-1, 0};
+    parent.set(a, -1, 0);
     for (std::size_t q = 0; q < queue.size(); ++q) {
         const int start = queue[q].first;
         const int w = m.origin(start);
-        const int depth = parent[w].second;
+        const int depth = parent.depth[static_cast<std::size_t>(w)];
         if (depth >= kDipoleReach) continue;
         GridAutomorphism g = queue[q].second;
         for (int h = start, n = 0; h >= 0 && n < m.fan_size[w]; ++n) {
             const int c = TriMesh::next(h), x = m.origin(c);
-            if (!parent.count(x)) {
-                parent[x] = {h, depth + 1};
+            if (!parent.has(x)) {
+                parent.set(x, h, depth + 1);
                 if (m.map.singular[x] && !m.on_boundary[x] && x != a) {
                     const int tx = fan_turn(m, x);
                     if (tx > 0 && ((ta + tx) & 3) == 0 && m.map.valence[a] + m.map.valence[x] == 8 &&
@@ -72,7 +95,8 @@ bool find_colocated_dipole(const TriMesh& m, int a, const std::vector<char>& pin
                         merge.a = a, merge.b = x;
                         merge.valences = {m.map.valence[a], m.map.valence[x]};
                         merge.winding_valences = {m.map.winding_valence[a], m.map.winding_valence[x]};
-                        for (int y = x; y != a; y = m.origin(parent[y].first)) merge.path.push_back(parent[y].first);
+                        for (int y = x; y != a; y = m.origin(parent.from[static_cast<std::size_t>(y)]))
+                            merge.path.push_back(parent.from[static_cast<std::size_t>(y)]);
                         std::reverse(merge.path.begin(), merge.path.end());
                         return true;
                     }
@@ -148,9 +172,11 @@ std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<c
     for (int v = 0; v < m.num_vertices; ++v)
         if (folded_singularity(m, v)) cones.push_back({vertex_key(m, v), v});
     std::sort(cones.begin(), cones.end());
+    if (cones.empty()) return merges;
+    Reached reached(m.num_vertices);
     for (const auto& kv : cones) {
         DipoleMerge d;
-        if (m.map.singular[kv.second] && find_colocated_dipole(m, kv.second, pinned, d) && merge_dipole(m, d))
+        if (m.map.singular[kv.second] && find_colocated_dipole(m, kv.second, pinned, reached, d) && merge_dipole(m, d))
             merges.push_back(std::move(d));
     }
     return merges;
