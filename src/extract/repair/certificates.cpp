@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 
 namespace qex::detail::repair_impl {
 namespace {
@@ -37,9 +36,19 @@ bool outside_degenerate(const TriMesh& m, int v, const RegionMarks& marks) {
     return false;
 }
 
-bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks, int cone, double& angle) {
-    std::unordered_map<int, std::size_t> local; // region triangle -> index into `at`
-    for (std::size_t t = 0; t < r.faces.size(); ++t) local[r.faces[t]] = t;
+bool rim_angle_about(const TriMesh& m, const Region& r, RegionMarks& marks, int cone, double& angle) {
+    // Region triangle -> index into `at`: a flat array, not a hash map (most of this function's
+    // time on the paper's ducks was the map's).
+    std::vector<int>& slot = marks.slot;
+    for (std::size_t t = 0; t < r.faces.size(); ++t) slot[static_cast<std::size_t>(r.faces[t])] = static_cast<int>(t);
+    struct Clear {
+        const Region& r;
+        std::vector<int>& slot;
+        ~Clear() {
+            for (const int f : r.faces) slot[static_cast<std::size_t>(f)] = -1;
+        }
+    } clear{r, slot};
+    const auto local = [&](int f) { return static_cast<std::size_t>(slot[static_cast<std::size_t>(f)]); };
     const auto in_region = [&](int h) { return h >= 0 && marks.face[TriMesh::face(h)] != 0; };
     // The grid point in each triangle's chart, breadth-first from a triangle of the cone's fan.
     std::vector<Point2> at(r.faces.size());
@@ -47,8 +56,8 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
     const int start = m.fan_start[cone];
     if (!in_region(start)) return false;
     std::vector<int> queue{TriMesh::face(start)};
-    at[local[queue[0]]] = m.uv[start];
-    seen[local[queue[0]]] = 1;
+    at[local(queue[0])] = m.uv[start];
+    seen[local(queue[0])] = 1;
     std::size_t rim = 0;
     for (std::size_t i = 0; i < queue.size(); ++i) {
         const int f = queue[i];
@@ -58,10 +67,10 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
                 ++rim;
                 continue;
             }
-            const std::size_t j = local[TriMesh::face(o)];
+            const std::size_t j = local(TriMesh::face(o));
             if (seen[j]) continue;
             seen[j] = 1;
-            at[j] = m.map.transition[h](at[local[f]]);
+            at[j] = m.map.transition[h](at[local(f)]);
             queue.push_back(TriMesh::face(o));
         }
     }
@@ -74,7 +83,7 @@ bool rim_angle_about(const TriMesh& m, const Region& r, const RegionMarks& marks
         for (int k = 0; k < 3; ++k) {
             const int h = 3 * f + k;
             if (in_region(m.opp[h])) continue;
-            const Point2& p = at[local[f]];
+            const Point2& p = at[local(f)];
             const double ax = m.uv[h][0] - p[0], ay = m.uv[h][1] - p[1];
             const double bx = m.uv[TriMesh::next(h)][0] - p[0], by = m.uv[TriMesh::next(h)][1] - p[1];
             // On the grid point, or so near it that rounding could turn the edge's angle by a turn.

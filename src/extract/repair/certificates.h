@@ -25,6 +25,9 @@ struct RegionMarks {
     std::vector<char> face;   ///< per triangle
     std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
     std::vector<int> fixed;
+    /// Per triangle, scratch for a region triangle's place in its list (-1 between uses; sized as
+    /// `face` by whoever sizes that).
+    std::vector<int> slot;
     /// A singularity whose angle Gauss-Bonnet fixes otherwise than Algorithm 8 counted it (the
     /// fold took whole turns from its fan without flipping any), and that angle.
     int cone = -1;

@@ -74,6 +74,7 @@ constexpr std::size_t kRetryBesideMinTriangles = 256;
 struct Scratch {
     explicit Scratch(const TriMesh& m) : work(m) {
         marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
+        marks.slot.assign(marks.face.size(), -1);
         marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
     }
     Workspace work;
