@@ -51,7 +51,8 @@ TEST(Coarsening, AMapTwiceAnIntegerGridMapHalvesFromItsOrigin) {
         if (!either) { EXPECT_EQ(origin, (detail::IPoint{1, 0})) << layout.name; }
     }
     detail::IPoint origin;
-    EXPECT_FALSE(detail::map_divisible_by(sanitized(make_map(cube_layout(), 1, 2)), {}, 2, origin));
+    const Input odd = make_map(cube_layout(), 1, 2);
+    EXPECT_FALSE(detail::map_divisible_by(sanitized(odd), {}, 2, origin));
 }
 
 TEST(Coarsening, ASplitMeshIsTheFineMeshOfAFoldFreeMap) {

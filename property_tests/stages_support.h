@@ -30,6 +30,9 @@ inline detail::TriMesh sanitized(const Input& in) {
     detail::compute_transitions(m);
     return m;
 }
+/// Not for a temporary input: the mesh reads its 3D positions from the input it was made from,
+/// and would outlive it (regions_test once read a freed input this way).
+detail::TriMesh sanitized(Input&&) = delete;
 
 /// `mesh` without the faces listed (face_uvs kept in step).
 inline QuadMesh without_faces(const QuadMesh& mesh, std::vector<std::size_t> drop) {
