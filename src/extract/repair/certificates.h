@@ -25,8 +25,7 @@ struct RegionMarks {
     std::vector<char> face;   ///< per triangle
     std::vector<char> vertex; ///< per vertex: 1 free in the region, 2 fixed in it
     std::vector<int> fixed;
-    /// Per triangle, scratch for a region triangle's place in its list (-1 between uses; sized as
-    /// `face` by whoever sizes that).
+    /// Per triangle, scratch for a region triangle's place in its list (-1 between uses).
     std::vector<int> slot;
     /// A singularity whose angle Gauss-Bonnet fixes otherwise than Algorithm 8 counted it (the
     /// fold took whole turns from its fan without flipping any), and that angle.
@@ -44,6 +43,13 @@ struct RegionMarks {
     bool room_proved = false;
     int room_vertex = -1, room_corners = 0;
     double room_left = 0.0, room_missing = 0.0;
+
+    /// Sized for m, nothing marked.
+    void size_for(const TriMesh& m) {
+        face.assign(static_cast<std::size_t>(m.num_faces()), 0);
+        vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
+        slot.assign(face.size(), -1);
+    }
 
     /// What v's angles sum to in an embedding of the region's map.
     double target(const TriMesh& m, int v) const { return v == cone ? cone_angle : target_angle(m, v); }

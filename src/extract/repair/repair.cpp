@@ -72,11 +72,7 @@ constexpr std::size_t kRetryBesideMinTriangles = 256;
 /// What one attempt at a region works in (one per thread): the untangler's scratch and the marks
 /// the certificates read.
 struct Scratch {
-    explicit Scratch(const TriMesh& m) : work(m) {
-        marks.face.assign(static_cast<std::size_t>(m.num_faces()), 0);
-        marks.slot.assign(marks.face.size(), -1);
-        marks.vertex.assign(static_cast<std::size_t>(m.num_vertices), 0);
-    }
+    explicit Scratch(const TriMesh& m) : work(m) { marks.size_for(m); }
     Workspace work;
     RegionMarks marks; // its members by name: an aggregate list would silently fill `cone`
 };
@@ -104,10 +100,8 @@ struct Attempts {
 };
 
 /// The regions of the free vertices within `radius` rings of the seed triangles, in an order
-/// that does not depend on the input's; `distance` and `label` are per-vertex scratch. Their fans
-/// are made when an attempt is admitted (on its thread), as they would be here: an attempt moves
-/// only its region's free vertices, and no other region's triangle has one (sharing a triangle,
-/// the two would be one region).
+/// that does not depend on the input's; `distance` and `label` are per-vertex scratch. An admitted
+/// attempt makes its fans: attempts move only their own free vertices, in no other region's triangle.
 std::vector<Region> regions_within(const TriMesh& m, const std::vector<int>& seeds_faces, int radius,
                                    const std::vector<char>& pinned, std::vector<int>& distance,
                                    std::vector<int>& label) {
