@@ -143,6 +143,11 @@ TEST(FindRegions, ListsWhatSplitRegionsMakesAndMakesTheSameFans) {
     EXPECT_TRUE(std::all_of(label.begin(), label.end(), [](int l) { return l == -1; })) << "scratch left as found";
     for (std::size_t k = 0; k < made.size(); ++k) {
         EXPECT_EQ(listed[k].faces, made[k].faces) << "region " << k;
+        for (std::size_t i = 1; i < listed[k].faces.size(); ++i) { // canonical: by key, ties by index
+            const int f = listed[k].faces[i - 1], g = listed[k].faces[i];
+            const detail::TriangleKey kf = detail::triangle_key(m, f), kg = detail::triangle_key(m, g);
+            EXPECT_TRUE(detail::key_less(kf, kg) || (!detail::key_less(kg, kf) && f < g)) << "region " << k;
+        }
         std::vector<int> a = vertices_of(listed[k]), b = vertices_of(made[k]);
         EXPECT_EQ(a.front(), b.front()) << "the smallest key first, region " << k;
         for (const int v : a)
