@@ -35,11 +35,13 @@ bool folded_singularity(const TriMesh& m, int v) {
 }
 
 /// Per vertex, what the breadth-first search of find_colocated_dipole reached: the half-edge from
-/// its parent and its depth (-1: not reached). Flat arrays, not a hash map: a search visits a few
-/// hundred vertices, and the map's lookups were most of the dipole search's time.
+/// its parent and its depth (-1: not reached), in the caller's per-vertex scratch (all -1, left
+/// so). Flat arrays, not a hash map: a search visits a few hundred vertices, and the map's lookups
+/// were most of the dipole search's time.
 struct Reached {
-    explicit Reached(int vertices)
-        : from(static_cast<std::size_t>(vertices), -1), depth(static_cast<std::size_t>(vertices), -1) {}
+    std::vector<int>& from;
+    std::vector<int>& depth;
+    std::vector<int> list;
     bool has(int v) const { return depth[static_cast<std::size_t>(v)] >= 0; }
     void set(int v, int h, int d) {
         list.push_back(v);
@@ -47,10 +49,9 @@ struct Reached {
     }
     /// Forgets every vertex reached (all -1 again).
     void clear() {
-        for (const int v : list) depth[static_cast<std::size_t>(v)] = -1;
+        for (const int v : list) from[static_cast<std::size_t>(v)] = depth[static_cast<std::size_t>(v)] = -1;
         list.clear();
     }
-    std::vector<int> from, depth, list;
 };
 
 /// Two singularities of opposite turns whose valences sum to two regular vertices' (5 and 3, 6
@@ -166,14 +167,15 @@ void unmerge_dipole(TriMesh& m, const DipoleMerge& merge) {
 
 } // namespace
 
-std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<char>& pinned) {
+std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<char>& pinned, std::vector<int>& scratch_a,
+                                                 std::vector<int>& scratch_b) {
     std::vector<DipoleMerge> merges;
     std::vector<std::pair<VertexKey, int>> cones;
     for (int v = 0; v < m.num_vertices; ++v)
         if (folded_singularity(m, v)) cones.push_back({vertex_key(m, v), v});
     std::sort(cones.begin(), cones.end());
     if (cones.empty()) return merges;
-    Reached reached(m.num_vertices);
+    Reached reached{scratch_a, scratch_b, {}};
     for (const auto& kv : cones) {
         DipoleMerge d;
         if (m.map.singular[kv.second] && find_colocated_dipole(m, kv.second, pinned, reached, d) && merge_dipole(m, d))

@@ -23,8 +23,9 @@ struct DipoleMerge {
 
 /// Merges the co-located dipoles next to the fold-overs, trying each singularity next to a
 /// flipped or degenerate triangle in the order of its vertex key: the merges made (their
-/// singularities are regular vertices now).
-std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<char>& pinned);
+/// singularities are regular vertices now). `scratch_a` and `scratch_b`: per-vertex, all -1, left so.
+std::vector<DipoleMerge> merge_colocated_dipoles(TriMesh& m, const std::vector<char>& pinned, std::vector<int>& scratch_a,
+                                                 std::vector<int>& scratch_b);
 
 /// Each half-edge on the merges' paths and its opposite once, by half-edge, with its transition
 /// before the first merge that changed it (the merges in the order made: a later one's old

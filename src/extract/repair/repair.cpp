@@ -413,10 +413,11 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<char> pinned = pinned_vertices(m, feature_edges);
     bad_triangles(m, pinned, seeds_faces, stuck);
     if (seeds_faces.empty() && stuck.empty()) return RepairOutcome{};
+    Attempts attempts(m, thread_count(threads));
     // Co-located dipoles next to the fold-overs are merged first (their vertices become free),
     // in an order that does not depend on the input's; not against the user's valences.
     std::vector<DipoleMerge> merges;
-    if (!valences_given) merges = merge_colocated_dipoles(m, pinned);
+    if (!valences_given) merges = merge_colocated_dipoles(m, pinned, attempts.distance, attempts.label);
     if (!merges.empty()) { // merged vertices are free now (the merges change no UV: no sign)
         pinned = pinned_vertices(m, feature_edges);
         split_again(m, pinned, seeds_faces, stuck);
@@ -425,7 +426,6 @@ RepairOutcome repair(TriMesh& m, const std::vector<std::array<int, 2>>& feature_
     std::vector<Point2> own;
     if (!given) own = m.uv;
     const std::vector<Point2>& sanitized = given ? *given : own;
-    Attempts attempts(m, thread_count(threads));
     std::function<RepairLook()> before_last;
     if (look)
         before_last = [&] {
